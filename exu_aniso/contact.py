@@ -1,0 +1,174 @@
+"""A contact set: K slave points against one analytical master surface, evaluated at once.
+
+``ContactLaw.evaluate`` is the kernel every engine calls (reference integrator and Exudyn glue):
+given the slave points and their velocities relative to the master (master frame) and the last
+*converged* history, it returns forces, the consistent tangent and the history candidate that
+``commit`` makes the new converged history once a step is accepted. Nothing is stored inside.
+
+History layout, one row per point (``HISTORY_FIELDS``): traction T in the transport frame (2),
+anchor coordinates u of the contact point at the last accepted step (2; cylinder phi unwrapped,
+so it counts revolutions), active flag (1 = was in contact), accumulated dissipated energy [J],
+accumulated slip distance [m].
+
+Decisions (documented in README):
+* rate form, papers' eq. (5): ``T_tr = T_n + B(C_new) du`` with B evaluated at the new contact
+  point (backward Euler); with a position-dependent B (polar orthotropy) the stick response is
+  hypo-elastic (path dependent), as in the papers;
+* first contact (active = 0): the anchor is the current contact point, T_n = 0, so the first
+  contact step carries no tangential traction; losing contact resets T and the anchor (the
+  accumulated dissipation and slip distance are kept);
+* normal damping ``d_N`` (off by default) adds ``d_N dxi3/dt`` to N; N is clipped to <= 0.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .law import N_PARAMS, check_return_map, return_map_batch
+from .validation import check_nonnegative, check_points, check_positive
+
+HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
+                  "dissipated_energy", "slip_distance")
+N_HISTORY = len(HISTORY_FIELDS)
+OPEN, STICK, SLIP = 0, 1, 2
+
+
+@dataclass
+class ContactState:
+    """Result of one evaluation of K points (all arrays have leading axis K).
+
+    force: on the slave points, master frame (K, 3) [N]; stiffness: d force / d x (K, 3, 3);
+    damping: d force / d v (K, 3, 3); traction: T in the transport frame (K, 2); normal: N (K,)
+    (<= 0); gap: xi3 (K,); status: OPEN / STICK / SLIP; slip: slip increment (K, 2) [m];
+    dissipation: energy dissipated by friction in the step (K,) [J]; history: candidate (K, 7).
+    """
+
+    force: np.ndarray
+    stiffness: np.ndarray | None
+    damping: np.ndarray | None
+    traction: np.ndarray
+    normal: np.ndarray
+    gap: np.ndarray
+    status: np.ndarray
+    slip: np.ndarray
+    dissipation: np.ndarray
+    history: np.ndarray
+    contact_point: np.ndarray
+
+
+class ContactLaw:
+    """Point-to-analytical-surface contact with anisotropic adhesion B and friction F.
+
+    surface: Plane or Cylinder; adhesion, friction: TensorField (see exu_aniso.fields);
+    normal_stiffness eps_N [N/m per point]; normal_damping d_N [N s/m per point];
+    return_map: "seed" | "exact" | "radial".
+    """
+
+    def __init__(self, surface, adhesion, friction, normal_stiffness, normal_damping=0.0, return_map="exact"):
+        if getattr(adhesion, "kind", None) != "adhesion":
+            raise TypeError(f"adhesion must be an Adhesion field (exu_aniso.Adhesion.*); got {adhesion!r}")
+        if getattr(friction, "kind", None) != "friction":
+            raise TypeError(f"friction must be a Friction field (exu_aniso.Friction.*); got {friction!r}")
+        if getattr(surface, "kind", None) not in ("plane", "cylinder"):
+            raise TypeError(f"surface must be a Plane or a Cylinder; got {surface!r}")
+        adhesion.check_surface(surface)
+        friction.check_surface(surface)
+        self.surface = surface
+        self.adhesion = adhesion
+        self.friction = friction
+        self.eps_N = check_positive("normal_stiffness", normal_stiffness)
+        self.d_N = check_nonnegative("normal_damping", normal_damping)
+        self.return_map = check_return_map(return_map)
+
+    def __repr__(self):
+        return (f"ContactLaw({self.surface!r}, {self.adhesion!r}, {self.friction!r}, "
+                f"normal_stiffness={self.eps_N}, normal_damping={self.d_N}, return_map={self.return_map!r})")
+
+    @staticmethod
+    def initial_history(n_points):
+        return np.zeros((int(n_points), N_HISTORY))
+
+    def evaluate(self, x, v=None, history=None, tangent=True):
+        """Contact forces of K slave points. x, v: (K, 3) position and velocity relative to the
+        master, master frame; history: (K, 7) last converged history (zeros if None)."""
+        x = check_points("x", x)
+        K = x.shape[0]
+        v = np.zeros((K, 3)) if v is None else np.asarray(v, dtype=float).reshape(K, 3)
+        H = self.initial_history(K) if history is None else np.asarray(history, dtype=float).reshape(K, N_HISTORY)
+        force = np.zeros((K, 3))
+        stiff = np.zeros((K, 3, 3)) if tangent else None
+        damp = np.zeros((K, 3, 3)) if tangent else None
+        traction = np.zeros((K, 2))
+        normal = np.zeros(K)
+        status = np.zeros(K, dtype=int)
+        slip = np.zeros((K, 2))
+        diss = np.zeros(K)
+        cpoint = np.full((K, 2), np.nan)
+        newH = H.copy()
+        newH[:, :5] = 0.0
+        surf = self.surface
+        gap = x[:, 2].copy() if surf.kind == "plane" else surf.gap(x)
+        idx = np.nonzero(gap < 0.0)[0]
+        if idx.size == 0:
+            return ContactState(force, stiff, damp, traction, normal, gap, status, slip, diss, newH, cpoint)
+
+        fr = surf.frame(x[idx], derivatives=tangent)
+        vi = v[idx]
+        n = fr.n
+        N = self.eps_N * fr.gap
+        if self.d_N > 0.0:
+            N = N + self.d_N * np.einsum("ki,ki->k", n, vi)
+        loaded = N < 0.0
+        N = np.where(loaded, N, 0.0)
+        Hi = H[idx]
+        active = Hi[:, 4] > 0.5
+        t_n = np.where(active[:, None], Hi[:, 0:2], 0.0)
+        du = np.where(active[:, None], surf.increment(fr.u, Hi[:, 2:4]), 0.0)
+        Bp, dB = self.adhesion.physical(fr.u, tangent)
+        Fp, dF = self.friction.physical(fr.u, tangent)
+        T_tr = np.stack([t_n[:, 0] + Bp[:, 0] * du[:, 0] + Bp[:, 1] * du[:, 1],
+                         t_n[:, 1] + Bp[:, 1] * du[:, 0] + Bp[:, 2] * du[:, 1]], axis=-1)
+        law = return_map_batch(T_tr, -N, Bp, Fp, self.return_map, tangent)
+        T = law.T
+        f = np.einsum("kia,ka->ki", fr.E, T) - N[:, None] * n
+
+        if tangent:
+            # d N / d x and d N / d v (zero where N is clipped)
+            dN_dx = self.eps_N * n
+            if self.d_N > 0.0:
+                dN_dx = dN_dx + self.d_N * np.einsum("ki,kij->kj", vi, fr.dn_dx)
+            dN_dx = np.where(loaded[:, None], dN_dx, 0.0)
+            dN_dv = np.where(loaded[:, None], self.d_N * n, 0.0)
+            # derivatives of the nine law inputs p with respect to x
+            dpos = fr.du_dx                                              # (k, 2, 3)
+            dinc = np.where(active[:, None, None], dpos, 0.0)
+            dB_dx = np.einsum("kca,kaj->kcj", dB, dpos)                  # (k, 3, 3)
+            dF_dx = np.einsum("kca,kaj->kcj", dF, dpos)
+            Bm = np.stack([np.stack([Bp[:, 0], Bp[:, 1]], -1), np.stack([Bp[:, 1], Bp[:, 2]], -1)], -2)
+            dTtr = np.einsum("kab,kbj->kaj", Bm, dinc)
+            dTtr[:, 0, :] += dB_dx[:, 0, :] * du[:, 0, None] + dB_dx[:, 1, :] * du[:, 1, None]
+            dTtr[:, 1, :] += dB_dx[:, 1, :] * du[:, 0, None] + dB_dx[:, 2, :] * du[:, 1, None]
+            dp = np.concatenate([dTtr, -dN_dx[:, None, :], dB_dx, dF_dx], axis=1)  # (k, 9, 3)
+            assert dp.shape[1] == N_PARAMS
+            dT_dx = np.einsum("kap,kpj->kaj", law.dT, dp)
+            K_i = np.einsum("kia,kaj->kij", fr.E, dT_dx) - n[:, :, None] * dN_dx[:, None, :]
+            K_i += np.einsum("kiaj,ka->kij", fr.dE_dx, T) - N[:, None, None] * fr.dn_dx
+            stiff[idx] = K_i
+            dT_dv = -law.dT[:, :, 2, None] * dN_dv[:, None, :]
+            damp[idx] = np.einsum("kia,kaj->kij", fr.E, dT_dv) - n[:, :, None] * dN_dv[:, None, :]
+
+        force[idx] = f
+        traction[idx] = T
+        normal[idx] = N
+        status[idx] = np.where(law.state > 0, SLIP, STICK)
+        slip[idx] = law.slip
+        diss[idx] = law.dissipation
+        cpoint[idx] = fr.u
+        anchor = np.where(active[:, None], surf.continue_coordinates(fr.u, Hi[:, 2:4]), fr.u)
+        newH[idx, 0:2] = T
+        newH[idx, 2:4] = anchor
+        newH[idx, 4] = 1.0
+        newH[idx, 5] = Hi[:, 5] + law.dissipation
+        newH[idx, 6] = Hi[:, 6] + np.hypot(law.slip[:, 0], law.slip[:, 1])
+        return ContactState(force, stiff, damp, traction, normal, gap, status, slip, diss, newH, cpoint)
