@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .law import N_PARAMS, check_return_map, return_map_batch
+from .law import N_PARAMS, check_return_map, return_map_batch, return_map_point
 from .validation import check_nonnegative, check_points, check_positive
 
 HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
@@ -62,10 +62,16 @@ class ContactLaw:
 
     surface: Plane or Cylinder; adhesion, friction: TensorField (see exu_aniso.fields);
     normal_stiffness eps_N [N/m per point]; normal_damping d_N [N s/m per point];
-    return_map: "seed" | "exact" | "radial".
+    return_map: "seed" | "exact" | "radial";
+    formulation: "transport" (default, vectorised, analytic tangent; history in physical
+    components of the transport frame) or "chart" (the papers' covariant route point by point:
+    projection in the surface chart, B covariant and F contravariant chart components, history as
+    covariant components T_i at the anchor xi_n, transport through 3D vectors; tangent by central
+    differences). The two give the same forces; "chart" exists to prove it (covariance tests).
     """
 
-    def __init__(self, surface, adhesion, friction, normal_stiffness, normal_damping=0.0, return_map="exact"):
+    def __init__(self, surface, adhesion, friction, normal_stiffness, normal_damping=0.0, return_map="exact",
+                 formulation="transport"):
         if getattr(adhesion, "kind", None) != "adhesion":
             raise TypeError(f"adhesion must be an Adhesion field (exu_aniso.Adhesion.*); got {adhesion!r}")
         if getattr(friction, "kind", None) != "friction":
@@ -80,6 +86,9 @@ class ContactLaw:
         self.eps_N = check_positive("normal_stiffness", normal_stiffness)
         self.d_N = check_nonnegative("normal_damping", normal_damping)
         self.return_map = check_return_map(return_map)
+        if formulation not in ("transport", "chart"):
+            raise ValueError(f"formulation must be 'transport' or 'chart'; got {formulation!r}")
+        self.formulation = formulation
 
     def __repr__(self):
         return (f"ContactLaw({self.surface!r}, {self.adhesion!r}, {self.friction!r}, "
@@ -96,6 +105,8 @@ class ContactLaw:
         K = x.shape[0]
         v = np.zeros((K, 3)) if v is None else np.asarray(v, dtype=float).reshape(K, 3)
         H = self.initial_history(K) if history is None else np.asarray(history, dtype=float).reshape(K, N_HISTORY)
+        if self.formulation == "chart":
+            return self._evaluate_chart(x, v, H, tangent)
         force = np.zeros((K, 3))
         stiff = np.zeros((K, 3, 3)) if tangent else None
         damp = np.zeros((K, 3, 3)) if tangent else None
@@ -172,3 +183,62 @@ class ContactLaw:
         newH[idx, 5] = Hi[:, 5] + law.dissipation
         newH[idx, 6] = Hi[:, 6] + np.hypot(law.slip[:, 0], law.slip[:, 1])
         return ContactState(force, stiff, damp, traction, normal, gap, status, slip, diss, newH, cpoint)
+
+    # ------------------------------------------------------------------------------------------
+    # the papers' covariant route, one point at a time (reference formulation)
+    def _chart_point(self, x, v, h):
+        """Force, traction (covariant), N, status, slip (contravariant), D, history row, xi."""
+        surf = self.surface
+        row = np.zeros(N_HISTORY)
+        row[5:] = h[5:]
+        xi3 = x[2] if surf.kind == "plane" else float(surf.gap(x[None, :])[0])
+        if not xi3 < 0.0:
+            return np.zeros(3), np.zeros(2), 0.0, OPEN, np.zeros(2), 0.0, row, np.full(2, np.nan)
+        p = surf.project(x)
+        N = self.eps_N * p.xi3 + self.d_N * float(p.n @ v)
+        N = min(N, 0.0)
+        rho_c = p.rho_contra
+        if h[4] > 0.5:
+            old = surf.at(h[2:4])
+            t_vec = surf.transport_vector(h[0:2] @ old.rho_contra, h[2:4], p.xi)
+            T_bar = p.rho @ t_vec                                # covariant T_i at xi
+            dxi = rho_c @ surf.increment_vector(h[2:4], p.xi)    # contravariant increment
+        else:
+            T_bar = np.zeros(2)
+            dxi = np.zeros(2)
+        b = self.adhesion.components(surf, p.xi)
+        f = self.friction.components(surf, p.xi)
+        T_tr = T_bar + b @ dxi
+        r = return_map_point(T_tr, -N, (b[0, 0], b[0, 1], b[1, 1]), (f[0, 0], f[0, 1], f[1, 1]),
+                             self.return_map, tangent=False)
+        force = r.T @ rho_c - N * p.n
+        row[0:2] = r.T
+        row[2:4] = p.xi
+        row[4] = 1.0
+        row[5] += r.dissipation
+        slip_len = float(np.sqrt(r.slip @ p.m @ r.slip))
+        row[6] += slip_len
+        return force, r.T, N, SLIP if r.state else STICK, r.slip, r.dissipation, row, p.xi
+
+    def _evaluate_chart(self, x, v, H, tangent):
+        K = x.shape[0]
+        out = [self._chart_point(x[k], v[k], H[k]) for k in range(K)]
+        force = np.array([o[0] for o in out])
+        stiff = damp = None
+        if tangent:
+            stiff = np.zeros((K, 3, 3))
+            damp = np.zeros((K, 3, 3))
+            h = 1e-7 * max(1.0, float(np.abs(x).max()))
+            for k in range(K):
+                for j in range(3):
+                    e = np.zeros(3)
+                    e[j] = h
+                    stiff[k, :, j] = (self._chart_point(x[k] + e, v[k], H[k])[0]
+                                      - self._chart_point(x[k] - e, v[k], H[k])[0]) / (2 * h)
+                    damp[k, :, j] = (self._chart_point(x[k], v[k] + e, H[k])[0]
+                                     - self._chart_point(x[k], v[k] - e, H[k])[0]) / (2 * h)
+        return ContactState(force, stiff, damp, np.array([o[1] for o in out]), np.array([o[2] for o in out]),
+                            x[:, 2].copy() if self.surface.kind == "plane" else self.surface.gap(x),
+                            np.array([o[3] for o in out]), np.array([o[4] for o in out]),
+                            np.array([o[5] for o in out]), np.array([o[6] for o in out]),
+                            np.array([o[7] for o in out]))

@@ -162,6 +162,15 @@ class Plane:
         p = self.at(xi).point
         return np.array([p[0], p[1]])
 
+    @staticmethod
+    def transport_vector(vec, xi_old, xi_new):
+        """Parallel transport of a tangent vector on the plane: the vector itself."""
+        return np.array(vec, dtype=float)
+
+    def increment_vector(self, xi_old, xi_new):
+        """Tangential displacement of C from xi_old to xi_new (3,): the chord on the plane."""
+        return self.at(xi_new).point - self.at(xi_old).point
+
 
 class Cylinder:
     """Circular cylinder of radius R about the axis through ``axis_point`` along ``axis_direction``.
@@ -277,3 +286,18 @@ class Cylinder:
 
     def frame_position(self, xi):
         return np.array(xi, dtype=float)
+
+    def transport_vector(self, vec, xi_old, xi_new):
+        """Parallel transport of a tangent vector along the cylinder: rotation about the axis by
+        the wrapped angle increment (the surface is developable, so this is path independent)."""
+        a = self.axes[2]
+        t = float(wrap_angle(xi_new[0] - xi_old[0]))
+        c, s = math.cos(t), math.sin(t)
+        vec = np.asarray(vec, dtype=float)
+        return vec * c + np.cross(a, vec) * s + a * (a @ vec) * (1.0 - c)
+
+    def increment_vector(self, xi_old, xi_new):
+        """Geodesic (unrolled) displacement of C, expressed at xi_new: R dphi e_phi + dz e_axis."""
+        d = self.increment(np.asarray(xi_new, dtype=float), np.asarray(xi_old, dtype=float))
+        rho = self.at(xi_new).rho
+        return d[0] * rho[0] / self.radius + d[1] * rho[1]
