@@ -1,0 +1,177 @@
+"""Contact set (exu_aniso.contact): consistent tangent, covariance, conventions, history."""
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from exu_aniso import OPEN, RETURN_MAPS, SLIP, STICK, Adhesion, ContactLaw, Cylinder, Friction, Plane
+
+CASES = {
+    "plane-polar-fields": (Plane("polar"), Adhesion.polar(1e4, 3e3, 0.01), Friction.polar(0.2, 0.6, 0.02)),
+    "plane-cartesian": (Plane(), Adhesion.orthotropic(1e4, 1e3, 0.4), Friction.orthotropic(0.2, 0.6, -0.3)),
+    "hole-spiral": (Cylinder(0.01, (0.001, 0.002, 0.0), (0.1, 0.2, 1.0)), Adhesion.spiral(1e4, 2e3, 0.2),
+                    Friction.spiral(0.2, 0.5, 0.2)),
+    "shaft-spiral": (Cylinder(0.01, side="outside"), Adhesion.spiral(1e4, 2e3, 0.2), Friction.spiral(0.2, 0.5, 0.2)),
+}
+
+
+def contact_sample(surface, rng, K=6):
+    """Penetrating slave points with an active history (mixed stick and slip)."""
+    if surface.kind == "plane":
+        x = np.c_[rng.uniform(-1, 1, (K, 2)), -rng.uniform(1e-4, 1e-3, K)]
+        u = x[:, :2]
+    else:
+        phi = rng.uniform(-3.1, 3.1, K)
+        rad = 0.0101 if surface.side == "inside" else 0.0099
+        loc = np.c_[rad * np.cos(phi), rad * np.sin(phi), rng.uniform(-1, 1, K) * 0.01]
+        x = loc @ surface.axes + surface.axis_point
+        u = surface.frame(x).u
+    H = ContactLaw.initial_history(K)
+    H[:, 0:2] = rng.normal(size=(K, 2)) * 10
+    H[:, 2:4] = u + rng.normal(size=(K, 2)) * 1e-3
+    H[:, 4] = 1.0
+    return x, rng.normal(size=(K, 3)) * 0.1, H
+
+
+@pytest.mark.parametrize("method", RETURN_MAPS)
+@pytest.mark.parametrize("case", CASES)
+def test_consistent_tangent_against_finite_differences(case, method):
+    surface, adh, fri = CASES[case]
+    law = ContactLaw(surface, adh, fri, 1e5, normal_damping=10.0, return_map=method)
+    rng = np.random.default_rng(hash(case) % 1000)
+    x, v, H = contact_sample(surface, rng)
+    st = law.evaluate(x, v, H)
+    assert set(st.status) <= {STICK, SLIP}
+    h = 1e-8
+    Kfd = np.zeros_like(st.stiffness)
+    Dfd = np.zeros_like(st.damping)
+    for j in range(3):
+        e = np.zeros(3)
+        e[j] = h
+        Kfd[:, :, j] = (law.evaluate(x + e, v, H, False).force - law.evaluate(x - e, v, H, False).force) / (2 * h)
+        e[j] = 1e-4
+        Dfd[:, :, j] = (law.evaluate(x, v + e, H, False).force - law.evaluate(x, v - e, H, False).force) / 2e-4
+    err = np.abs(st.stiffness - Kfd).max() / np.abs(Kfd).max()
+    assert err < 1e-6, f"stiffness rel. error {err:.2e} ({case}, {method})"
+    assert np.abs(st.damping - Dfd).max() <= 1e-6 * max(np.abs(Dfd).max(), 1.0)
+
+
+def walk(law, xs):
+    H = law.initial_history(xs.shape[1])
+    out = []
+    for x in xs:
+        st = law.evaluate(x, None, H, tangent=False)
+        H = st.history
+        out.append(st.force)
+    return np.array(out), H
+
+
+@pytest.mark.parametrize("method", RETURN_MAPS)
+@pytest.mark.parametrize("fields", ["isotropic", "polar"])
+def test_covariance_cartesian_polar_and_transport_agree(method, fields):
+    """The papers' chart route in polar and in Cartesian coordinates and the transport-frame
+    route give the same forces along a sliding path (stick and slip), isotropic and polar law."""
+    rng = np.random.default_rng(3)
+    K = 3
+    x0 = np.c_[rng.uniform(0.2, 1, (K, 2)), -1e-4 * np.ones(K)]
+    xs = np.cumsum(rng.normal(size=(60, K, 3)) * [2e-3, 2e-3, 0], axis=0) + x0
+    if fields == "isotropic":
+        adh, fri = Adhesion.isotropic(1e4), Friction.isotropic(0.3)
+    else:
+        adh, fri = Adhesion.polar(1e4, 1e3), Friction.polar(0.2, 0.6)
+    ref, _ = walk(ContactLaw(Plane("cartesian"), adh, fri, 1e5, return_map=method), xs)
+    for chart in ("cartesian", "polar"):
+        out, _ = walk(ContactLaw(Plane(chart), adh, fri, 1e5, return_map=method, formulation="chart"), xs)
+        np.testing.assert_allclose(out, ref, rtol=0, atol=1e-11 * np.abs(ref).max(), err_msg=f"chart {chart}")
+
+
+@pytest.mark.parametrize("method", RETURN_MAPS)
+def test_chart_and_transport_agree_on_the_cylinder_across_phi_pi(method):
+    rng = np.random.default_rng(4)
+    cyl = Cylinder(0.01)
+    phis = np.cumsum(rng.normal(size=(80, 3)) * 0.05, axis=0) + np.linspace(3.0, 3.2, 3)
+    xs = np.stack([0.0101 * np.cos(phis), 0.0101 * np.sin(phis), np.cumsum(rng.normal(size=(80, 3)) * 1e-4, 0)], -1)
+    adh, fri = Adhesion.spiral(1e4, 1e5, 0.3), Friction.spiral(0.2, 0.6, 0.3)
+    ref, _ = walk(ContactLaw(cyl, adh, fri, 1e5, return_map=method), xs)
+    out, _ = walk(ContactLaw(cyl, adh, fri, 1e5, return_map=method, formulation="chart"), xs)
+    np.testing.assert_allclose(out, ref, rtol=0, atol=1e-11 * np.abs(ref).max())
+
+
+def test_many_points_at_once_equal_one_at_a_time():
+    surface, adh, fri = CASES["plane-polar-fields"]
+    law = ContactLaw(surface, adh, fri, 1e5, 5.0, "exact")
+    x, v, H = contact_sample(surface, np.random.default_rng(5), K=16)
+    st = law.evaluate(x, v, H)
+    for k in range(16):
+        one = law.evaluate(x[k:k + 1], v[k:k + 1], H[k:k + 1])
+        np.testing.assert_allclose(one.force[0], st.force[k], rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(one.stiffness[0], st.stiffness[k], rtol=1e-13, atol=1e-10)
+
+
+def test_conventions_normal_pushes_out_and_traction_opposes_slip():
+    law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.5), 1e4)
+    st = law.evaluate([[0.0, 0.0, -1e-3]])
+    assert st.normal[0] == pytest.approx(-10.0) and np.allclose(st.force[0], [0, 0, 10.0])
+    st2 = law.evaluate([[1e-3, 0.0, -1e-3]], history=st.history)       # slave moved +x: stick
+    assert st2.status[0] == STICK
+    np.testing.assert_allclose(st2.force[0], [-1.0, 0.0, 10.0])
+    st3 = law.evaluate([[0.1, 0.0, -1e-3]], history=st2.history)       # far: slip at mu |N|
+    assert st3.status[0] == SLIP
+    np.testing.assert_allclose(st3.force[0], [-5.0, 0.0, 10.0])
+    # slip = total 0.099 minus the growth of the elastic part (5/1e3 - 1/1e3); D = mu |N| * slip
+    assert st3.history[0, 5] == pytest.approx(5.0 * (0.099 - (5.0 / 1e3 - 1.0 / 1e3)), rel=1e-12)
+    hole = ContactLaw(Cylinder(1.0), Adhesion.isotropic(1.0), Friction.isotropic(0.5), 10.0)
+    assert np.allclose(hole.evaluate([[1.1, 0, 0]]).force[0], [-1.0, 0, 0])                  # towards the axis
+
+
+def test_contact_lost_and_regained_resets_the_history():
+    law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.5), 1e4)
+    H = law.evaluate([[0.0, 0.0, -1e-3]]).history
+    H = law.evaluate([[2e-3, 0.0, -1e-3]], history=H).history
+    assert H[0, 0] != 0.0 and H[0, 4] == 1.0
+    off = law.evaluate([[3e-3, 0.0, 1e-3]], history=H)
+    assert off.status[0] == OPEN and np.all(off.force == 0) and np.all(off.history[0, :5] == 0.0)
+    assert off.history[0, 5] == H[0, 5]                                  # dissipation kept
+    back = law.evaluate([[5e-3, 0.0, -1e-3]], history=off.history)      # no spike: starts unloaded
+    assert np.allclose(back.force[0, :2], 0.0)
+
+
+@pytest.mark.parametrize("method", ["exact", "radial"])
+def test_accumulated_dissipation_nonnegative_on_a_random_walk(method):
+    surface, adh, fri = CASES["plane-polar-fields"]
+    rng = np.random.default_rng(6)
+    xs = np.cumsum(rng.normal(size=(200, 4, 3)) * [3e-3, 3e-3, 0], axis=0) + [0.5, 0.5, -1e-3]
+    law = ContactLaw(surface, adh, fri, 1e5, return_map=method)
+    H = law.initial_history(4)
+    for x in xs:
+        st = law.evaluate(x, None, H, tangent=False)
+        assert np.all(st.dissipation >= -1e-15)
+        H = st.history
+    assert np.all(H[:, 5] > 0)
+
+
+def test_kernels_do_not_import_exudyn():
+    code = ("import sys, exu_aniso, exu_aniso.law, exu_aniso.surfaces, exu_aniso.fields, exu_aniso.contact, "
+            "exu_aniso.validation\n"
+            "import importlib.util\n"
+            "for m in ('exu_aniso.reference', 'exu_aniso.scenes'):\n"
+            "    if importlib.util.find_spec(m): importlib.import_module(m)\n"
+            "bad = [m for m in sys.modules if m.split('.')[0] == 'exudyn']\n"
+            "assert not bad, bad\n")
+    subprocess.run([sys.executable, "-c", "import importlib\n" + code], check=True)
+
+
+def test_bad_arguments():
+    with pytest.raises(TypeError, match="adhesion must be an Adhesion field"):
+        ContactLaw(Plane(), Friction.isotropic(0.3), Friction.isotropic(0.3), 1.0)
+    with pytest.raises(ValueError, match="normal_stiffness must be > 0"):
+        ContactLaw(Plane(), Adhesion.isotropic(1.0), Friction.isotropic(0.3), -1.0)
+    with pytest.raises(ValueError, match="normal_damping must be finite"):
+        ContactLaw(Plane(), Adhesion.isotropic(1.0), Friction.isotropic(0.3), 1.0, normal_damping=math.inf)
+    law = ContactLaw(Plane(), Adhesion.isotropic(1.0), Friction.isotropic(0.3), 1.0)
+    with pytest.raises(ValueError, match="x must be finite"):
+        law.evaluate([[0.0, float("nan"), 0.0]])
+    with pytest.raises(ValueError, match=r"x must have shape \(K, 3\)"):
+        law.evaluate([[0.0, 0.0]])
