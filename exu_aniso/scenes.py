@@ -1,0 +1,407 @@
+"""Scene parameter sets shared by every engine (numpy reference, Exudyn glue, CLI).
+
+Two scenes of the papers (SPEC section 3):
+
+* ``BlockParams``: a rigid cube on the plane z = 0 with (polar) orthotropic adhesion and friction
+  about the origin, pressed down by ``normal_load`` and driven in the xy-plane;
+* ``ScrewParams``: a rigid cylindrical screw in a hole (cylinder of radius ``radius``, axis z,
+  contact on its inside) with a spiral (thread-like) net, pressed by an interference fit.
+
+Conventions (they hold for every engine that uses these parameters)
+-------------------------------------------------------------------
+* Units SI; angles in these parameter sets are in DEGREES (``drive_angle``, ``adhesion_angle``,
+  ``friction_angle``, ``helix_angle``); rates in rad/s.
+* ``eps_n``, ``eps_1``, ``eps_2`` are TOTAL stiffnesses of the contact set [N/m]: they are split
+  equally over the K contact points (``eps / K`` per point), so refining the point layout keeps the
+  overall stiffness of the contact. Friction coefficients are not split.
+* Field indices: polar -> 1 = radial (e_r), 2 = circumferential (e_phi); cartesian -> 1 along the
+  field angle (``adhesion_angle`` / ``friction_angle`` from e_x towards e_y), 2 across;
+  spiral -> 1 along the helix (e1 = cos(alpha) e_phi + sin(alpha) e_z), 2 across it;
+  isotropic -> only ``eps_1`` / ``mu_1`` are used.
+* Polar fields are regularised inside ``core_radius`` (see ``exu_aniso.fields``): relative
+  deviation ~ (core_radius / r)^2, finite at the origin.
+* Block normal load: ``normal_load`` [N] is the whole downward load. In the planar model the
+  contact points are held at the penetration that carries it equally
+  (gap = -normal_load / eps_n); in the full 6-DOF model it is a constant vertical force at the
+  centre of mass and gravity is NOT applied separately (set normal_load = mass * g for a block
+  resting under its weight; that is the default).
+* Screw: the hole has radius ``radius``; the contact points sit on a cylinder of radius
+  ``radius + interference`` in the screw, so the interference is the normal penetration and
+  ``eps_n * interference`` is the total normal force. Positive rotation is about +z; with
+  helix_angle > 0 a rotation about +z advances along +z (pitch 2 pi R tan(alpha)).
+  ``axial_load`` acts along +z in every drive; gravity is off.
+* ``drive_stiffness`` is N/m for translational drives (block "displacement", screw "axial") and
+  N m/rad for the screw "rotation" drive.
+
+Each field has a default, a unit, a one-line description and a rule (``BLOCK_PARAMS``,
+``SCREW_PARAMS``: name -> (default, unit, description, allowed)). ``from_strings`` parses
+strings (numbers, or simple expressions with ``pi``, e.g. ``"2*pi"``) and ``with_overrides``
+returns a validated copy; both raise ValueError naming the parameter, the rule and the value.
+"""
+from __future__ import annotations
+
+import ast
+import dataclasses
+import math
+import operator
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contact import ContactLaw
+from .fields import Adhesion, Friction
+from .law import RETURN_MAPS
+from .surfaces import Cylinder, Plane
+
+SOLVERS = ("trapezoidal", "generalized_alpha")
+
+# rules: "real", "> 0", ">= 0", "int >= 1", "(-90, 90)", "points" or a tuple of choices
+_POINTS_RULE = "'center' | 'corners' | 'grid:N' (N >= 2)"
+
+BLOCK_PARAMS = {
+    "mass": (1.0, "kg", "mass of the block", "> 0"),
+    "size": (0.1, "m", "edge length of the cube", "> 0"),
+    "x0": (0.5, "m", "initial x of the centre (polar origin at x = y = 0)", "real"),
+    "y0": (0.0, "m", "initial y of the centre", "real"),
+    "points": ("corners", "-", "contact points on the bottom face: one centre point, 4 corners or an "
+               "N x N grid including the edges", _POINTS_RULE),
+    "normal_load": (9.81, "N", "total downward load (planar: carried by the held penetration; full: "
+                    "vertical force at the COM, no separate gravity)", ">= 0"),
+    "eps_n": (1e6, "N/m", "total normal penalty stiffness, split equally over the K points", "> 0"),
+    "adhesion": ("polar", "-", "adhesion (sticking stiffness) field B", ("isotropic", "cartesian", "polar")),
+    "eps_1": (1e5, "N/m", "total tangential stiffness along e1 (polar: radial; isotropic: both)", "> 0"),
+    "eps_2": (1e3, "N/m", "total tangential stiffness along e2 (polar: circumferential)", "> 0"),
+    "adhesion_angle": (0.0, "deg", "angle of e1 from e_x for cartesian adhesion", "real"),
+    "friction": ("polar", "-", "friction field F", ("isotropic", "cartesian", "polar")),
+    "mu_1": (0.3, "-", "friction coefficient along e1 (polar: radial; isotropic: both)", "> 0"),
+    "mu_2": (0.3, "-", "friction coefficient along e2 (polar: circumferential)", "> 0"),
+    "friction_angle": (0.0, "deg", "angle of e1 from e_x for cartesian friction", "real"),
+    "return_map": ("radial", "-", "sliding return map", RETURN_MAPS),
+    "drive": ("displacement", "-", "constant force at the COM, or a spring along the drive direction "
+              "from a driver moving at drive_speed", ("force", "displacement")),
+    "drive_angle": (90.0, "deg", "drive direction in the xy-plane, from e_x", "real"),
+    "force": (5.0, "N", "magnitude of the constant drive force (drive = 'force')", ">= 0"),
+    "drive_speed": (0.1, "m/s", "speed of the driver point (drive = 'displacement')", "real"),
+    "drive_stiffness": (1e3, "N/m", "stiffness of the drive spring, acting along the drive direction only",
+                        "> 0"),
+    "t_end": (2.0, "s", "simulated time", "> 0"),
+    "dt": (1e-3, "s", "time step", "> 0"),
+    "model": ("planar", "-", "planar (x, y, theta; held normal load) or full 6-DOF rigid body",
+              ("planar", "full")),
+    "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
+    "core_radius": (1e-3, "m", "regularisation radius of polar fields at the origin", ">= 0"),
+}
+
+SCREW_PARAMS = {
+    "radius": (0.005, "m", "radius of the hole (the screw is radius + interference)", "> 0"),
+    "length": (0.02, "m", "length of the contact zone of the screw", "> 0"),
+    "mass": (0.01, "kg", "mass of the screw (solid cylinder inertia)", "> 0"),
+    "interference": (1e-5, "m", "interference fit: screw radius minus hole radius (normal penetration)",
+                     ">= 0"),
+    "helix_angle": (10.0, "deg", "helix angle alpha of the spiral net (pitch 2 pi R tan(alpha))",
+                    "(-90, 90)"),
+    "eps_n": (1e7, "N/m", "total normal penalty stiffness, split equally over the K points", "> 0"),
+    "adhesion": ("spiral", "-", "adhesion (sticking stiffness) field B", ("isotropic", "spiral")),
+    "eps_1": (1e4, "N/m", "total tangential stiffness along the helix (isotropic: both)", "> 0"),
+    "eps_2": (1e6, "N/m", "total tangential stiffness across the helix", "> 0"),
+    "friction": ("spiral", "-", "friction field F", ("isotropic", "spiral")),
+    "mu_1": (0.2, "-", "friction coefficient along the helix (isotropic: both)", "> 0"),
+    "mu_2": (0.6, "-", "friction coefficient across the helix", "> 0"),
+    "return_map": ("radial", "-", "sliding return map", RETURN_MAPS),
+    "drive": ("rotation", "-", "constant torque, torsional spring to a rotating driver, or axial spring "
+              "to a translating driver", ("torque", "rotation", "axial")),
+    "torque": (0.05, "N m", "constant drive torque about +z (drive = 'torque')", "real"),
+    "rotation_speed": (2.0 * math.pi, "rad/s", "angular speed of the driver (drive = 'rotation')", "real"),
+    "axial_speed": (0.01, "m/s", "speed of the axial driver (drive = 'axial')", "real"),
+    "drive_stiffness": (1.0, "N m/rad | N/m", "drive spring stiffness (rotation: N m/rad; axial: N/m)", "> 0"),
+    "axial_load": (0.0, "N", "constant axial force along +z (all drives)", "real"),
+    "rings": (3, "-", "rings of contact points along the length", "int >= 1"),
+    "points_per_ring": (8, "-", "contact points per ring, equally spaced in angle", "int >= 1"),
+    "t_end": (1.0, "s", "simulated time", "> 0"),
+    "dt": (1e-3, "s", "time step", "> 0"),
+    "model": ("reduced", "-", "reduced (rotation angle, axial position) or full 6-DOF rigid body",
+              ("reduced", "full")),
+    "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
+}
+
+
+# ----------------------------------------------------------------------------------------------
+# parsing and validation
+
+_BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
+           ast.Pow: operator.pow}
+
+
+def _eval_expr(text):
+    """Evaluate a tiny arithmetic expression (numbers, pi, + - * / **, parentheses)."""
+    def ev(node):
+        if isinstance(node, ast.Expression):
+            return ev(node.body)
+        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+            return float(node.value)
+        if isinstance(node, ast.Name) and node.id == "pi":
+            return math.pi
+        if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
+            return _BINOPS[type(node.op)](ev(node.left), ev(node.right))
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            v = ev(node.operand)
+            return -v if isinstance(node.op, ast.USub) else v
+        raise ValueError
+    return ev(ast.parse(text.strip(), mode="eval"))
+
+
+def _parse_number(name, value, integer=False):
+    if isinstance(value, str):
+        s = value.strip()
+        try:
+            v = float(s)
+        except ValueError:
+            try:
+                v = _eval_expr(s)
+            except (ValueError, SyntaxError, ZeroDivisionError, TypeError, OverflowError):
+                raise ValueError(f"{name}: expected a number (or an expression with pi); got {value!r}") from None
+    elif isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name}: expected a number; got {value!r} ({type(value).__name__})")
+    else:
+        v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite; got {value!r}")
+    if integer:
+        if v != int(v):
+            raise ValueError(f"{name} must be an integer; got {value!r}")
+        return int(v)
+    return v
+
+
+def _check(name, value, rule):
+    """Parse/validate one value against its rule; returns the clean value."""
+    if isinstance(rule, tuple):
+        if not isinstance(value, str) or value.strip() not in rule:
+            raise ValueError(f"{name} must be one of {rule}; got {value!r}")
+        return value.strip()
+    if rule == _POINTS_RULE:
+        if isinstance(value, str):
+            s = value.strip()
+            if s in ("center", "corners"):
+                return s
+            m = re.fullmatch(r"grid:(\d+)", s)
+            if m and int(m.group(1)) >= 2:
+                return f"grid:{int(m.group(1))}"
+        raise ValueError(f"{name} must be {_POINTS_RULE}; got {value!r}")
+    if rule == "int >= 1":
+        v = _parse_number(name, value, integer=True)
+        if v < 1:
+            raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+        return v
+    v = _parse_number(name, value)
+    if rule == "> 0" and not v > 0.0:
+        raise ValueError(f"{name} must be > 0; got {value!r}")
+    if rule == ">= 0" and not v >= 0.0:
+        raise ValueError(f"{name} must be >= 0; got {value!r}")
+    if rule == "(-90, 90)" and not -90.0 < v < 90.0:
+        raise ValueError(f"{name} must lie in (-90, 90) deg; got {value!r}")
+    return v
+
+
+class _ParamsMixin:
+    """Shared parsing, validation and description for the scene parameter dataclasses."""
+
+    TABLE: dict = {}
+
+    def __post_init__(self):
+        for name, (_, _, _, rule) in self.TABLE.items():
+            object.__setattr__(self, name, _check(name, getattr(self, name), rule))
+        if not self.dt <= self.t_end:
+            raise ValueError(f"dt must be <= t_end; got dt={self.dt!r} > t_end={self.t_end!r}")
+
+    @classmethod
+    def _unknown(cls, names):
+        bad = sorted(set(names) - set(cls.TABLE))
+        if bad:
+            raise ValueError(f"{cls.__name__}: unknown parameter(s) {bad}; valid names: {list(cls.TABLE)}")
+
+    @classmethod
+    def from_strings(cls, values):
+        """Build from a mapping name -> string (or value), e.g. parsed 'name=value' CLI pairs;
+        missing names take their defaults. Raises ValueError on unknown names or bad values."""
+        values = dict(values)
+        cls._unknown(values)
+        return cls(**values)
+
+    def with_overrides(self, **kw):
+        """A validated copy with some fields replaced (strings are parsed)."""
+        self._unknown(kw)
+        return dataclasses.replace(self, **kw)
+
+    def as_dict(self):
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def describe(cls):
+        """A text table: name, default, unit, allowed values, description."""
+        rows = []
+        for name, (default, unit, desc, rule) in cls.TABLE.items():
+            allowed = " | ".join(rule) if isinstance(rule, tuple) else rule
+            rows.append(f"{name:16s} {default!s:14s} {unit:14s} {allowed:34s} {desc}")
+        return "\n".join(rows)
+
+
+def _defaults(table):
+    return {k: v[0] for k, v in table.items()}
+
+
+_BD = _defaults(BLOCK_PARAMS)
+_SD = _defaults(SCREW_PARAMS)
+
+
+@dataclass(frozen=True)
+class BlockParams(_ParamsMixin):
+    """Block on a (polar-)orthotropic plane; see BLOCK_PARAMS for units and meaning."""
+
+    TABLE = BLOCK_PARAMS
+
+    mass: float = _BD["mass"]
+    size: float = _BD["size"]
+    x0: float = _BD["x0"]
+    y0: float = _BD["y0"]
+    points: str = _BD["points"]
+    normal_load: float = _BD["normal_load"]
+    eps_n: float = _BD["eps_n"]
+    adhesion: str = _BD["adhesion"]
+    eps_1: float = _BD["eps_1"]
+    eps_2: float = _BD["eps_2"]
+    adhesion_angle: float = _BD["adhesion_angle"]
+    friction: str = _BD["friction"]
+    mu_1: float = _BD["mu_1"]
+    mu_2: float = _BD["mu_2"]
+    friction_angle: float = _BD["friction_angle"]
+    return_map: str = _BD["return_map"]
+    drive: str = _BD["drive"]
+    drive_angle: float = _BD["drive_angle"]
+    force: float = _BD["force"]
+    drive_speed: float = _BD["drive_speed"]
+    drive_stiffness: float = _BD["drive_stiffness"]
+    t_end: float = _BD["t_end"]
+    dt: float = _BD["dt"]
+    model: str = _BD["model"]
+    solver: str = _BD["solver"]
+    core_radius: float = _BD["core_radius"]
+
+
+@dataclass(frozen=True)
+class ScrewParams(_ParamsMixin):
+    """Screw in a threaded hole with a spiral net; see SCREW_PARAMS for units and meaning."""
+
+    TABLE = SCREW_PARAMS
+
+    radius: float = _SD["radius"]
+    length: float = _SD["length"]
+    mass: float = _SD["mass"]
+    interference: float = _SD["interference"]
+    helix_angle: float = _SD["helix_angle"]
+    eps_n: float = _SD["eps_n"]
+    adhesion: str = _SD["adhesion"]
+    eps_1: float = _SD["eps_1"]
+    eps_2: float = _SD["eps_2"]
+    friction: str = _SD["friction"]
+    mu_1: float = _SD["mu_1"]
+    mu_2: float = _SD["mu_2"]
+    return_map: str = _SD["return_map"]
+    drive: str = _SD["drive"]
+    torque: float = _SD["torque"]
+    rotation_speed: float = _SD["rotation_speed"]
+    axial_speed: float = _SD["axial_speed"]
+    drive_stiffness: float = _SD["drive_stiffness"]
+    axial_load: float = _SD["axial_load"]
+    rings: int = _SD["rings"]
+    points_per_ring: int = _SD["points_per_ring"]
+    t_end: float = _SD["t_end"]
+    dt: float = _SD["dt"]
+    model: str = _SD["model"]
+    solver: str = _SD["solver"]
+
+
+assert [f.name for f in dataclasses.fields(BlockParams)] == list(BLOCK_PARAMS)
+assert [f.name for f in dataclasses.fields(ScrewParams)] == list(SCREW_PARAMS)
+
+
+# ----------------------------------------------------------------------------------------------
+# geometry and contact laws of the scenes
+
+def block_points(p):
+    """Body-local contact points (K, 3) on the bottom face z = -size/2 of the cube [m].
+
+    "center": the face centre; "corners": the four corners; "grid:N": N x N points including the
+    edges (row-major in x, then y)."""
+    a = 0.5 * p.size
+    if p.points == "center":
+        xy = np.zeros((1, 2))
+    elif p.points == "corners":
+        xy = np.array([[-a, -a], [a, -a], [a, a], [-a, a]])
+    else:
+        n = int(p.points.split(":")[1])
+        s = np.linspace(-a, a, n)
+        X, Y = np.meshgrid(s, s, indexing="xy")
+        xy = np.stack([X.ravel(), Y.ravel()], axis=-1)
+    return np.column_stack([xy, np.full(len(xy), -a)])
+
+
+def screw_points(p):
+    """Body-local contact points (K, 3) on the cylinder of radius radius + interference [m].
+
+    ``rings`` rings equally spaced over the length, centred on the COM (z from -length/2 to
+    +length/2 including the ends; one ring sits at z = 0); ``points_per_ring`` points per ring at
+    angles 2 pi j / points_per_ring. Ring-major order."""
+    rho = p.radius + p.interference
+    z = np.zeros(1) if p.rings == 1 else np.linspace(-0.5 * p.length, 0.5 * p.length, p.rings)
+    phi = 2.0 * np.pi * np.arange(p.points_per_ring) / p.points_per_ring
+    Z, PHI = np.meshgrid(z, phi, indexing="ij")
+    return np.column_stack([rho * np.cos(PHI.ravel()), rho * np.sin(PHI.ravel()), Z.ravel()])
+
+
+def _n_block_points(p):
+    return {"center": 1, "corners": 4}.get(p.points) or int(p.points.split(":")[1]) ** 2
+
+
+def block_contact_law(p):
+    """ContactLaw of the block scene: plane z = 0 (polar chart when a field is polar), per-point
+    stiffnesses = total / K, friction coefficients as given."""
+    K = _n_block_points(p)
+    rad = math.radians
+    if p.adhesion == "isotropic":
+        B = Adhesion.isotropic(p.eps_1 / K)
+    elif p.adhesion == "cartesian":
+        B = Adhesion.orthotropic(p.eps_1 / K, p.eps_2 / K, angle=rad(p.adhesion_angle))
+    else:
+        B = Adhesion.polar(p.eps_1 / K, p.eps_2 / K, core_radius=p.core_radius)
+    if p.friction == "isotropic":
+        Fr = Friction.isotropic(p.mu_1)
+    elif p.friction == "cartesian":
+        Fr = Friction.orthotropic(p.mu_1, p.mu_2, angle=rad(p.friction_angle))
+    else:
+        Fr = Friction.polar(p.mu_1, p.mu_2, core_radius=p.core_radius)
+    coords = "polar" if "polar" in (p.adhesion, p.friction) else "cartesian"
+    return ContactLaw(Plane(coordinates=coords), B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map)
+
+
+def screw_contact_law(p):
+    """ContactLaw of the screw scene: hole = Cylinder(radius, side="inside") about the z axis,
+    per-point stiffnesses = total / K, spiral fields with the helix angle."""
+    K = p.rings * p.points_per_ring
+    alpha = math.radians(p.helix_angle)
+    if p.adhesion == "isotropic":
+        B = Adhesion.isotropic(p.eps_1 / K)
+    else:
+        B = Adhesion.spiral(p.eps_1 / K, p.eps_2 / K, alpha)
+    if p.friction == "isotropic":
+        Fr = Friction.isotropic(p.mu_1)
+    else:
+        Fr = Friction.spiral(p.mu_1, p.mu_2, alpha)
+    hole = Cylinder(p.radius, axis_point=(0.0, 0.0, 0.0), axis_direction=(0.0, 0.0, 1.0), side="inside")
+    return ContactLaw(hole, B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map)
+
+
+def pitch(p):
+    """Thread pitch 2 pi R tan(alpha) of the spiral net [m per revolution]."""
+    return 2.0 * math.pi * p.radius * math.tan(math.radians(p.helix_angle))
