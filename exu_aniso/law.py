@@ -62,7 +62,7 @@ RETURN_MAPS = ("seed", "exact", "radial")
 STICK, SLIP = 0, 1
 N_PARAMS = 9  # T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22
 
-_KAPPA_RTOL = 1e-15
+_KAPPA_RTOL = 2e-16 * 4  # |sqrt(T.F T) - |N|| <= 8.9e-16 |N|
 _KAPPA_MAXIT = 200
 
 
@@ -166,9 +166,12 @@ def _slip_seed(t1, t2, N, b11, b12, b22, f11, f12, f22, sqrt, want_dT):
 def _exact_solve(t1, t2, N, c11, c12, c22, f11, f12, f22, ops):
     """kappa >= 0 with sqrt(T.F T) = |N|, T = (I + kappa C F)^-1 T_tr (safeguarded Newton).
 
-    Newton runs on psi(kappa) = 1/sqrt(T.F T) - 1/|N| (exactly linear in kappa when C F ∝ I),
-    inside the bracket [0, kappa_hi] with kappa_hi from the smallest eigenvalue of C F;
-    a step leaving the bracket is replaced by bisection.
+    In the coordinates y = L^T T (F = L L^T, G = L^T C L) the equation is the secular equation
+    ||(I + kappa G)^-1 y_tr|| = |N| of Moré & Sorensen; psi(kappa) = 1/sqrt(T.F T) - 1/|N| is
+    concave and increasing (exactly linear when C F ∝ I), so Newton from kappa = 0 approaches the
+    root monotonically from below (4-5 iterations to round-off in practice). The bracket
+    [0, kappa_hi], kappa_hi from the smallest eigenvalue of C F, with bisection guards round-off.
+    Points that have converged are frozen (the batch form iterates until all have).
     """
     a11, a12 = c11 * f11 + c12 * f12, c11 * f12 + c12 * f22          # A = C F
     a21, a22 = c12 * f11 + c22 * f12, c12 * f12 + c22 * f22
@@ -186,6 +189,9 @@ def _exact_solve(t1, t2, N, c11, c12, c22, f11, f12, f22, ops):
         T1, T2 = (m22 * t1 - m12 * t2) / dm, (-m21 * t1 + m11 * t2) / dm
         q = _quad(f11, f12, f22, T1, T2)
         s = sqrt(q)
+        done = abs(s - N) <= _KAPPA_RTOL * N
+        if ops.all(done):
+            break
         # residual sign: s > N means kappa below the root
         below = s > N
         lo = where(below, kappa, lo)
@@ -196,13 +202,12 @@ def _exact_solve(t1, t2, N, c11, c12, c22, f11, f12, f22, ops):
         g1, g2 = _mat_vec(f11, f12, f12, f22, T1, T2)
         dpsi = -(g1 * d1 + g2 * d2) / (s * q)
         psi = 1.0 / s - 1.0 / N
-        step = -psi / dpsi
-        new = kappa + step
+        new = kappa - psi / dpsi
         new = where(new <= lo, 0.5 * (lo + hi), new)
         new = where(new >= hi, 0.5 * (lo + hi), new)
-        change = abs(new - kappa)
-        kappa = new
-        if not ops.any(change > _KAPPA_RTOL * (abs(kappa) + 1e-300)):
+        stalled = abs(new - kappa) <= 4e-16 * abs(kappa)
+        kappa = where(done, kappa, new)
+        if ops.all(done | stalled):
             break
     m11, m12, m21, m22 = 1.0 + kappa * a11, kappa * a12, kappa * a21, 1.0 + kappa * a22
     dm = m11 * m22 - m12 * m21
@@ -250,7 +255,7 @@ def _slip_exact(t1, t2, N, b11, b12, b22, f11, f12, f22, ops, want_dT):
 class _FloatOps:
     """Scalar versions of the few non-arithmetic operations the kernels need."""
     sqrt = staticmethod(math.sqrt)
-    any = staticmethod(bool)
+    all = staticmethod(bool)
 
     @staticmethod
     def where(cond, a, b):
@@ -259,7 +264,7 @@ class _FloatOps:
 
 class _ArrayOps:
     sqrt = staticmethod(np.sqrt)
-    any = staticmethod(np.any)
+    all = staticmethod(np.all)
     where = staticmethod(np.where)
 
 
@@ -329,11 +334,16 @@ def return_map_point(T_tr, N_abs, B, F, method="exact", tangent=True):
     return LawResult(np.array([T1, T2]), SLIP, np.array([s1, s2]), D, kappa, phi, dT)
 
 
-def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True):
-    """Return map for K points at once (numpy). Shapes: T_tr (K, 2), N_abs (K,), B and F (K, 3).
+VECTORIZE_MIN_POINTS = 24  # below this many sliding points a loop over plain floats is faster
+
+
+def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True, vectorize=None):
+    """Return map for K points at once. Shapes: T_tr (K, 2), N_abs (K,), B and F (K, 3).
 
     Same formulas as return_map_point; a point with |N| = 0 and a non-zero trial traction
-    returns T = 0 (sliding without load).
+    returns T = 0 (sliding without load). vectorize: True evaluates the sliding points with numpy
+    arrays, False loops over return_map_point, None chooses by count (studies/bench_kernels.py
+    measured the crossover near 16-32 points).
     """
     T_tr = np.asarray(T_tr, dtype=float)
     N = np.asarray(N_abs, dtype=float)
@@ -352,25 +362,25 @@ def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True):
         dT = np.zeros((K, 2, N_PARAMS))
         dT[:, 0, 0] = dT[:, 1, 1] = 1.0
     loaded = slip & (N > 0.0)
-    if np.any(loaded):
+    if vectorize is None:
+        vectorize = int(np.count_nonzero(loaded)) >= VECTORIZE_MIN_POINTS
+    # plain-float loop: all sliding points when not vectorising, else only the rare |N| = 0 ones
+    for j in np.nonzero(slip & ~loaded if vectorize else slip)[0]:
+        r = return_map_point(T_tr[j], N[j], B[j], F[j], method, tangent)
+        T[j], kappa[j], dxi[j], D[j] = r.T, r.kappa, r.slip, r.dissipation
+        if tangent:
+            dT[j] = r.dT
+    if vectorize and np.any(loaded):
         i = np.nonzero(loaded)[0]
         Bi = tuple(B[i, k] for k in range(3))
-        Fi = tuple(F[i, k] for k in range(3))
-        T1, T2, kap, cols = _slip(method, t1[i], t2[i], N[i], Bi, Fi, _ArrayOps, tangent)
+        T1, T2, kap, cols = _slip(method, t1[i], t2[i], N[i], Bi, tuple(F[i, k] for k in range(3)),
+                                  _ArrayOps, tangent)
         T[i, 0], T[i, 1] = T1, T2
         kappa[i] = kap
         if tangent:
             dT[i] = np.stack([np.stack([np.broadcast_to(c[0], i.shape), np.broadcast_to(c[1], i.shape)],
                                        axis=-1) for c in cols], axis=-1)
-    for j in np.nonzero(slip & ~loaded)[0]:  # rare: |N| = 0 with a trial traction
-        r = return_map_point(T_tr[j], 0.0, B[j], F[j], method, tangent)
-        T[j] = r.T
-        if tangent:
-            dT[j] = r.dT
-    if np.any(slip):
-        i = np.nonzero(slip)[0]
-        s1, s2, Di = _slip_and_dissipation(T[i, 0], T[i, 1], t1[i], t2[i], tuple(B[i, k] for k in range(3)))
-        dxi[i, 0], dxi[i, 1], D[i] = s1, s2, Di
+        dxi[i, 0], dxi[i, 1], D[i] = _slip_and_dissipation(T1, T2, t1[i], t2[i], Bi)
     return LawResult(T, slip.astype(int), dxi, D, kappa, phi, dT)
 
 
