@@ -8,7 +8,8 @@ given the slave points and their velocities relative to the master (master frame
 History layout, one row per point (``HISTORY_FIELDS``): traction T in the transport frame (2),
 anchor coordinates u of the contact point at the last accepted step (2; cylinder phi unwrapped,
 so it counts revolutions), active flag (1 = was in contact), accumulated dissipated energy [J],
-accumulated slip distance [m].
+accumulated slip distance [m], status of the step (OPEN 0 / STICK 1 / SLIP 2) and the normal
+traction N [N] (the last two are outputs for sensors; the law does not read them back).
 
 Decisions (documented in README):
 * rate form, papers' eq. (5): ``T_tr = T_n + B(C_new) du`` with B evaluated at the new contact
@@ -29,7 +30,7 @@ from .law import N_PARAMS, check_return_map, return_map_batch, return_map_point
 from .validation import check_nonnegative, check_points, check_positive
 
 HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
-                  "dissipated_energy", "slip_distance")
+                  "dissipated_energy", "slip_distance", "status", "normal")
 N_HISTORY = len(HISTORY_FIELDS)
 OPEN, STICK, SLIP = 0, 1, 2
 
@@ -41,7 +42,7 @@ class ContactState:
     force: on the slave points, master frame (K, 3) [N]; stiffness: d force / d x (K, 3, 3);
     damping: d force / d v (K, 3, 3); traction: T in the transport frame (K, 2); normal: N (K,)
     (<= 0); gap: xi3 (K,); status: OPEN / STICK / SLIP; slip: slip increment (K, 2) [m];
-    dissipation: energy dissipated by friction in the step (K,) [J]; history: candidate (K, 7).
+    dissipation: energy dissipated by friction in the step (K,) [J]; history: candidate (K, 9).
     """
 
     force: np.ndarray
@@ -100,7 +101,7 @@ class ContactLaw:
 
     def evaluate(self, x, v=None, history=None, tangent=True):
         """Contact forces of K slave points. x, v: (K, 3) position and velocity relative to the
-        master, master frame; history: (K, 7) last converged history (zeros if None)."""
+        master, master frame; history: (K, 9) last converged history (zeros if None)."""
         x = check_points("x", x)
         K = x.shape[0]
         v = np.zeros((K, 3)) if v is None else np.asarray(v, dtype=float).reshape(K, 3)
@@ -118,6 +119,7 @@ class ContactLaw:
         cpoint = np.full((K, 2), np.nan)
         newH = H.copy()
         newH[:, :5] = 0.0
+        newH[:, 7:] = 0.0
         surf = self.surface
         gap = x[:, 2].copy() if surf.kind == "plane" else surf.gap(x)
         idx = np.nonzero(gap < 0.0)[0]
@@ -182,6 +184,8 @@ class ContactLaw:
         newH[idx, 4] = 1.0
         newH[idx, 5] = Hi[:, 5] + law.dissipation
         newH[idx, 6] = Hi[:, 6] + np.hypot(law.slip[:, 0], law.slip[:, 1])
+        newH[idx, 7] = status[idx]
+        newH[idx, 8] = N
         return ContactState(force, stiff, damp, traction, normal, gap, status, slip, diss, newH, cpoint)
 
     # ------------------------------------------------------------------------------------------
@@ -190,7 +194,7 @@ class ContactLaw:
         """Force, traction (covariant), N, status, slip (contravariant), D, history row, xi."""
         surf = self.surface
         row = np.zeros(N_HISTORY)
-        row[5:] = h[5:]
+        row[5:7] = h[5:7]
         xi3 = x[2] if surf.kind == "plane" else float(surf.gap(x[None, :])[0])
         if not xi3 < 0.0:
             return np.zeros(3), np.zeros(2), 0.0, OPEN, np.zeros(2), 0.0, row, np.full(2, np.nan)
@@ -218,7 +222,9 @@ class ContactLaw:
         row[5] += r.dissipation
         slip_len = float(np.sqrt(r.slip @ p.m @ r.slip))
         row[6] += slip_len
-        return force, r.T, N, SLIP if r.state else STICK, r.slip, r.dissipation, row, p.xi
+        row[7] = SLIP if r.state else STICK
+        row[8] = N
+        return force, r.T, N, int(row[7]), r.slip, r.dissipation, row, p.xi
 
     def _evaluate_chart(self, x, v, H, tangent):
         K = x.shape[0]
