@@ -1,0 +1,288 @@
+"""The one place that talks to Exudyn: ``CreateAnisotropicContact`` adds a contact set to an mbs.
+
+Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
+
+* one ``ObjectGenericODE2`` per contact set acting on the slave body node (and the master body
+  node when the surface moves), with a ``forceUserFunction`` returning the generalized contact
+  forces ``Q = sum_k Jp_k^T f_k`` and, for a master fixed to ground, a ``jacobianUserFunction``
+  with the consistent tangent of ``exu_aniso.contact`` mapped through the point Jacobians
+  ``Jp_k`` (geometric terms of the rotation neglected: they change Newton's rate, not the result);
+* the history lives in a ``NodeGenericData`` (9 numbers per point, ``HISTORY_FIELDS``). During
+  Newton the law is evaluated from the last *converged* history (``ConfigurationType.StartOfStep``);
+  one post-Newton function per mbs evaluates every set at the converged state and writes the
+  candidate to ``ConfigurationType.Current``. Exudyn copies Current to StartOfStep only when a step
+  is accepted and restores Current from StartOfStep when it rejects a step, so rejected or reduced
+  steps leave no trace;
+* node types: ``NodeRigidBody2D`` (planar: in-plane force and z torque; the local z of a point is
+  its fixed height over the plane), ``NodeRigidBodyRotVecLG`` (``NodeType.RotationRotationVector``)
+  and ``NodeRigidBodyEP``. Explicit solvers work with the 2D and rotation-vector nodes (Exudyn
+  refuses EP nodes there).
+
+The law itself is never changed here: every force comes from ``ContactLaw.evaluate``.
+"""
+from __future__ import annotations
+
+import math
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode, SensorUserFunction
+
+from .contact import HISTORY_FIELDS, N_HISTORY, ContactLaw
+from .validation import check_points
+
+_SETS_KEY = "exu_aniso_contact_sets"
+_SOS = exu.ConfigurationType.StartOfStep
+_CUR = exu.ConfigurationType.Current
+
+
+def _rot_vec_matrix(th):
+    a = math.sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2])
+    K = np.array([[0.0, -th[2], th[1]], [th[2], 0.0, -th[0]], [-th[1], th[0], 0.0]])
+    if a < 1e-8:
+        return np.eye(3) + K + 0.5 * K @ K
+    return np.eye(3) + math.sin(a) / a * K + (1.0 - math.cos(a)) / (a * a) * K @ K
+
+
+def _ep_matrix(e):
+    e0, e1, e2, e3 = e
+    A = np.array([[e0 * e0 + e1 * e1 - e2 * e2 - e3 * e3, 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
+                  [2 * (e1 * e2 + e0 * e3), e0 * e0 - e1 * e1 + e2 * e2 - e3 * e3, 2 * (e2 * e3 - e0 * e1)],
+                  [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3]])
+    G = 2.0 * np.array([[-e1, e0, e3, -e2], [-e2, -e3, e0, e1], [-e3, e2, -e1, e0]])  # omega_local = G de/dt
+    return A, G
+
+
+class _BodyKinematics:
+    """Positions, velocities and point Jacobians of body-fixed points for one Exudyn node."""
+
+    def __init__(self, mbs, node_number):
+        self.node = node_number
+        self.kind = mbs.GetNode(node_number)["nodeType"]
+        kinds = {"RigidBody2D": 3, "RigidBodyRotVecLG": 6, "RigidBodyEP": 7, "GenericODE2": 2}
+        if self.kind not in kinds:
+            raise ValueError(f"CreateAnisotropicContact: body node {node_number} has type {self.kind!r}; supported "
+                             f"are NodeRigidBody2D, NodeRigidBodyRotVecLG (RotationRotationVector), NodeRigidBodyEP "
+                             f"and a 2-coordinate NodeGenericODE2 (screw joint: rotation about z, translation along z)")
+        self.n = kinds[self.kind]
+        self.ref = np.asarray(mbs.GetNodeParameter(node_number, "referenceCoordinates"), dtype=float)
+        if self.ref.shape != (self.n,):
+            raise ValueError(f"CreateAnisotropicContact: NodeGenericODE2 {node_number} must have exactly 2 coordinates "
+                             f"(rotation about z [rad], translation along z [m]); got {self.ref.shape[0]}")
+        q0 = mbs.GetNodeParameter(node_number, "initialCoordinates")
+        self.q0 = np.asarray(q0, dtype=float) if len(q0) else np.zeros(self.n)
+        v0 = mbs.GetNodeParameter(node_number, "initialCoordinates_t" if self.kind == "GenericODE2"
+                                  else "initialVelocities")
+        self.v0 = np.asarray(v0, dtype=float) if len(v0) else np.zeros(self.n)
+
+    def points(self, q, q_t, b):
+        """Global positions (K, 3), velocities (K, 3) and Jacobians Jp (K, 3, n) of local points b."""
+        q = self.ref + np.asarray(q, dtype=float)
+        q_t = np.asarray(q_t, dtype=float)
+        K = b.shape[0]
+        if self.kind == "RigidBody2D":
+            c, s = math.cos(q[2]), math.sin(q[2])
+            ax = c * b[:, 0] - s * b[:, 1]
+            ay = s * b[:, 0] + c * b[:, 1]
+            x = np.stack([q[0] + ax, q[1] + ay, b[:, 2]], axis=-1)
+            v = np.stack([q_t[0] - q_t[2] * ay, q_t[1] + q_t[2] * ax, np.zeros(K)], axis=-1)
+            J = np.zeros((K, 3, 3))
+            J[:, 0, 0] = J[:, 1, 1] = 1.0
+            J[:, 0, 2] = -ay
+            J[:, 1, 2] = ax
+            return x, v, J
+        if self.kind == "GenericODE2":                 # screw joint: q = (psi, z)
+            c, s = math.cos(q[0]), math.sin(q[0])
+            ax = c * b[:, 0] - s * b[:, 1]
+            ay = s * b[:, 0] + c * b[:, 1]
+            x = np.stack([ax, ay, b[:, 2] + q[1]], axis=-1)
+            v = np.stack([-q_t[0] * ay, q_t[0] * ax, np.full(K, q_t[1])], axis=-1)
+            J = np.zeros((K, 3, 2))
+            J[:, 0, 0] = -ay
+            J[:, 1, 0] = ax
+            J[:, 2, 1] = 1.0
+            return x, v, J
+        if self.kind == "RigidBodyRotVecLG":
+            A = _rot_vec_matrix(q[3:6])
+            G = np.eye(3)
+        else:
+            A, G = _ep_matrix(q[3:7])
+        arm = b @ A.T
+        omega_local = G @ q_t[3:]
+        x = q[0:3] + arm
+        v = q_t[0:3] + np.cross(omega_local, b) @ A.T
+        skew = np.zeros((K, 3, 3))
+        skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -b[:, 2], b[:, 1], -b[:, 0]
+        skew[:, 1, 0], skew[:, 2, 0], skew[:, 2, 1] = b[:, 2], -b[:, 1], b[:, 0]
+        J = np.zeros((K, 3, self.n))
+        J[:, :, 0:3] = np.eye(3)
+        J[:, :, 3:] = -np.einsum("ij,kjl,lm->kim", A, skew, G)
+        return x, v, J
+
+    def frame(self, q, q_t):
+        """Position, rotation matrix, global angular velocity of the node (3D nodes)."""
+        q = self.ref + np.asarray(q, dtype=float)
+        q_t = np.asarray(q_t, dtype=float)
+        if self.kind == "RigidBodyRotVecLG":
+            A, G = _rot_vec_matrix(q[3:6]), np.eye(3)
+        elif self.kind == "RigidBodyEP":
+            A, G = _ep_matrix(q[3:7])
+        else:
+            raise ValueError("CreateAnisotropicContact: masterBodyNumber must be a 3D rigid body (RotVecLG or EP node)")
+        return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
+
+
+class _ContactSet:
+    """State-free glue between one GenericODE2 object and a ContactLaw."""
+
+    def __init__(self, mbs, law, slave, points, master):
+        self.law = law
+        self.slave = slave
+        self.points = points
+        self.master = master
+        self.K = points.shape[0]
+        self.nData = None
+        self.ltg = None
+
+    def _split(self, q, q_t):
+        ns = self.slave.n
+        return q[:ns], q_t[:ns], q[ns:], q_t[ns:]
+
+    def state(self, mbs, q, q_t, history, tangent):
+        """Evaluate the law; returns (ContactState, slave Jp, F_global, master data)."""
+        qs, vs, qm, vm = self._split(q, q_t)
+        x, v, Jp = self.slave.points(qs, vs, self.points)
+        if self.master is None:
+            st = self.law.evaluate(x, v, history, tangent)
+            return st, Jp, st.force, None
+        p, A, w, vp = self.master.frame(qm, vm)
+        d = x - p
+        x_rel = d @ A
+        v_rel = (v - vp - np.cross(w, d)) @ A
+        st = self.law.evaluate(x_rel, v_rel, history, tangent)
+        F = st.force @ A.T
+        b_master = x_rel                       # reaction at the master's material point at S
+        _, _, Jm = self.master.points(qm, vm, b_master)
+        return st, Jp, F, Jm
+
+    def history(self, mbs, configuration):
+        h = mbs.GetNodeOutput(self.nData, exu.OutputVariableType.Coordinates, configuration=configuration)
+        return np.asarray(h, dtype=float).reshape(self.K, N_HISTORY)
+
+    def force(self, mbs, t, itemNumber, q, q_t):
+        st, Jp, F, Jm = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)
+        Q = np.einsum("kij,ki->j", Jp, F)
+        if Jm is not None:
+            Q = np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
+        return Q.tolist()
+
+    def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        st, Jp, F, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True)
+        Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, Jp)
+        Dq = np.einsum("kia,kij,kjb->ab", Jp, st.damping, Jp)
+        return -(fODE2 * Kq + fODE2_t * Dq)
+
+    def commit_candidate(self, mbs):
+        """Evaluate at the converged state and write the history candidate to Current."""
+        nodes = [self.slave] + ([self.master] if self.master is not None else [])
+        q = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates,
+                                                         configuration=_CUR)) for nd in nodes])
+        q_t = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates_t,
+                                                           configuration=_CUR)) for nd in nodes])
+        st, _, _, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)
+        if self.ltg is None:
+            self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
+        data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
+        data[self.ltg] = st.history.ravel()
+        mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+
+
+def _post_newton(mbs, t):
+    for cs in mbs.variables[_SETS_KEY]:
+        cs.commit_candidate(mbs)
+    return [0.0, -1.0]
+
+
+def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
+                             normalStiffness=None, normalDamping=0.0, returnMap="exact", contactLaw=None,
+                             masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True):
+    """Add anisotropic frictional contact between body-fixed points and an analytical surface.
+
+    bodyNumber: slave body (ObjectRigidBody, or ObjectRigidBody2D for a planar model);
+    localPoints: (K, 3) body-local contact points [m]; surface: exu_aniso Plane or Cylinder in the
+    master frame; adhesion / friction: exu_aniso Adhesion / Friction fields; normalStiffness
+    eps_N [N/m per point]; normalDamping d_N [N s/m per point]; returnMap "seed" | "exact" | "radial";
+    or contactLaw: a ready ContactLaw instead of the five previous arguments.
+    masterBodyNumber: None (surface fixed to ground) or a 3D rigid body carrying the surface
+    (equal and opposite force on it at the material point coinciding with each slave point).
+    jacobian: "analytic" (consistent tangent; ground master only) or "numerical" (Exudyn's).
+    initializeHistory: True -> points already in contact at the initial configuration start
+    sticking there (anchor = initial contact point, T = 0), as in the reference engine; False ->
+    they start as a new contact in the first step.
+    Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, or a NodeGenericODE2
+    with 2 coordinates (psi about z [rad], z [m]) for a reduced screw-joint model.
+
+    Returns a dict with 'oContact' (ObjectGenericODE2), 'nData' (NodeGenericData, the history:
+    9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history), 'sDissipation'
+    (sensor of the total dissipated energy [J]), 'law' and 'points'.
+    """
+    if contactLaw is None:
+        if normalStiffness is None:
+            raise ValueError("CreateAnisotropicContact: give normalStiffness (with surface, adhesion, friction) "
+                             "or a ready contactLaw")
+        contactLaw = ContactLaw(surface, adhesion, friction, normalStiffness, normalDamping, returnMap)
+    elif any(a is not None for a in (surface, adhesion, friction, normalStiffness)):
+        raise ValueError("CreateAnisotropicContact: contactLaw replaces surface/adhesion/friction/normalStiffness; "
+                         "give one or the other")
+    if jacobian not in ("analytic", "numerical"):
+        raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
+    points = check_points("localPoints", localPoints)
+    slave = _BodyKinematics(mbs, mbs.GetObject(bodyNumber)["nodeNumber"])
+    master = None
+    if masterBodyNumber is not None:
+        master = _BodyKinematics(mbs, mbs.GetObject(masterBodyNumber)["nodeNumber"])
+        if master.kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
+            raise ValueError("CreateAnisotropicContact: masterBodyNumber must be a 3D rigid body (RotVecLG or EP node)")
+    cs = _ContactSet(mbs, contactLaw, slave, points, master)
+    K = points.shape[0]
+    h0 = np.zeros(K * N_HISTORY)
+    if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
+        nodes = [slave] + ([master] if master is not None else [])
+        st = cs.state(mbs, np.concatenate([nd.q0 for nd in nodes]), np.concatenate([nd.v0 for nd in nodes]),
+                      None, tangent=False)[0]
+        h0 = st.history.ravel()
+    cs.nData = mbs.AddNode(NodeGenericData(initialCoordinates=h0.tolist(), numberOfDataCoordinates=K * N_HISTORY))
+    nodes = [slave.node] + ([master.node] if master is not None else [])
+    n = slave.n + (master.n if master is not None else 0)
+    kw = {}
+    if jacobian == "analytic" and master is None:
+        kw["jacobianUserFunction"] = cs.jacobian
+    oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, massMatrix=np.zeros((n, n)),
+                                               forceUserFunction=cs.force, **kw))
+    if _SETS_KEY not in mbs.variables:
+        mbs.variables[_SETS_KEY] = []
+        mbs.SetPostNewtonUserFunction(_post_newton)
+    mbs.variables[_SETS_KEY].append(cs)
+    out = {"oContact": oContact, "nData": cs.nData, "law": contactLaw, "points": points}
+    if storeSensors:
+        sHistory = mbs.AddSensor(SensorNode(nodeNumber=cs.nData, outputVariableType=exu.OutputVariableType.Coordinates,
+                                            storeInternal=True))
+        col = HISTORY_FIELDS.index("dissipated_energy")
+
+        def total_dissipation(mbs, t, sensorNumbers, factors, configuration):
+            h = mbs.GetSensorValues(sensorNumbers[0], configuration=configuration)
+            return [float(sum(h[col::N_HISTORY]))]
+
+        out["sHistory"] = sHistory
+        out["sDissipation"] = mbs.AddSensor(SensorUserFunction(sensorNumbers=[sHistory], factors=[1.0],
+                                                               sensorUserFunction=total_dissipation,
+                                                               storeInternal=True))
+    return out
+
+
+def HistoryComponent(point, field):
+    """Sensor component index of `field` (a HISTORY_FIELDS name) of contact point `point` in the
+    'sHistory' sensor, e.g. mbs.PlotSensor(sHistory, components=HistoryComponent(0, 'traction_1'))."""
+    if field not in HISTORY_FIELDS:
+        raise ValueError(f"field must be one of {HISTORY_FIELDS}; got {field!r}")
+    return int(point) * N_HISTORY + HISTORY_FIELDS.index(field)
