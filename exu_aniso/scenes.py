@@ -405,3 +405,45 @@ def screw_contact_law(p):
 def pitch(p):
     """Thread pitch 2 pi R tan(alpha) of the spiral net [m per revolution]."""
     return 2.0 * math.pi * p.radius * math.tan(math.radians(p.helix_angle))
+
+
+# ----------------------------------------------------------------------------------------------
+# summaries shared by every engine (keys are a public interface: CLI summary.json)
+
+BLOCK_SUMMARY_KEYS = ("x_end", "y_end", "theta_end", "vx_end", "vy_end", "heading_deg", "r_min", "r_max", "r_mean",
+                      "slip_distance", "dissipated_energy", "wall_s", "steps", "newton_iterations")
+SCREW_SUMMARY_KEYS = ("angle_end", "z_end", "advance_per_rev", "torque_mean", "axial_force_mean",
+                      "dissipated_energy", "wall_s", "steps", "newton_iterations")
+
+
+def block_summary(traj, wall_s, steps, newton_iterations):
+    """Summary of a block trajectory (dict of arrays with t, x, y, theta, vx, vy, slip_distance,
+    dissipated_energy): end state, heading of the final velocity [deg], distance of the centre
+    from the origin along the path (min, max, mean) [m], cost figures."""
+    x, y = traj["x"], traj["y"]
+    r = np.hypot(x, y)
+    return dict(x_end=float(x[-1]), y_end=float(y[-1]), theta_end=float(traj["theta"][-1]),
+                vx_end=float(traj["vx"][-1]), vy_end=float(traj["vy"][-1]),
+                heading_deg=float(math.degrees(math.atan2(traj["vy"][-1], traj["vx"][-1]))),
+                r_min=float(r.min()), r_max=float(r.max()), r_mean=float(r.mean()),
+                slip_distance=float(traj["slip_distance"][-1]),
+                dissipated_energy=float(traj["dissipated_energy"][-1]),
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations))
+
+
+def screw_summary(traj, wall_s, steps, newton_iterations):
+    """Summary of a screw trajectory (t, angle, z, torque, axial_force, dissipated_energy):
+    advance per revolution = 2 pi dz/dangle fitted over the last half of the run (signed; NaN
+    when the screw does not turn there), mean drive torque and axial force over the last half."""
+    t = traj["t"]
+    late = t >= 0.5 * t[-1]
+    ang, z = traj["angle"][late], traj["z"][late]
+    if late.sum() >= 2 and np.ptp(ang) > 1e-9:
+        adv = float(np.polyfit(ang, z, 1)[0] * 2.0 * math.pi)
+    else:
+        adv = float("nan")
+    return dict(angle_end=float(traj["angle"][-1]), z_end=float(traj["z"][-1]), advance_per_rev=adv,
+                torque_mean=float(traj["torque"][late].mean()),
+                axial_force_mean=float(traj["axial_force"][late].mean()),
+                dissipated_energy=float(traj["dissipated_energy"][-1]),
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations))

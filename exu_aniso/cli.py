@@ -1,0 +1,182 @@
+"""Command line: ``exu-aniso run SCENE`` and ``exu-aniso params SCENE``.
+
+    exu-aniso run block|screw|all [--engine exudyn|reference] [--set NAME=VALUE ...] [--out DIR]
+    exu-aniso params block|screw
+
+``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
+summary.json), DIR/summary.json
+and DIR/trajectory.png; ``all`` runs both scenes into DIR/block and DIR/screw. Every file is
+written to a temporary name and moved into place, so a failed run leaves no half-written
+result. Exit code 0 on success, 2 on bad names or values (with a message naming the
+parameter, the rule and the value), 1 when the simulation fails.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import math
+import os
+import sys
+import tempfile
+
+from .scenes import BlockParams, ScrewParams
+
+SCENES = {"block": BlockParams, "screw": ScrewParams}
+ENGINES = ("exudyn", "reference")
+
+# trajectory columns written to CSV, in this order, with their SI units (plain names are the public
+# interface: block t,x,y,theta,...; screw t,angle,z,...; the units go to summary.json "units")
+COLUMNS = {
+    "block": {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
+              "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N"},
+    "screw": {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
+              "axial_force": "N", "dissipated_energy": "J"},
+}
+
+
+class UsageError(Exception):
+    """Bad command-line input (exit code 2)."""
+
+
+def parse_sets(pairs):
+    """['name=value', ...] -> {name: value} (strings; parsed and validated by the params class)."""
+    out = {}
+    for item in pairs or []:
+        if "=" not in item:
+            raise UsageError(f"--set expects NAME=VALUE; got {item!r}")
+        name, value = item.split("=", 1)
+        name = name.strip()
+        if name in out:
+            raise UsageError(f"--set {name} given twice")
+        out[name] = value.strip()
+    return out
+
+
+def make_params(scene, sets):
+    try:
+        return SCENES[scene].from_strings(sets)
+    except (ValueError, TypeError) as e:
+        raise UsageError(f"{scene}: {e}") from None
+
+
+def simulate(scene, params, engine):
+    """Run one scene with one engine; returns the engine's Result."""
+    if engine == "reference":
+        from .reference import simulate_block, simulate_screw
+        return simulate_block(params) if scene == "block" else simulate_screw(params)
+    from .models import block as block_model, screw as screw_model
+    return block_model.RunBlock(params) if scene == "block" else screw_model.RunScrew(params)
+
+
+def _atomic_write(path, write):
+    """Write via a temporary file in the same directory, then move into place."""
+    d = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=os.path.splitext(path)[1])
+    try:
+        with os.fdopen(fd, "wb") as f:
+            write(f)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+def write_csv(path, scene, traj):
+    cols = [k for k in COLUMNS[scene] if k in traj]
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(cols)
+    for i in range(len(traj["t"])):
+        w.writerow([repr(float(traj[k][i])) for k in cols])
+    _atomic_write(path, lambda f: f.write(buf.getvalue().encode()))
+
+
+def plot_trajectory(path, scene, traj, summary, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if scene == "block":
+        fig, ax = plt.subplots(figsize=(5.5, 5.0))
+        ax.plot(traj["x"], traj["y"], "-", lw=1.5, label="centre path")
+        ax.plot(traj["x"][0], traj["y"][0], "o", label="start")
+        ax.plot(0.0, 0.0, "k+", ms=12, mew=2, label="polar origin")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.legend(loc="best", fontsize=8)
+    else:
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.0, 5.5), sharex=True)
+        a1.plot(traj["t"], [a / (2 * math.pi) for a in traj["angle"]])
+        a1.set_ylabel("rotation [rev]")
+        a2.plot(traj["t"], [1e3 * z for z in traj["z"]])
+        a2.set_ylabel("axial position z [mm]")
+        a2.set_xlabel("t [s]")
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    plt.close(fig)
+    _atomic_write(path, lambda f: f.write(buf.getvalue()))
+
+
+def run_scene(scene, params, engine, out):
+    os.makedirs(out, exist_ok=True)
+    res = simulate(scene, params, engine)
+    summary = dict(res.summary)
+    summary["engine"] = engine
+    summary["params"] = params.as_dict()
+    summary["units"] = {k: u for k, u in COLUMNS[scene].items() if k in res.trajectory}
+    write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory)
+    keys = ("heading_deg", "r_mean") if scene == "block" else ("advance_per_rev", "torque_mean")
+    title = f"{scene} ({engine}, {params.return_map} map, {params.model}): " + ", ".join(
+        f"{k} = {summary[k]:.4g}" for k in keys)
+    plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, summary, title)
+    _atomic_write(os.path.join(out, "summary.json"),
+                  lambda f: f.write(json.dumps(summary, indent=1, allow_nan=True).encode()))
+    return summary
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="exu-aniso", description="Anisotropic frictional contact scenes for Exudyn")
+    sub = ap.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="run a scene and write trajectory.csv, summary.json, trajectory.png")
+    r.add_argument("scene", choices=("block", "screw", "all"))
+    r.add_argument("--engine", choices=ENGINES, default="exudyn")
+    r.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter (see 'exu-aniso params SCENE'); repeatable")
+    r.add_argument("--out", default="results", help="output directory (default: results)")
+    p = sub.add_parser("params", help="list the parameters of a scene with unit, default and rule")
+    p.add_argument("scene", choices=tuple(SCENES))
+    a = ap.parse_args(argv)
+    try:
+        if a.command == "params":
+            cls = SCENES[a.scene]
+            print(f"{'name':16s} {'default':14s} {'unit':14s} {'allowed':34s} description")
+            print(cls.describe())
+            return 0
+        sets = parse_sets(a.sets)
+        scenes = ("block", "screw") if a.scene == "all" else (a.scene,)
+        if a.scene == "all" and sets:
+            raise UsageError("--set applies to one scene; run 'block' or 'screw' to override parameters")
+        jobs = [(s, make_params(s, sets), os.path.join(a.out, s) if a.scene == "all" else a.out) for s in scenes]
+    except UsageError as e:
+        print(f"exu-aniso: error: {e}", file=sys.stderr)
+        return 2
+    for scene, params, out in jobs:
+        try:
+            summary = run_scene(scene, params, a.engine, out)
+        except Exception as e:  # report the failure with context, keep the exit code meaningful
+            print(f"exu-aniso: {scene} ({a.engine}) failed: {type(e).__name__}: {e}", file=sys.stderr)
+            return 1
+        show = {k: v for k, v in summary.items() if k not in ("params", "units")}
+        print(f"{scene} [{a.engine}] -> {out}: " + ", ".join(
+            f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in show.items()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
