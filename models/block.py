@@ -1,0 +1,231 @@
+"""Block on a (polar-)orthotropic plane as an Exudyn model (SPEC section 3; paper 000, Fig. 1).
+
+A rigid cube on the plane z = 0, pressed by ``normal_load`` and driven in the xy-plane, with the
+anisotropic contact of ``exu_aniso`` added by one ``CreateAnisotropicContact`` call. The models,
+drives, initial state and trajectory keys are those of ``exu_aniso.reference`` (read its module
+docstring); ``RunBlock`` returns the same ``Result`` so the two engines compare field by field:
+
+* ``model="planar"``: ``NodeRigidBody2D`` + ``ObjectRigidBody2D`` (x, y, theta; inertia m size^2/6);
+  the contact points sit at the body-local height gap = -normal_load / eps_n, which holds the
+  normal load exactly as the reference does;
+* ``model="full"``: ``mbs.CreateRigidBody`` (6 DOF; ``exu.NodeType.RotationRotationVector`` =
+  Lie-group rotation vector by default, Euler parameters allowed), normal_load as a constant
+  downward force at the centre of mass, no gravity, started at the static penetration;
+* drives: "force" -> constant load at the centre of mass; "displacement" -> a spring along the drive
+  direction d only, F = k (s t - d.(r - r0)) d, as an ``ObjectGenericODE2`` with force and exact
+  Jacobian user functions (``AddNodeDrive``).
+
+Run ``python -m exu_aniso.models.block`` (or this file) for a plot of the default scene.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigidBody2D, ObjectGenericODE2,
+                                  ObjectRigidBody2D, SensorNode)
+from exudyn.utilities import InertiaCuboid
+
+from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
+from exu_aniso.exudyn_glue import CreateAnisotropicContact
+from exu_aniso.reference import Result
+from exu_aniso.scenes import BlockParams, block_contact_law, block_points, block_summary
+
+SOLVER_TYPES = {"trapezoidal": exu.DynamicSolverType.TrapezoidalIndex2,
+                "generalized_alpha": exu.DynamicSolverType.GeneralizedAlpha}
+NODE_TYPES = {"RotVecLG": exu.NodeType.RotationRotationVector, "EP": exu.NodeType.RotationEulerParameters}
+
+
+# ----------------------------------------------------------------------------------------------
+# helpers shared with exu_aniso.models.screw
+
+def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None):
+    """SimulationSettings and DynamicSolverType of a scene parameter set p (BlockParams or ScrewParams).
+
+    Full Newton (useModifiedNewton False), relative/absolute Newton tolerance ``newtonTolerance``,
+    numberOfSteps = round(t_end / dt), sensors every step, no solution file, silent.
+    p.solver "trapezoidal" -> TrapezoidalIndex2 (Newmark beta 1/4, gamma 1/2, as the reference);
+    "generalized_alpha" -> GeneralizedAlpha with spectralRadius = rhoInf (reference rho_inf).
+    solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check)."""
+    ss = exu.SimulationSettings()
+    ti = ss.timeIntegration
+    ti.numberOfSteps = int(round(p.t_end / p.dt))
+    ti.endTime = p.t_end
+    ti.verboseMode = 0
+    ti.newton.useModifiedNewton = False
+    ti.newton.relativeTolerance = newtonTolerance
+    ti.newton.absoluteTolerance = newtonTolerance
+    ti.generalizedAlpha.spectralRadius = rhoInf
+    ss.solution.file.write = False
+    ss.solution.sensors.writePeriod = 0          # every step
+    if solverType is None:
+        solverType = SOLVER_TYPES[p.solver]
+    return ss, solverType
+
+
+def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
+    """Add an ObjectGenericODE2 on one node applying the generalized force ``force(t, q) -> (n,)``
+    (q: node coordinates without reference values) with the exact LHS Jacobian built from
+    ``jacobian(t, q) -> (n, n)`` = -dQ/dq (velocity-independent drives). Returns the object number."""
+    n = int(nCoordinates)
+
+    def UFforce(mbs, t, itemNumber, q, q_t):
+        return list(force(t, np.asarray(q)))
+
+    def UFjacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        return fODE2 * jacobian(t, np.asarray(q))
+
+    return mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nodeNumber], massMatrix=np.zeros((n, n)),
+                                           forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
+
+
+def SolveTimed(mbs, simulationSettings, solverType):
+    """mbs.SolveDynamic with wall time; returns (wall_s, steps, newton_iterations, info dict)."""
+    t0 = time.perf_counter()
+    ok = mbs.SolveDynamic(simulationSettings, solverType=solverType, storeSolver=True)
+    wall = time.perf_counter() - t0
+    if not ok:
+        raise RuntimeError("SolveDynamic did not finish (Newton failure or step-size limit)")
+    it = mbs.sys["dynamicSolver"].it
+    steps = int(it.currentStepIndex) - 1 if solverType in SOLVER_TYPES.values() else int(it.currentStepIndex)
+    info = dict(solverType=str(solverType), rejected_steps=int(getattr(it, "rejectedAutomaticStepSizeSteps", 0)),
+                newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
+    return wall, steps, int(it.newtonStepsCount), info
+
+
+def HistoryOutputs(mbs, contact):
+    """Per-step total dissipated energy [J] and mean accumulated slip distance [m] from the
+    contact's history sensor, and the history array (steps + 1, K, N_HISTORY)."""
+    D = mbs.GetSensorStoredData(contact["sHistory"])
+    H = D[:, 1:].reshape(D.shape[0], -1, N_HISTORY)
+    return (H[:, :, HISTORY_FIELDS.index("dissipated_energy")].sum(axis=1),
+            H[:, :, HISTORY_FIELDS.index("slip_distance")].mean(axis=1), H)
+
+
+def Unwrap(angle):
+    """Continuous angle from a sequence of wrapped ones (per-step change below pi)."""
+    return np.unwrap(np.asarray(angle, dtype=float))
+
+
+# ----------------------------------------------------------------------------------------------
+# the block scene
+
+def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
+               newtonTolerance=1e-10):
+    """Build the block scene; returns dict with SC, mbs, simulationSettings, solverType, params,
+    nBlock, oBlock, contact (dict of CreateAnisotropicContact), sensors (dict) and oDrive (or None).
+
+    jacobian: "analytic" | "numerical" (contact Jacobian); nodeType: "RotVecLG" | "EP" (full model);
+    solverType: an exu.DynamicSolverType overriding p.solver; rhoInf: spectral radius of
+    generalized-alpha; newtonTolerance: Newton relative and absolute tolerance."""
+    if nodeType not in NODE_TYPES:
+        raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+
+    m, a = p.mass, p.size                       # mass [kg], edge length [m]
+    gap = -p.normal_load / p.eps_n              # static penetration carrying normal_load [m]
+    ang = math.radians(p.drive_angle)
+    d = np.array([math.cos(ang), math.sin(ang)])  # drive direction in the plane
+    sensors = {}
+    if p.model == "planar":
+        nBlock = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[p.x0, p.y0, 0.0]))
+        oBlock = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nBlock, physicsMass=m, physicsInertia=m * a * a / 6.0))
+        nq, pos = 3, slice(0, 2)
+        localPoints = block_points(p)
+        localPoints[:, 2] = gap                 # planar: local z = held height over the plane
+        if p.drive == "force":
+            for i in range(2):
+                mC = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nBlock, coordinate=i))
+                mbs.AddLoad(LoadCoordinate(markerNumber=mC, load=p.force * d[i]))
+        sensors["sCoordinates"] = mbs.AddSensor(SensorNode(nodeNumber=nBlock, storeInternal=True,
+                                                           outputVariableType=exu.OutputVariableType.Coordinates))
+        sensors["sVelocities"] = mbs.AddSensor(SensorNode(nodeNumber=nBlock, storeInternal=True,
+                                                          outputVariableType=exu.OutputVariableType.Coordinates_t))
+    else:
+        oBlock = mbs.CreateRigidBody(inertia=InertiaCuboid(density=m / a ** 3, sideLengths=[a, a, a]),
+                                     referencePosition=[p.x0, p.y0, 0.5 * a + gap], nodeType=NODE_TYPES[nodeType])
+        nBlock = mbs.GetObject(oBlock)["nodeNumber"]
+        nq, pos = (6 if nodeType == "RotVecLG" else 7), slice(0, 3)
+        localPoints = block_points(p)
+        load = np.array([0.0, 0.0, -p.normal_load])
+        if p.drive == "force":
+            load[:2] += p.force * d
+        mbs.CreateForce(bodyNumber=oBlock, loadVector=load.tolist())
+        for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"),
+                          ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")):
+            sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nBlock, storeInternal=True,
+                                                     outputVariableType=getattr(exu.OutputVariableType, ovt)))
+
+    oDrive = None
+    if p.drive == "displacement":               # spring along d only, driver point moving at drive_speed
+        k, s = p.drive_stiffness, p.drive_speed
+        dd = np.zeros(nq)
+        dd[0:2] = d
+        Kdrive = k * np.outer(dd, dd)           # -dQ/dq
+
+        def DriveForce(t, q):
+            return k * (s * t - d @ q[0:2]) * dd
+
+        oDrive = AddNodeDrive(mbs, nBlock, nq, DriveForce, lambda t, q: Kdrive)
+
+    contact = CreateAnisotropicContact(mbs, bodyNumber=oBlock, localPoints=localPoints,
+                                       contactLaw=block_contact_law(p), jacobian=jacobian, initializeHistory=True)
+    mbs.Assemble()
+    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
+    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nBlock=nBlock, oBlock=oBlock,
+                contact=contact, sensors=sensors, oDrive=oDrive, driveDirection=d, nodeType=nodeType,
+                position=pos)
+
+
+def BlockTrajectory(model):
+    """Trajectory dict (reference keys) from the stored sensors of a solved BuildBlock model."""
+    mbs, p, S, d = model["mbs"], model["params"], model["sensors"], model["driveDirection"]
+    diss, slip, _ = HistoryOutputs(mbs, model["contact"])
+    gap = -p.normal_load / p.eps_n
+    if p.model == "planar":
+        Q = mbs.GetSensorStoredData(S["sCoordinates"])
+        V = mbs.GetSensorStoredData(S["sVelocities"])
+        traj = dict(t=Q[:, 0], x=Q[:, 1] + p.x0, y=Q[:, 2] + p.y0, theta=Q[:, 3], vx=V[:, 1], vy=V[:, 2],
+                    omega=V[:, 3], z=np.full(len(Q), 0.5 * p.size + gap))
+    else:
+        P = mbs.GetSensorStoredData(S["sPosition"])
+        V = mbs.GetSensorStoredData(S["sVelocity"])
+        A = mbs.GetSensorStoredData(S["sRotation"])[:, 1:].reshape(-1, 3, 3)
+        W = mbs.GetSensorStoredData(S["sOmega"])
+        traj = dict(t=P[:, 0], x=P[:, 1], y=P[:, 2], theta=Unwrap(np.arctan2(A[:, 1, 0], A[:, 0, 0])),
+                    vx=V[:, 1], vy=V[:, 2], omega=W[:, 3], z=P[:, 3], vz=V[:, 3],
+                    tilt=np.arccos(np.clip(A[:, 2, 2], -1.0, 1.0)))
+    if p.drive == "force":
+        traj["drive_force"] = np.full(len(traj["t"]), p.force)
+    else:
+        disp = d[0] * (traj["x"] - p.x0) + d[1] * (traj["y"] - p.y0)
+        traj["drive_force"] = p.drive_stiffness * (p.drive_speed * traj["t"] - disp)
+    traj["dissipated_energy"] = diss
+    traj["slip_distance"] = slip
+    return traj
+
+
+def RunBlock(p: BlockParams = None, **options):
+    """Build and solve the block scene; returns exu_aniso.reference.Result (trajectory with the
+    reference's keys, summary = scenes.block_summary, params, info). options: see BuildBlock."""
+    p = BlockParams() if p is None else p
+    model = BuildBlock(p, **options)
+    wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
+    traj = BlockTrajectory(model)
+    info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
+                nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
+                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10))
+    return Result(traj, block_summary(traj, wall, steps, iters), p, info)
+
+
+if __name__ == "__main__":
+    p = BlockParams()                           # defaults: polar orthotropy, radial map, driven along +y
+    model = BuildBlock(p)
+    mbs = model["mbs"]
+    SolveTimed(mbs, model["simulationSettings"], model["solverType"])
+    mbs.PlotSensor(model["sensors"]["sCoordinates"], components=[1], componentsX=[0],
+                   labels=["block path (displacement from x0, y0)"], closeAll=True)
+    mbs.PlotSensor(model["contact"]["sDissipation"], components=0, labels=["dissipated energy [J]"])
