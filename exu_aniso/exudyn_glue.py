@@ -180,7 +180,20 @@ class _ContactSet:
         st, Jp, F, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True)
         Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, Jp)
         Dq = np.einsum("kia,kij,kjb->ab", Jp, st.damping, Jp)
+        self._add_geometric(Kq, q, Jp, F)
         return -(fODE2 * Kq + fODE2_t * Dq)
+
+    def _add_geometric(self, Kq, q, Jp, F):
+        """Add dQ/dq of the lever arms turning at fixed point forces (the reference's geometric
+        terms) for 2D, screw-joint and RotVecLG slaves; EP nodes keep the approximation."""
+        sl = self.slave
+        if sl.kind in ("RigidBody2D", "GenericODE2"):   # dQ_rot/drot = -sum(arm . f), arm_xy = (J[1,r], -J[0,r])
+            r = 2 if sl.kind == "RigidBody2D" else 0
+            Kq[r, r] -= np.sum(Jp[:, 1, r] * F[:, 0] - Jp[:, 0, r] * F[:, 1])
+        elif sl.kind == "RigidBodyRotVecLG":              # d(b x A^T f)/d(local rotation) = [b]x [A^T f]x
+            A = _rot_vec_matrix((sl.ref + np.asarray(q, dtype=float))[3:6])
+            b, fb = self.points, F @ A
+            Kq[3:6, 3:6] += np.einsum("ki,kj->ij", fb, b) - np.eye(3) * np.sum(b * fb)
 
     def commit_candidate(self, mbs):
         """Evaluate at the converged state and write the history candidate to Current."""
@@ -195,6 +208,18 @@ class _ContactSet:
         data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
         data[self.ltg] = st.history.ravel()
         mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+
+
+def _body_node(mbs, bodyNumber):
+    """Node of a body object: 'nodeNumber' of a rigid body, the single node of an ObjectGenericODE2."""
+    obj = mbs.GetObject(bodyNumber)
+    if "nodeNumber" in obj:
+        return obj["nodeNumber"]
+    nodes = list(obj.get("nodeNumbers", []))
+    if len(nodes) != 1:
+        raise ValueError(f"CreateAnisotropicContact: body {bodyNumber} ({obj.get('objectType')}) must have exactly one "
+                         f"node; got nodeNumbers={nodes}")
+    return nodes[0]
 
 
 def _post_newton(mbs, t):
@@ -237,10 +262,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     if jacobian not in ("analytic", "numerical"):
         raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
     points = check_points("localPoints", localPoints)
-    slave = _BodyKinematics(mbs, mbs.GetObject(bodyNumber)["nodeNumber"])
+    slave = _BodyKinematics(mbs, _body_node(mbs, bodyNumber))
     master = None
     if masterBodyNumber is not None:
-        master = _BodyKinematics(mbs, mbs.GetObject(masterBodyNumber)["nodeNumber"])
+        master = _BodyKinematics(mbs, _body_node(mbs, masterBodyNumber))
         if master.kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
             raise ValueError("CreateAnisotropicContact: masterBodyNumber must be a 3D rigid body (RotVecLG or EP node)")
     cs = _ContactSet(mbs, contactLaw, slave, points, master)

@@ -1,0 +1,232 @@
+"""Screw in a threaded hole (spiral orthotropy) as an Exudyn model (SPEC section 3; paper 001, Fig. 2).
+
+A rigid cylindrical screw carrying ``rings`` x ``points_per_ring`` contact points on the radius
+``radius + interference``, inside the hole (cylinder of radius ``radius``, axis z) whose adhesion
+and friction follow a spiral (thread) net; the interference fit is the normal pressure. Models,
+drives and trajectory keys are those of ``exu_aniso.reference`` (read its module docstring):
+
+* ``model="reduced"``: a ``NodeGenericODE2`` with 2 coordinates (psi about z [rad], z [m]) and an
+  ``ObjectGenericODE2`` with mass matrix diag(J_axial, m), J_axial = m r^2 / 2 (the contact glue
+  treats this node as a screw joint on the hole axis);
+* ``model="full"``: ``mbs.CreateRigidBody`` (6 DOF, Lie-group rotation vector by default, Euler
+  parameters allowed) with J = diag(J_t, J_t, J_axial), J_t = m (3 r^2 + L^2) / 12, centred on the
+  hole axis, no gravity;
+* drives: "torque" -> constant torque tau about +z (Exudyn load); "rotation" -> torsional spring
+  tau = k (omega_d t - psi) to a rotating driver; "axial" -> spring F = k (v_d t - z) along +z; the
+  two springs are ``ObjectGenericODE2`` drives with exact Jacobians (``AddNodeDrive``); axial_load
+  is a constant Exudyn load along +z in every drive. In the full model psi is the unwrapped yaw
+  atan2(A_10, A_00), as in the reference.
+
+Run ``python -m exu_aniso.models.screw`` (or this file) for plots of the default scene.
+"""
+from __future__ import annotations
+
+import math
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2, ObjectGenericODE2,
+                                  SensorNode)
+from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RigidBodyInertia,
+                                       RotationVector2RotationMatrix)
+
+from exu_aniso.exudyn_glue import CreateAnisotropicContact
+from exu_aniso.models.block import NODE_TYPES, AddNodeDrive, HistoryOutputs, SimulationSettingsFor, SolveTimed, Unwrap
+from exu_aniso.reference import Result
+from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_points, screw_summary
+
+
+def _skew(a):
+    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+
+def _wrap(a):
+    return math.pi - (math.pi - a) % (2.0 * math.pi)
+
+
+def _drive_torque(p, psi, t):
+    """Drive torque about +z [N m] and its derivative by psi."""
+    if p.drive == "torque":
+        return p.torque, 0.0
+    if p.drive == "rotation":
+        return p.drive_stiffness * (p.rotation_speed * t - psi), -p.drive_stiffness
+    return 0.0, 0.0
+
+
+def _axial_force(p, z, t):
+    """Axial force along +z [N] (axial_load plus the axial drive spring)."""
+    return p.axial_load + (p.drive_stiffness * (p.axial_speed * t - z) if p.drive == "axial" else 0.0)
+
+
+def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
+               newtonTolerance=1e-10):
+    """Build the screw scene; returns dict with SC, mbs, simulationSettings, solverType, params,
+    nScrew, oScrew, contact (dict of CreateAnisotropicContact), sensors (dict), oDrive (or None).
+    Options as for exu_aniso.models.block.BuildBlock."""
+    if nodeType not in NODE_TYPES:
+        raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
+    if p.model == "full" and p.points_per_ring < 3:
+        raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+
+    m, r, L = p.mass, p.radius, p.length        # mass [kg], hole radius [m], contact length [m]
+    Ja = 0.5 * m * r * r                        # axial moment of inertia [kg m^2]
+    Jt = m * (3.0 * r * r + L * L) / 12.0       # transverse moment of inertia [kg m^2]
+    sensors = {}
+    oDrive = None
+    if p.model == "reduced":
+        nScrew = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
+                                             initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))
+        oScrew = mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nScrew], massMatrix=np.diag([Ja, m])))
+        mPsi = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=0))
+        mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=1))
+        if p.drive == "torque":
+            mbs.AddLoad(LoadCoordinate(markerNumber=mPsi, load=p.torque))
+        mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=p.axial_load))
+        if p.drive in ("rotation", "axial"):
+            i, rate = (0, p.rotation_speed) if p.drive == "rotation" else (1, p.axial_speed)
+            k = p.drive_stiffness
+            Kdrive = np.zeros((2, 2))
+            Kdrive[i, i] = k
+
+            def DriveForce(t, q):
+                Q = np.zeros(2)
+                Q[i] = k * (rate * t - q[i])
+                return Q
+
+            oDrive = AddNodeDrive(mbs, nScrew, 2, DriveForce, lambda t, q: Kdrive)
+        sensors["sCoordinates"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
+                                                           outputVariableType=exu.OutputVariableType.Coordinates))
+        sensors["sVelocities"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
+                                                          outputVariableType=exu.OutputVariableType.Coordinates_t))
+    else:
+        oScrew = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=m, inertiaTensor=np.diag([Jt, Jt, Ja])),
+                                     referencePosition=[0.0, 0.0, 0.0], nodeType=NODE_TYPES[nodeType])
+        nScrew = mbs.GetObject(oScrew)["nodeNumber"]
+        if p.drive == "torque":
+            mbs.CreateTorque(bodyNumber=oScrew, loadVector=[0.0, 0.0, p.torque])
+        mbs.CreateForce(bodyNumber=oScrew, loadVector=[0.0, 0.0, p.axial_load])
+        ep = nodeType == "EP"
+        nq = 7 if ep else 6
+        if p.drive == "axial":
+            k = p.drive_stiffness
+            Kdrive = np.zeros((nq, nq))
+            Kdrive[2, 2] = k
+
+            def DriveForce(t, q):
+                Q = np.zeros(nq)
+                Q[2] = k * (p.axial_speed * t - q[2])
+                return Q
+
+            oDrive = AddNodeDrive(mbs, nScrew, nq, DriveForce, lambda t, q: Kdrive)
+        elif p.drive == "rotation":
+            yaw_last = [0.0]   # last evaluated yaw: only used to unwrap (per-step change << pi)
+
+            def Kinematics(q):
+                if ep:
+                    e = q[3:7] + np.array([1.0, 0.0, 0.0, 0.0])
+                    return np.asarray(EulerParameters2RotationMatrix(e)), np.asarray(EulerParameters2GLocal(e))
+                return np.asarray(RotationVector2RotationMatrix(q[3:6])), np.eye(3)
+
+            def Yaw(A):
+                yaw = yaw_last[0] + _wrap(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])
+                yaw_last[0] = yaw
+                return yaw
+
+            def DriveForce(t, q):
+                A, G = Kinematics(q)
+                tau, _ = _drive_torque(p, Yaw(A), t)
+                Q = np.zeros(nq)
+                Q[3:] = G.T @ (A[2, :] * tau)       # local torque A^T (0, 0, tau)
+                return Q
+
+            def DriveJacobian(t, q):                # -dQ/dq, with respect to the local rotation increment
+                A, G = Kinematics(q)
+                tau, dtau = _drive_torque(p, Yaw(A), t)
+                Kq = np.zeros((nq, nq))
+                Kq[3:, 3:] = -G.T @ (_skew(A[2, :] * tau) + dtau * np.outer(A[2, :], A[2, :])) @ G
+                return Kq
+
+            oDrive = AddNodeDrive(mbs, nScrew, nq, DriveForce, DriveJacobian)
+        for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"),
+                          ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")):
+            sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
+                                                     outputVariableType=getattr(exu.OutputVariableType, ovt)))
+
+    contact = CreateAnisotropicContact(mbs, bodyNumber=oScrew, localPoints=screw_points(p),
+                                       contactLaw=screw_contact_law(p), jacobian=jacobian, initializeHistory=True)
+    mbs.Assemble()
+    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
+    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nScrew=nScrew, oScrew=oScrew,
+                contact=contact, sensors=sensors, oDrive=oDrive, nodeType=nodeType)
+
+
+def ScrewTrajectory(model, contactOutputs=True):
+    """Trajectory dict (reference keys) from the stored sensors of a solved BuildScrew model.
+
+    contactOutputs: also contact_torque [N m] and contact_axial_force [N], re-evaluated from the
+    stored states and the history of the previous step (what the solver saw at convergence)."""
+    mbs, p, S = model["mbs"], model["params"], model["sensors"]
+    diss, slip, H = HistoryOutputs(mbs, model["contact"])
+    s = screw_points(p)
+    if p.model == "reduced":
+        Q = mbs.GetSensorStoredData(S["sCoordinates"])
+        V = mbs.GetSensorStoredData(S["sVelocities"])
+        t, psi, z = Q[:, 0], Q[:, 1], Q[:, 2]
+        traj = dict(t=t, angle=psi, z=z, omega=V[:, 1], vz=V[:, 2])
+        c, sn = np.cos(psi), np.sin(psi)
+        A = np.zeros((len(t), 3, 3))
+        A[:, 0, 0], A[:, 0, 1], A[:, 1, 0], A[:, 1, 1], A[:, 2, 2] = c, -sn, sn, c, 1.0
+        pos = np.column_stack([np.zeros_like(t), np.zeros_like(t), z])
+        vel = np.column_stack([np.zeros_like(t), np.zeros_like(t), V[:, 2]])
+        w = np.column_stack([np.zeros_like(t), np.zeros_like(t), V[:, 1]])
+    else:
+        P = mbs.GetSensorStoredData(S["sPosition"])
+        V = mbs.GetSensorStoredData(S["sVelocity"])
+        A = mbs.GetSensorStoredData(S["sRotation"])[:, 1:].reshape(-1, 3, 3)
+        W = mbs.GetSensorStoredData(S["sOmega"])
+        t = P[:, 0]
+        psi = Unwrap(np.arctan2(A[:, 1, 0], A[:, 0, 0]))
+        traj = dict(t=t, angle=psi, z=P[:, 3], omega=W[:, 3], vz=V[:, 3], x=P[:, 1], y=P[:, 2],
+                    tilt=np.arccos(np.clip(A[:, 2, 2], -1.0, 1.0)))
+        pos, vel, w = P[:, 1:], V[:, 1:], W[:, 1:]
+    traj["torque"] = np.array([_drive_torque(p, a, ti)[0] for a, ti in zip(psi, t)])
+    traj["axial_force"] = np.array([_axial_force(p, zi, ti) for zi, ti in zip(traj["z"], t)])
+    if contactOutputs:
+        law = model["contact"]["law"]
+        ct, cf = np.zeros(len(t)), np.zeros(len(t))
+        for n in range(len(t)):
+            arm = s @ A[n].T
+            x = pos[n] + arm
+            v = vel[n] + np.cross(w[n], arm)
+            f = law.evaluate(x, v, H[max(n - 1, 0)], tangent=False).force
+            ct[n] = np.sum(arm[:, 0] * f[:, 1] - arm[:, 1] * f[:, 0])
+            cf[n] = f[:, 2].sum()
+        traj["contact_torque"], traj["contact_axial_force"] = ct, cf
+    traj["dissipated_energy"] = diss
+    traj["slip_distance"] = slip
+    return traj
+
+
+def RunScrew(p: ScrewParams = None, contactOutputs=True, **options):
+    """Build and solve the screw scene; returns exu_aniso.reference.Result (trajectory with the
+    reference's keys, summary = scenes.screw_summary, params, info). options: see BuildScrew."""
+    p = ScrewParams() if p is None else p
+    model = BuildScrew(p, **options)
+    wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
+    traj = ScrewTrajectory(model, contactOutputs)
+    info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
+                nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
+                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10))
+    return Result(traj, screw_summary(traj, wall, steps, iters), p, info)
+
+
+if __name__ == "__main__":
+    p = ScrewParams()                           # defaults: spiral net, radial map, rotating driver
+    model = BuildScrew(p)
+    mbs = model["mbs"]
+    SolveTimed(mbs, model["simulationSettings"], model["solverType"])
+    mbs.PlotSensor(model["sensors"]["sCoordinates"], components=[1], componentsX=[0],
+                   labels=["axial advance z [m] vs rotation psi [rad]"], closeAll=True)
+    mbs.PlotSensor(model["contact"]["sDissipation"], components=0, labels=["dissipated energy [J]"])
