@@ -72,8 +72,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .scenes import (BlockParams, ScrewParams, block_contact_law, block_points, screw_contact_law,
-                     screw_points)
+from .scenes import (BlockParams, ScrewParams, block_contact_law, block_points, block_summary,
+                     screw_contact_law, screw_points, screw_summary)
 
 # ----------------------------------------------------------------------------------------------
 # SO(3) helpers
@@ -588,15 +588,7 @@ def simulate_block(params=None, **options):
         raise TypeError(f"params must be BlockParams; got {type(p).__name__}")
     model, floor = _model_for(p)
     traj, wall, iters, steps, info = _run(model, p, floor=floor, **options)
-    t, x, y = traj["t"], traj["x"], traj["y"]
-    r = np.hypot(x, y)
-    summary = dict(x_end=float(x[-1]), y_end=float(y[-1]), theta_end=float(traj["theta"][-1]),
-                   vx_end=float(traj["vx"][-1]), vy_end=float(traj["vy"][-1]),
-                   heading_deg=float(math.degrees(math.atan2(traj["vy"][-1], traj["vx"][-1]))),
-                   r_min=float(r.min()), r_max=float(r.max()), r_mean=float(r.mean()),
-                   slip_distance=float(traj["slip_distance"][-1]),
-                   dissipated_energy=float(traj["dissipated_energy"][-1]),
-                   wall_s=wall, steps=steps, newton_iterations=iters)
+    summary = block_summary(traj, wall, steps, iters)
     return Result(traj, summary, p, info)
 
 
@@ -610,16 +602,5 @@ def simulate_screw(params=None, **options):
         raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
     model, floor = _model_for(p)
     traj, wall, iters, steps, info = _run(model, p, floor=floor, **options)
-    t = traj["t"]
-    late = t >= 0.5 * t[-1]
-    ang, z = traj["angle"][late], traj["z"][late]
-    if late.sum() >= 2 and np.ptp(ang) > 1e-9:
-        adv = float(np.polyfit(ang, z, 1)[0] * 2.0 * math.pi)
-    else:
-        adv = float("nan")   # no rotation over the last half: advance per turn undefined
-    summary = dict(angle_end=float(traj["angle"][-1]), z_end=float(traj["z"][-1]), advance_per_rev=adv,
-                   torque_mean=float(traj["torque"][late].mean()),
-                   axial_force_mean=float(traj["axial_force"][late].mean()),
-                   dissipated_energy=float(traj["dissipated_energy"][-1]),
-                   wall_s=wall, steps=steps, newton_iterations=iters)
+    summary = screw_summary(traj, wall, steps, iters)
     return Result(traj, summary, p, info)
