@@ -486,11 +486,12 @@ class _Stepper:
         return Jac
 
 
-def _model_for(p):
+def _model_for(p, law=None):
+    """Model of the scene; ``law`` replaces the scene's ContactLaw (e.g. another formulation)."""
     if isinstance(p, BlockParams):
-        law = block_contact_law(p)
+        law = block_contact_law(p) if law is None else law
         return (_BlockPlanar(p, law) if p.model == "planar" else _BlockFull(p, law)), 1e-6 * p.eps_n * p.size
-    law = screw_contact_law(p)
+    law = screw_contact_law(p) if law is None else law
     return (_ScrewReduced(p, law) if p.model == "reduced" else _ScrewFull(p, law)), 1e-6 * p.eps_n * p.radius
 
 
@@ -582,11 +583,12 @@ def simulate_block(params=None, **options):
     (True: at the last halving level accept the smallest-residual iterate instead of failing;
     needed by the seed map, whose discontinuity at stick/slip can leave the step without a root;
     counted in ``info["forced_accepts"]``), reject_steps / split_steps (nominal step indices to
-    reject after convergence / to halve directly). Returns Result."""
+    reject after convergence / to halve directly), law (a ContactLaw replacing the scene's, e.g.
+    the chart formulation in polar coordinates). Returns Result."""
     p = BlockParams() if params is None else params
     if not isinstance(p, BlockParams):
         raise TypeError(f"params must be BlockParams; got {type(p).__name__}")
-    model, floor = _model_for(p)
+    model, floor = _model_for(p, options.pop("law", None))
     traj, wall, iters, steps, info = _run(model, p, floor=floor, **options)
     summary = block_summary(traj, wall, steps, iters)
     return Result(traj, summary, p, info)
