@@ -119,6 +119,13 @@ def _pair(kind, n1, v1, n2, v2):
     return 1.0 / check_positive(n1, v1) ** 2, 1.0 / check_positive(n2, v2) ** 2
 
 
+def _helix(helix_angle):
+    a = check_real("helix_angle", helix_angle)
+    if not -0.5 * math.pi < a < 0.5 * math.pi:
+        raise ValueError(f"helix_angle must lie in (-pi/2, pi/2) rad; got {a!r}")
+    return a
+
+
 class Adhesion:
     """Adhesion tensor fields B = -(eps_1 e1 e1 + eps_2 e2 e2); stiffnesses in N/m (per point)."""
 
@@ -145,9 +152,7 @@ class Adhesion:
     def spiral(eps_1, eps_2, helix_angle):
         """Spiral orthotropy on a cylinder: eps_1 along the helix (angle [rad]), eps_2 across."""
         lam = _pair(_ADHESION, "eps_1", eps_1, "eps_2", eps_2)
-        a = check_real("helix_angle", helix_angle)
-        if not -0.5 * math.pi < a < 0.5 * math.pi:
-            raise ValueError(f"helix_angle must lie in (-pi/2, pi/2) rad; got {a!r}")
+        a = _helix(helix_angle)
         return TensorField(_ADHESION, "spiral", lam, angle=a, label=f"spiral({eps_1}, {eps_2}, helix_angle={a})")
 
     @staticmethod
@@ -180,9 +185,7 @@ class Friction:
     @staticmethod
     def spiral(mu_1, mu_2, helix_angle):
         lam = _pair(_FRICTION, "mu_1", mu_1, "mu_2", mu_2)
-        a = check_real("helix_angle", helix_angle)
-        if not -0.5 * math.pi < a < 0.5 * math.pi:
-            raise ValueError(f"helix_angle must lie in (-pi/2, pi/2) rad; got {a!r}")
+        a = _helix(helix_angle)
         return TensorField(_FRICTION, "spiral", lam, angle=a, label=f"spiral({mu_1}, {mu_2}, helix_angle={a})")
 
     @staticmethod
