@@ -90,8 +90,10 @@ def SolveTimed(mbs, simulationSettings, solverType):
         raise RuntimeError("SolveDynamic did not finish (Newton failure or step-size limit)")
     it = mbs.sys["dynamicSolver"].it
     steps = int(it.currentStepIndex) - 1 if solverType in SOLVER_TYPES.values() else int(it.currentStepIndex)
-    info = dict(solverType=str(solverType), rejected_steps=int(getattr(it, "rejectedAutomaticStepSizeSteps", 0)),
-                newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
+    # accepted steps beyond the nominal number mean Newton failed somewhere and Exudyn reduced the step
+    # (the solver keeps no count of rejected attempts; count PreStep calls for that)
+    info = dict(solverType=str(solverType), nominal_steps=int(simulationSettings.timeIntegration.numberOfSteps),
+                accepted_steps=steps, newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
     return wall, steps, int(it.newtonStepsCount), info
 
 
@@ -132,7 +134,7 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="RotVecLG", solverT
     sensors = {}
     if p.model == "planar":
         nBlock = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[p.x0, p.y0, 0.0]))
-        oBlock = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nBlock, physicsMass=m, physicsInertia=m * a * a / 6.0))
+        oBlock = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nBlock, mass=m, inertia=m * a * a / 6.0))
         nq, pos = 3, slice(0, 2)
         localPoints = block_points(p)
         localPoints[:, 2] = gap                 # planar: local z = held height over the plane
@@ -153,7 +155,7 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="RotVecLG", solverT
         load = np.array([0.0, 0.0, -p.normal_load])
         if p.drive == "force":
             load[:2] += p.force * d
-        mbs.CreateForce(bodyNumber=oBlock, loadVector=load.tolist())
+        mbs.CreateForce(itemNumber=oBlock, loadVector=load.tolist())
         for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"),
                           ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")):
             sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nBlock, storeInternal=True,

@@ -105,8 +105,8 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
                                      referencePosition=[0.0, 0.0, 0.0], nodeType=NODE_TYPES[nodeType])
         nScrew = mbs.GetObject(oScrew)["nodeNumber"]
         if p.drive == "torque":
-            mbs.CreateTorque(bodyNumber=oScrew, loadVector=[0.0, 0.0, p.torque])
-        mbs.CreateForce(bodyNumber=oScrew, loadVector=[0.0, 0.0, p.axial_load])
+            mbs.CreateTorque(itemNumber=oScrew, loadVector=[0.0, 0.0, p.torque])
+        mbs.CreateForce(itemNumber=oScrew, loadVector=[0.0, 0.0, p.axial_load])
         ep = nodeType == "EP"
         nq = 7 if ep else 6
         if p.drive == "axial":
