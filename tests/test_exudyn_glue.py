@@ -1,0 +1,110 @@
+"""CreateAnisotropicContact: moving master (action = reaction), sensors, argument checks."""
+import numpy as np
+import pytest
+
+exu = pytest.importorskip("exudyn")
+from exudyn.utilities import InertiaCuboid  # noqa: E402
+
+from exu_aniso import Adhesion, Friction, Plane  # noqa: E402
+from exu_aniso.contact import HISTORY_FIELDS  # noqa: E402
+from exu_aniso.exudyn_glue import CreateAnisotropicContact, HistoryComponent  # noqa: E402
+
+
+def two_body_system(return_map="exact"):
+    """A 1 kg cube sliding on a free 10 kg plate (the master surface moves): no external load."""
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    a = 0.05
+    eps_n = 1e5
+    plate = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [1.0, 1.0, 0.01]), referencePosition=[0.0, 0.0, 0.0],
+                                initialVelocity=[0.0, 0.0, 0.0], initialAngularVelocity=[0.0, 0.0, 0.3],
+                                nodeType=exu.NodeType.RotationRotationVector, returnDict=True)
+    block = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1, 0.1, 0.1]), referencePosition=[0.1, 0.05, a - 2e-4],
+                                initialVelocity=[0.4, -0.2, 0.0], initialAngularVelocity=[0.0, 0.0, 1.0],
+                                nodeType=exu.NodeType.RotationRotationVector, returnDict=True)
+    pts = np.array([[sx * a, sy * a, -a] for sx in (-1, 1) for sy in (-1, 1)])
+    h = CreateAnisotropicContact(mbs, bodyNumber=block["bodyNumber"], localPoints=pts, surface=Plane(),
+                                 adhesion=Adhesion.orthotropic(2e4, 5e3, 0.3), friction=Friction.orthotropic(0.2, 0.5),
+                                 normalStiffness=eps_n, normalDamping=50.0, returnMap=return_map,
+                                 masterBodyNumber=plate["bodyNumber"])
+    return SC, mbs, plate, block, h
+
+
+def momenta(mbs, bodies):
+    P = np.zeros(3)
+    L = np.zeros(3)
+    for b in bodies:
+        n = b["nodeNumber"]
+        m = 1000.0 * (1.0 * 1.0 * 0.01 if b is bodies[0] else 0.1**3)
+        x = mbs.GetNodeOutput(n, exu.OutputVariableType.Position)
+        v = mbs.GetNodeOutput(n, exu.OutputVariableType.Velocity)
+        A = mbs.GetNodeOutput(n, exu.OutputVariableType.RotationMatrix).reshape(3, 3)
+        w = mbs.GetNodeOutput(n, exu.OutputVariableType.AngularVelocity)
+        J = InertiaCuboid(1000.0, [1.0, 1.0, 0.01] if b is bodies[0] else [0.1, 0.1, 0.1]).Inertia()
+        P += m * v
+        L += m * np.cross(x, v) + A @ J @ A.T @ w
+    return P, L
+
+
+@pytest.mark.parametrize("return_map", ["exact", "radial"])
+def test_moving_master_gets_the_reaction_momentum_is_conserved(return_map):
+    SC, mbs, plate, block, h = two_body_system(return_map)
+    mbs.Assemble()
+    P0, L0 = momenta(mbs, [plate, block])
+    ss = exu.SimulationSettings()
+    ss.timeIntegration.numberOfSteps = 300
+    ss.timeIntegration.endTime = 0.3
+    ss.timeIntegration.newton.useModifiedNewton = False
+    ss.timeIntegration.verboseMode = 0
+    ss.solution.file.write = False
+    mbs.SolveDynamic(ss, solverType=exu.DynamicSolverType.TrapezoidalIndex2)
+    P1, L1 = momenta(mbs, [plate, block])
+    diss = mbs.GetSensorValues(h["sDissipation"])
+    assert float(np.ravel(diss)[0]) > 1e-3                   # the block slid on the plate
+    np.testing.assert_allclose(P1, P0, atol=1e-9 * 0.5)       # internal forces only: exact pairs
+    np.testing.assert_allclose(L1, L0, atol=2e-3 * np.linalg.norm(L0))  # moment of the tangential pair: xi3 n x T
+
+
+def test_sensors_plot_and_history_components(tmp_path):
+    SC, mbs, plate, block, h = two_body_system()
+    mbs.Assemble()
+    ss = exu.SimulationSettings()
+    ss.timeIntegration.numberOfSteps = 50
+    ss.timeIntegration.endTime = 0.05
+    ss.timeIntegration.verboseMode = 0
+    ss.solution.sensors.writePeriod = 0.0
+    ss.solution.file.write = False
+    mbs.SolveDynamic(ss)
+    data = mbs.GetSensorStoredData(h["sHistory"])
+    assert data.shape == (51, 1 + 4 * len(HISTORY_FIELDS))            # every step stored
+    status = data[1, 1 + HistoryComponent(2, "status")]     # after the first step (no load: it bounces off later)
+    assert status in (1.0, 2.0)                               # stick or slip, in contact
+    assert data[1, 1 + HistoryComponent(0, "normal")] < 0.0
+    import matplotlib
+    matplotlib.use("Agg")
+    mbs.PlotSensor(sensorNumbers=[h["sHistory"], h["sDissipation"]],
+                   components=[HistoryComponent(0, "traction_1"), 0], closeAll=True,
+                   fileName=str(tmp_path / "sensors.png"))
+    assert (tmp_path / "sensors.png").exists()
+    with pytest.raises(ValueError, match="field must be one of"):
+        HistoryComponent(0, "force")
+
+
+def test_argument_errors():
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    b = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1, 0.1, 0.1]), returnDict=True)
+    g = mbs.CreateGround()
+    with pytest.raises(ValueError, match="give normalStiffness"):
+        CreateAnisotropicContact(mbs, bodyNumber=b["bodyNumber"], localPoints=[[0, 0, 0]], surface=Plane(),
+                                 adhesion=Adhesion.isotropic(1.0), friction=Friction.isotropic(0.3))
+    with pytest.raises(ValueError, match="localPoints must have shape"):
+        CreateAnisotropicContact(mbs, bodyNumber=b["bodyNumber"], localPoints=[[0, 0]], surface=Plane(),
+                                 adhesion=Adhesion.isotropic(1.0), friction=Friction.isotropic(0.3), normalStiffness=1.0)
+    with pytest.raises(ValueError, match="jacobian must be"):
+        CreateAnisotropicContact(mbs, bodyNumber=b["bodyNumber"], localPoints=[[0, 0, 0]], surface=Plane(),
+                                 adhesion=Adhesion.isotropic(1.0), friction=Friction.isotropic(0.3), normalStiffness=1.0,
+                                 jacobian="exact")
+    with pytest.raises((ValueError, KeyError)):
+        CreateAnisotropicContact(mbs, bodyNumber=g, localPoints=[[0, 0, 0]], surface=Plane(),
+                                 adhesion=Adhesion.isotropic(1.0), friction=Friction.isotropic(0.3), normalStiffness=1.0)
