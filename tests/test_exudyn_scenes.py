@@ -39,14 +39,6 @@ import pytest
 
 exudyn = pytest.importorskip("exudyn")
 
-try:
-    import exu_aniso.models.block  # noqa: F401  (installed subpackage)
-except ModuleNotFoundError:        # source tree without (re)install: models/ sits next to exu_aniso/
-    import pathlib
-
-    import exu_aniso
-    exu_aniso.__path__.append(str(pathlib.Path(__file__).resolve().parents[1]))
-
 from exu_aniso.models.block import BuildBlock, RunBlock, SolveTimed  # noqa: E402
 from exu_aniso.models.screw import RunScrew  # noqa: E402
 from exu_aniso.reference import simulate_block, simulate_screw  # noqa: E402
