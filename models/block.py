@@ -114,12 +114,14 @@ def Unwrap(angle):
 # ----------------------------------------------------------------------------------------------
 # the block scene
 
-def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
+def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=None, rhoInf=0.8,
                newtonTolerance=1e-10):
     """Build the block scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nBlock, oBlock, contact (dict of CreateAnisotropicContact), sensors (dict) and oDrive (or None).
 
-    jacobian: "analytic" | "numerical" (contact Jacobian); nodeType: "RotVecLG" | "EP" (full model);
+    jacobian: "analytic" | "numerical" (contact Jacobian); nodeType: "EP" (default: exact for small
+    rotations) | "RotVecLG" (needed by explicit solvers; Exudyn 1.13.6 loses rotation increments
+    below ~1.5e-8 rad in its composition, see tests/test_exudyn_scenes.py) for the full model;
     solverType: an exu.DynamicSolverType overriding p.solver; rhoInf: spectral radius of
     generalized-alpha; newtonTolerance: Newton relative and absolute tolerance."""
     if nodeType not in NODE_TYPES:

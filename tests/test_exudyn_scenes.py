@@ -283,7 +283,7 @@ def test_block_planar_and_full_agree_when_sliding_isotropically():
 
 def test_full_block_ep_agrees_with_rotvec():
     p = BlockParams(t_end=0.2, dt=1e-3, model="full")
-    lg, ep = RunBlock(p), RunBlock(p, nodeType="EP")
+    lg, ep = RunBlock(p, nodeType="RotVecLG"), RunBlock(p, nodeType="EP")
     assert_parity(ep, lg, ("x", "y", "theta", "vy", "omega", "dissipated_energy"), LG_RTOL, "full block EP vs RotVecLG")
 
 
@@ -336,7 +336,7 @@ def test_full_block_ep_difference_shrinks_dt2():
         p = BlockParams(t_end=0.2, dt=dt, model="full")
         ref = simulate_block(p)
         e_ep.append(max(relative_errors(RunBlock(p, nodeType="EP"), ref, ("y", "theta", "omega")).values()))
-        e_lg.append(max(relative_errors(RunBlock(p), ref, ("y", "theta", "omega")).values()))
+        e_lg.append(max(relative_errors(RunBlock(p, nodeType="RotVecLG"), ref, ("y", "theta", "omega")).values()))
     rate = np.polyfit(np.log(dts), np.log(e_ep), 1)[0]
     print(f"\nEP vs reference: errors {['%.2e' % e for e in e_ep]}, observed rate {rate:.2f}")
     print(f"RotVecLG vs reference: errors {['%.2e' % e for e in e_lg]} (Exudyn small-rotation composition)")
