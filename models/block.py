@@ -8,8 +8,9 @@ docstring); ``RunBlock`` returns the same ``Result`` so the two engines compare 
 * ``model="planar"``: ``NodeRigidBody2D`` + ``ObjectRigidBody2D`` (x, y, theta; inertia m size^2/6);
   the contact points sit at the body-local height gap = -normal_load / eps_n, which holds the
   normal load exactly as the reference does;
-* ``model="full"``: ``mbs.CreateRigidBody`` (6 DOF; ``exu.NodeType.RotationRotationVector`` =
-  Lie-group rotation vector by default, Euler parameters allowed), normal_load as a constant
+* ``model="full"``: ``mbs.CreateRigidBody`` (6 DOF; Euler parameters by default, exact for the tiny
+  first rotations of a block at rest; ``nodeType="RotVecLG"`` for the Lie-group rotation vector,
+  which the explicit solvers need), normal_load as a constant
   downward force at the centre of mass, no gravity, started at the static penetration;
 * drives: "force" -> constant load at the centre of mass; "displacement" -> a spring along the drive
   direction d only, F = k (s t - d.(r - r0)) d, as an ``ObjectGenericODE2`` with force and exact
