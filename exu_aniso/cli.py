@@ -94,7 +94,7 @@ def write_csv(path, scene, traj):
     _atomic_write(path, lambda f: f.write(buf.getvalue().encode()))
 
 
-def plot_trajectory(path, scene, traj, summary, title):
+def plot_trajectory(path, scene, traj, title):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -134,7 +134,7 @@ def run_scene(scene, params, engine, out):
     keys = ("heading_deg", "r_mean") if scene == "block" else ("advance_per_rev", "torque_mean")
     title = f"{scene} ({engine}, {params.return_map} map, {params.model}): " + ", ".join(
         f"{k} = {summary[k]:.4g}" for k in keys)
-    plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, summary, title)
+    plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, title)
     _atomic_write(os.path.join(out, "summary.json"),
                   lambda f: f.write(json.dumps(summary, indent=1, allow_nan=True).encode()))
     return summary

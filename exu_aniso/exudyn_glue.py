@@ -53,6 +53,12 @@ def _ep_matrix(e):
     return A, G
 
 
+def _rotate_z(angle, b):
+    """In-plane arms (ax, ay) of local points b rotated by angle about z."""
+    c, s = math.cos(angle), math.sin(angle)
+    return c * b[:, 0] - s * b[:, 1], s * b[:, 0] + c * b[:, 1]
+
+
 class _BodyKinematics:
     """Positions, velocities and point Jacobians of body-fixed points for one Exudyn node."""
 
@@ -66,7 +72,7 @@ class _BodyKinematics:
                              f"and a 2-coordinate NodeGenericODE2 (screw joint: rotation about z, translation along z)")
         self.n = kinds[self.kind]
         self.ref = np.asarray(mbs.GetNodeParameter(node_number, "referenceCoordinates"), dtype=float)
-        if self.ref.shape != (self.n,):
+        if self.ref.shape != (self.n,):   # only a NodeGenericODE2 can have another size
             raise ValueError(f"CreateAnisotropicContact: NodeGenericODE2 {node_number} must have exactly 2 coordinates "
                              f"(rotation about z [rad], translation along z [m]); got {self.ref.shape[0]}")
         q0 = mbs.GetNodeParameter(node_number, "initialCoordinates")
@@ -76,37 +82,30 @@ class _BodyKinematics:
         self.v0 = np.asarray(v0, dtype=float) if len(v0) else np.zeros(self.n)
 
     def points(self, q, q_t, b):
-        """Global positions (K, 3), velocities (K, 3) and Jacobians Jp (K, 3, n) of local points b."""
+        """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) of local points b, and
+        the rotation matrix of a 3D node (None for the planar and screw-joint nodes)."""
         q = self.ref + np.asarray(q, dtype=float)
         q_t = np.asarray(q_t, dtype=float)
         K = b.shape[0]
         if self.kind == "RigidBody2D":
-            c, s = math.cos(q[2]), math.sin(q[2])
-            ax = c * b[:, 0] - s * b[:, 1]
-            ay = s * b[:, 0] + c * b[:, 1]
+            ax, ay = _rotate_z(q[2], b)
             x = np.stack([q[0] + ax, q[1] + ay, b[:, 2]], axis=-1)
             v = np.stack([q_t[0] - q_t[2] * ay, q_t[1] + q_t[2] * ax, np.zeros(K)], axis=-1)
             J = np.zeros((K, 3, 3))
             J[:, 0, 0] = J[:, 1, 1] = 1.0
             J[:, 0, 2] = -ay
             J[:, 1, 2] = ax
-            return x, v, J
+            return x, v, J, None
         if self.kind == "GenericODE2":                 # screw joint: q = (psi, z)
-            c, s = math.cos(q[0]), math.sin(q[0])
-            ax = c * b[:, 0] - s * b[:, 1]
-            ay = s * b[:, 0] + c * b[:, 1]
+            ax, ay = _rotate_z(q[0], b)
             x = np.stack([ax, ay, b[:, 2] + q[1]], axis=-1)
             v = np.stack([-q_t[0] * ay, q_t[0] * ax, np.full(K, q_t[1])], axis=-1)
             J = np.zeros((K, 3, 2))
             J[:, 0, 0] = -ay
             J[:, 1, 0] = ax
             J[:, 2, 1] = 1.0
-            return x, v, J
-        if self.kind == "RigidBodyRotVecLG":
-            A = _rot_vec_matrix(q[3:6])
-            G = np.eye(3)
-        else:
-            A, G = _ep_matrix(q[3:7])
+            return x, v, J, None
+        A, G = self.rotation(q)
         arm = b @ A.T
         omega_local = G @ q_t[3:]
         x = q[0:3] + arm
@@ -117,18 +116,20 @@ class _BodyKinematics:
         J = np.zeros((K, 3, self.n))
         J[:, :, 0:3] = np.eye(3)
         J[:, :, 3:] = -np.einsum("ij,kjl,lm->kim", A, skew, G)
-        return x, v, J
+        return x, v, J, A
+
+    def rotation(self, q_total):
+        """Rotation matrix A and G (omega_local = G dq_rot/dt) of a 3D node at total coordinates."""
+        if self.kind == "RigidBodyRotVecLG":
+            return _rot_vec_matrix(q_total[3:6]), np.eye(3)
+        return _ep_matrix(q_total[3:7])
 
     def frame(self, q, q_t):
-        """Position, rotation matrix, global angular velocity of the node (3D nodes)."""
+        """Position, rotation matrix, global angular velocity of the node (3D nodes only: the
+        caller checks the node type)."""
         q = self.ref + np.asarray(q, dtype=float)
         q_t = np.asarray(q_t, dtype=float)
-        if self.kind == "RigidBodyRotVecLG":
-            A, G = _rot_vec_matrix(q[3:6]), np.eye(3)
-        elif self.kind == "RigidBodyEP":
-            A, G = _ep_matrix(q[3:7])
-        else:
-            raise ValueError("CreateAnisotropicContact: masterBodyNumber must be a 3D rigid body (RotVecLG or EP node)")
+        A, G = self.rotation(q)
         return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
 
 
@@ -149,12 +150,13 @@ class _ContactSet:
         return q[:ns], q_t[:ns], q[ns:], q_t[ns:]
 
     def state(self, mbs, q, q_t, history, tangent):
-        """Evaluate the law; returns (ContactState, slave Jp, F_global, master data)."""
+        """Evaluate the law; returns (ContactState, slave Jp, F_global, master Jp or None, slave
+        rotation matrix or None)."""
         qs, vs, qm, vm = self._split(q, q_t)
-        x, v, Jp = self.slave.points(qs, vs, self.points)
+        x, v, Jp, A_s = self.slave.points(qs, vs, self.points)
         if self.master is None:
             st = self.law.evaluate(x, v, history, tangent)
-            return st, Jp, st.force, None
+            return st, Jp, st.force, None, A_s
         p, A, w, vp = self.master.frame(qm, vm)
         d = x - p
         x_rel = d @ A
@@ -162,28 +164,28 @@ class _ContactSet:
         st = self.law.evaluate(x_rel, v_rel, history, tangent)
         F = st.force @ A.T
         b_master = x_rel                       # reaction at the master's material point at S
-        _, _, Jm = self.master.points(qm, vm, b_master)
-        return st, Jp, F, Jm
+        Jm = self.master.points(qm, vm, b_master)[2]
+        return st, Jp, F, Jm, A_s
 
     def history(self, mbs, configuration):
         h = mbs.GetNodeOutput(self.nData, exu.OutputVariableType.Coordinates, configuration=configuration)
         return np.asarray(h, dtype=float).reshape(self.K, N_HISTORY)
 
     def force(self, mbs, t, itemNumber, q, q_t):
-        st, Jp, F, Jm = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)
+        st, Jp, F, Jm, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)
         Q = np.einsum("kij,ki->j", Jp, F)
         if Jm is not None:
             Q = np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
         return Q.tolist()
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
-        st, Jp, F, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True)
+        st, Jp, F, _, A = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True)
         Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, Jp)
         Dq = np.einsum("kia,kij,kjb->ab", Jp, st.damping, Jp)
-        self._add_geometric(Kq, q, Jp, F)
+        self._add_geometric(Kq, Jp, F, A)
         return -(fODE2 * Kq + fODE2_t * Dq)
 
-    def _add_geometric(self, Kq, q, Jp, F):
+    def _add_geometric(self, Kq, Jp, F, A):
         """Add dQ/dq of the lever arms turning at fixed point forces (the reference's geometric
         terms) for 2D, screw-joint and RotVecLG slaves; EP nodes keep the approximation."""
         sl = self.slave
@@ -191,7 +193,6 @@ class _ContactSet:
             r = 2 if sl.kind == "RigidBody2D" else 0
             Kq[r, r] -= np.sum(Jp[:, 1, r] * F[:, 0] - Jp[:, 0, r] * F[:, 1])
         elif sl.kind == "RigidBodyRotVecLG":              # d(b x A^T f)/d(local rotation) = [b]x [A^T f]x
-            A = _rot_vec_matrix((sl.ref + np.asarray(q, dtype=float))[3:6])
             b, fb = self.points, F @ A
             Kq[3:6, 3:6] += np.einsum("ki,kj->ij", fb, b) - np.eye(3) * np.sum(b * fb)
 
@@ -202,7 +203,7 @@ class _ContactSet:
                                                          configuration=_CUR)) for nd in nodes])
         q_t = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates_t,
                                                            configuration=_CUR)) for nd in nodes])
-        st, _, _, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)
+        st = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)[0]
         if self.ltg is None:
             self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
         data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)

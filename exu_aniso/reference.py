@@ -514,7 +514,6 @@ def jacobian_check(params, steps=50, rho_inf=0.8):
         S = advance(S, t, h)
         t += h
     new = st.step(S, t, h)
-    q1 = new["q"]
     # recover the increment: vector models d = q1 - q; 6-DOF: (dr, log(R^T R1)) via the predictor
     d = h * S["v"] + h * h * (0.5 - st.beta) * S["a"] + h * h * st.beta * new["a"]
     ca = (1.0 - st.am) / ((1.0 - st.af) * st.beta * h * h)
