@@ -19,8 +19,8 @@ import json
 import math
 import os
 import sys
-import tempfile
 
+from .output import atomic_write as _atomic_write
 from .scenes import BlockParams, ScrewParams
 
 SCENES = {"block": BlockParams, "screw": ScrewParams}
@@ -68,20 +68,6 @@ def simulate(scene, params, engine):
         return simulate_block(params) if scene == "block" else simulate_screw(params)
     from .models import block as block_model, screw as screw_model
     return block_model.RunBlock(params) if scene == "block" else screw_model.RunScrew(params)
-
-
-def _atomic_write(path, write):
-    """Write via a temporary file in the same directory, then move into place."""
-    d = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=os.path.splitext(path)[1])
-    try:
-        with os.fdopen(fd, "wb") as f:
-            write(f)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
 
 
 def write_csv(path, scene, traj):
