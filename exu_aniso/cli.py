@@ -20,6 +20,7 @@ import math
 import os
 import sys
 
+from .failure import SimulationFailure
 from .output import atomic_write as _atomic_write
 from .scenes import BlockParams, ScrewParams
 
@@ -80,7 +81,7 @@ def write_csv(path, scene, traj):
     _atomic_write(path, lambda f: f.write(buf.getvalue().encode()))
 
 
-def plot_trajectory(path, scene, traj, title):
+def plot_trajectory(path, scene, traj, title, incomplete=False):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -101,8 +102,11 @@ def plot_trajectory(path, scene, traj, title):
         a2.plot(traj["t"], [1e3 * z for z in traj["z"]])
         a2.set_ylabel("axial position z [mm]")
         a2.set_xlabel("t [s]")
-    fig.suptitle(title, fontsize=9)
+    fig.suptitle(title, fontsize=9, color="red" if incomplete else "black")
     fig.tight_layout()
+    if incomplete:   # a partial run must not pass for a finished one
+        fig.text(0.5, 0.5, "INCOMPLETE", transform=fig.transFigure, ha="center", va="center", fontsize=40,
+                 color="red", alpha=0.25, rotation=30)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110)
     plt.close(fig)
@@ -110,9 +114,38 @@ def plot_trajectory(path, scene, traj, title):
 
 
 def run_scene(scene, params, engine, out):
+    """Simulate and write trajectory.csv, trajectory.png and summary.json ("complete": true).
+
+    When the simulation fails with a SimulationFailure carrying a partial trajectory, the three
+    files are still written ("complete": false, the failure message, the plot marked INCOMPLETE)
+    and the failure is re-raised; any other simulation error writes summary.json only."""
     os.makedirs(out, exist_ok=True)
-    res = simulate(scene, params, engine)
-    summary = dict(res.summary)
+    try:
+        res = simulate(scene, params, engine)
+    except SimulationFailure as failure:
+        if failure.partial is not None:
+            write_outputs(scene, params, engine, out, failure.partial, failure.as_dict())
+        else:
+            write_summary(out, dict(failure.as_dict(), engine=engine, params=params.as_dict()))
+        raise
+    except Exception as e:
+        write_summary(out, dict(complete=False, failure=f"{type(e).__name__}: {e}", engine=engine,
+                                params=params.as_dict()))
+        raise
+    return write_outputs(scene, params, engine, out, res)
+
+
+def write_summary(out, summary):
+    _atomic_write(os.path.join(out, "summary.json"),
+                  lambda f: f.write(json.dumps(summary, indent=1, allow_nan=True).encode()))
+
+
+def write_outputs(scene, params, engine, out, res, failure=None):
+    """The three result files of one run; failure: None (complete) or SimulationFailure.as_dict()."""
+    summary = dict(complete=failure is None)
+    summary.update(res.summary)
+    if failure is not None:
+        summary.update(failure)
     summary["engine"] = engine
     summary["params"] = params.as_dict()
     summary["units"] = {k: u for k, u in COLUMNS[scene].items() if k in res.trajectory}
@@ -120,9 +153,12 @@ def run_scene(scene, params, engine, out):
     keys = ("heading_deg", "r_mean") if scene == "block" else ("advance_per_rev", "torque_mean")
     title = f"{scene} ({engine}, {params.return_map} map, {params.model}): " + ", ".join(
         f"{k} = {summary[k]:.4g}" for k in keys)
-    plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, title)
-    _atomic_write(os.path.join(out, "summary.json"),
-                  lambda f: f.write(json.dumps(summary, indent=1, allow_nan=True).encode()))
+    if failure is not None:
+        title = (f"INCOMPLETE: stopped at t = {failure['time_reached']:.4g} s of {failure['end_time']:.4g} s\n"
+                 + title)
+    plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, title,
+                    incomplete=failure is not None)
+    write_summary(out, summary)
     return summary
 
 
@@ -155,6 +191,11 @@ def main(argv=None):
     for scene, params, out in jobs:
         try:
             summary = run_scene(scene, params, a.engine, out)
+        except SimulationFailure as e:  # message with time, step size and contact state; partial results kept
+            kept = "partial trajectory.csv, trajectory.png and" if e.partial is not None else "only"
+            print(f"exu-aniso: {scene} ({a.engine}) did not complete: {e}\n"
+                  f"({kept} summary.json with \"complete\": false written to {out})", file=sys.stderr)
+            return 1
         except Exception as e:  # report the failure with context, keep the exit code meaningful
             print(f"exu-aniso: {scene} ({a.engine}) failed: {type(e).__name__}: {e}", file=sys.stderr)
             return 1

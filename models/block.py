@@ -20,7 +20,11 @@ Run ``python -m exu_aniso.models.block`` (or this file) for a plot of the defaul
 """
 from __future__ import annotations
 
+import contextlib
+import io
 import math
+import re
+import sys
 import time
 
 import exudyn as exu
@@ -31,6 +35,7 @@ from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
 from exu_aniso.exudyn_glue import CreateAnisotropicContact
+from exu_aniso.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.reference import Result
 from exu_aniso.scenes import BlockParams, block_contact_law, block_points, block_summary
 
@@ -82,20 +87,76 @@ def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
                                            forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
 
 
-def SolveTimed(mbs, simulationSettings, solverType):
-    """mbs.SolveDynamic with wall time; returns (wall_s, steps, newton_iterations, info dict)."""
+def SolveTimed(mbs, simulationSettings, solverType, contacts=()):
+    """mbs.SolveDynamic with wall time; returns (wall_s, steps, newton_iterations, info dict).
+
+    If the solver fails (Exudyn raises SolverError when Newton fails at the minimum step size or
+    with step reduction off, ModelError when a user function raises) this raises
+    ``exu_aniso.failure.SimulationFailure`` instead: its message gives the simulated time reached,
+    the step size, the cause and the contact state of the last accepted step of every contact set
+    in ``contacts`` (dicts of CreateAnisotropicContact), read from their history nodes. Exudyn's own
+    failure printout (to stdout) is captured into ``SimulationFailure.solver_output`` when the
+    solver is silent (verboseMode 0); on success it is passed on unchanged."""
+    ti = simulationSettings.timeIntegration
+    capture = io.StringIO() if int(ti.verboseMode) == 0 else None
     t0 = time.perf_counter()
-    ok = mbs.SolveDynamic(simulationSettings, solverType=solverType, storeSolver=True)
+    try:
+        with contextlib.redirect_stdout(capture) if capture is not None else contextlib.nullcontext():
+            ok = mbs.SolveDynamic(simulationSettings, solverType=solverType, storeSolver=True)
+        error = None if ok else "SolveDynamic returned False"
+    except Exception as e:                      # exudyn.SolverError, exudyn.ModelError, ...
+        error = e
     wall = time.perf_counter() - t0
-    if not ok:
-        raise RuntimeError("SolveDynamic did not finish (Newton failure or step-size limit)")
+    if capture is not None and error is None and capture.getvalue():
+        sys.stdout.write(capture.getvalue())
     it = mbs.sys["dynamicSolver"].it
     steps = int(it.currentStepIndex) - 1 if solverType in SOLVER_TYPES.values() else int(it.currentStepIndex)
+    if error is not None:
+        raise _Failure(mbs, simulationSettings, it, steps, error, contacts,
+                       capture.getvalue() if capture is not None else "") from (error if isinstance(error, Exception)
+                                                                                 else None)
     # accepted steps beyond the nominal number mean Newton failed somewhere and Exudyn reduced the step
     # (the solver keeps no count of rejected attempts; count PreStep calls for that)
     info = dict(solverType=str(solverType), nominal_steps=int(simulationSettings.timeIntegration.numberOfSteps),
                 accepted_steps=steps, newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
     return wall, steps, int(it.newtonStepsCount), info
+
+
+def _cause(error):
+    """Short text of what stopped the solver (the user function's own error line if there is one)."""
+    if isinstance(error, str):
+        return error
+    text = str(error)
+    if type(error).__name__ == "SolverError":
+        return ("Newton did not converge and the step size could not be reduced further "
+                "(exudyn.SolverError: " + text + ")")
+    m = re.search(r"^\s*(\w+(?:Error|Exception|Failure)): (.*?)(?:\n\s*\n|\nAt:|$)", text, re.M | re.S)
+    if "USER FUNCTION" in text and m:
+        return f"a user function raised {m.group(1)}: {m.group(2).strip()}"
+    return f"{type(error).__name__}: {text.strip()}"
+
+
+def _Failure(mbs, simulationSettings, it, steps, error, contacts, output):
+    """Build the SimulationFailure of a failed SolveDynamic (see SolveTimed)."""
+    ti = simulationSettings.timeIntegration
+    t_reached = float(mbs.systemData.GetTime(exu.ConfigurationType.StartOfStep))
+    states = []
+    for c in contacts:
+        h = mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates,
+                              configuration=exu.ConfigurationType.StartOfStep)
+        law = c.get("law")
+        states.append(contact_state_from_history(h, getattr(law, "eps_N", None), getattr(law, "d_N", 0.0)))
+    hint = ""
+    if type(error).__name__ == "SolverError":
+        hint = (f"(minimumStepSize {ti.minimumStepSize:.3g} s, automaticStepSize {bool(ti.automaticStepSize)}, "
+                f"Newton maxIterations {ti.newton.maxIterations}; try a smaller dt, softer penalties or another "
+                f"return map)")
+    cause = _cause(error)
+    msg = failure_message(t_reached, float(ti.endTime), float(it.currentStepSize), cause, states, steps=steps,
+                          newton_iterations=int(it.newtonStepsCount), hint=hint)
+    return SimulationFailure(msg, time_reached=t_reached, end_time=float(ti.endTime),
+                             step_size=float(it.currentStepSize), cause=cause, contact_states=states, steps=steps,
+                             newton_iterations=int(it.newtonStepsCount), solver_output=output)
 
 
 def HistoryOutputs(mbs, contact):
@@ -218,7 +279,14 @@ def RunBlock(p: BlockParams = None, **options):
     reference's keys, summary = scenes.block_summary, params, info). options: see BuildBlock."""
     p = BlockParams() if p is None else p
     model = BuildBlock(p, **options)
-    wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
+    try:
+        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
+                                              contacts=[model["contact"]])
+    except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
+        traj = BlockTrajectory(model)
+        failure.partial = Result(traj, block_summary(traj, float("nan"), failure.steps, failure.newton_iterations),
+                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
+        raise
     traj = BlockTrajectory(model)
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",

@@ -31,6 +31,7 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
                                        RotationVector2RotationMatrix)
 
 from exu_aniso.exudyn_glue import CreateAnisotropicContact
+from exu_aniso.failure import SimulationFailure
 from exu_aniso.models.block import NODE_TYPES, AddNodeDrive, HistoryOutputs, SimulationSettingsFor, SolveTimed, Unwrap
 from exu_aniso.reference import Result
 from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_points, screw_summary
@@ -214,7 +215,14 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, **options):
     reference's keys, summary = scenes.screw_summary, params, info). options: see BuildScrew."""
     p = ScrewParams() if p is None else p
     model = BuildScrew(p, **options)
-    wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
+    try:
+        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
+                                              contacts=[model["contact"]])
+    except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
+        traj = ScrewTrajectory(model, contactOutputs=False)
+        failure.partial = Result(traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations),
+                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
+        raise
     traj = ScrewTrajectory(model, contactOutputs)
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
