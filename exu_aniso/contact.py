@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .law import N_PARAMS, check_return_map, return_map_batch, return_map_point
-from .validation import check_nonnegative, check_points, check_positive
+from .law import N_PARAMS, _return_map_batch, check_return_map, return_map_point
+from .validation import check_array, check_choice, check_nonnegative, check_points, check_positive
 
 HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
                   "dissipated_energy", "slip_distance", "status", "normal")
@@ -87,8 +87,7 @@ class ContactLaw:
         self.eps_N = check_positive("normal_stiffness", normal_stiffness)
         self.d_N = check_nonnegative("normal_damping", normal_damping)
         self.return_map = check_return_map(return_map)
-        if formulation not in ("transport", "chart"):
-            raise ValueError(f"formulation must be 'transport' or 'chart'; got {formulation!r}")
+        check_choice("formulation", formulation, ("transport", "chart"))
         self.formulation = formulation
 
     def __repr__(self):
@@ -104,8 +103,11 @@ class ContactLaw:
         master, master frame; history: (K, 9) last converged history (zeros if None)."""
         x = check_points("x", x)
         K = x.shape[0]
-        v = np.zeros((K, 3)) if v is None else np.asarray(v, dtype=float).reshape(K, 3)
-        H = self.initial_history(K) if history is None else np.asarray(history, dtype=float).reshape(K, N_HISTORY)
+        v = np.zeros((K, 3)) if v is None else check_array("v", np.reshape(v, (K, 3)) if np.size(v) == 3 * K else v,
+                                                            (K, 3))
+        H = self.initial_history(K) if history is None else check_array(
+            "history", np.reshape(history, (K, N_HISTORY)) if np.size(history) == K * N_HISTORY else history,
+            (K, N_HISTORY))
         if self.formulation == "chart":
             return self._evaluate_chart(x, v, H, tangent)
         force = np.zeros((K, 3))
@@ -142,7 +144,7 @@ class ContactLaw:
         Fp, dF = self.friction.physical(fr.u, tangent)
         T_tr = np.stack([t_n[:, 0] + Bp[:, 0] * du[:, 0] + Bp[:, 1] * du[:, 1],
                          t_n[:, 1] + Bp[:, 1] * du[:, 0] + Bp[:, 2] * du[:, 1]], axis=-1)
-        law = return_map_batch(T_tr, -N, Bp, Fp, self.return_map, tangent)
+        law = _return_map_batch(T_tr, -N, Bp, Fp, self.return_map, tangent)
         T = law.T
         f = np.einsum("kia,ka->ki", fr.E, T) - N[:, None] * n
 

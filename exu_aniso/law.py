@@ -58,6 +58,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .validation import check_array, check_definite_components, check_nonnegative, check_vector
+
 RETURN_MAPS = ("seed", "exact", "radial")
 STICK, SLIP = 0, 1
 N_PARAMS = 9  # T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22
@@ -66,10 +68,10 @@ _KAPPA_RTOL = 2e-16 * 4  # |sqrt(T.F T) - |N|| <= 8.9e-16 |N|
 _KAPPA_MAXIT = 200
 
 
-def check_return_map(name):
+def check_return_map(name, parameter="return_map"):
     """Validate a return-map name; returns it."""
-    if name not in RETURN_MAPS:
-        raise ValueError(f"return_map must be one of {RETURN_MAPS}; got {name!r}")
+    if not isinstance(name, str) or name not in RETURN_MAPS:
+        raise ValueError(f"{parameter} must be one of {RETURN_MAPS}; got {name!r}")
     return name
 
 
@@ -309,7 +311,19 @@ def return_map_point(T_tr, N_abs, B, F, method="exact", tangent=True):
     T_tr: (T_1, T_2) trial traction; N_abs: |N| >= 0; B: (b11, b12, b22) negative definite;
     F: (f11, f12, f22) positive definite; all in one (any) surface basis, T covariant,
     B covariant, F contravariant components. Returns a LawResult with numpy arrays.
+    Bad input (shapes, NaN/inf, |N| < 0, B not negative definite, F not positive definite, unknown
+    method) raises ValueError/TypeError naming the argument.
     """
+    check_return_map(method, "method")
+    check_vector("T_tr", T_tr, 2)
+    check_nonnegative("N_abs", N_abs)
+    check_definite_components("B", B, sign=-1.0)
+    check_definite_components("F", F)
+    return _return_map_point(T_tr, N_abs, B, F, method, tangent)
+
+
+def _return_map_point(T_tr, N_abs, B, F, method="exact", tangent=True):
+    """return_map_point without the input checks (kernel path: inputs come from validated fields)."""
     t1, t2 = float(T_tr[0]), float(T_tr[1])
     N = float(N_abs)
     B = tuple(float(b) for b in B)
@@ -344,7 +358,20 @@ def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True, vectorize=
     returns T = 0 (sliding without load). vectorize: True evaluates the sliding points with numpy
     arrays, False loops over return_map_point, None chooses by count (studies/bench_kernels.py
     measured the crossover near 16-32 points).
+    Bad input raises ValueError/TypeError naming the argument, as in return_map_point.
     """
+    check_return_map(method, "method")
+    K = check_array("T_tr", T_tr, (None, 2)).shape[0]
+    N = check_array("N_abs", N_abs, (K,))
+    if np.any(N < 0.0):
+        raise ValueError(f"N_abs must be >= 0 (it is |N|); got {N[N < 0.0][:5].tolist()}")
+    check_definite_components("B", B, sign=-1.0, shape=(K, 3))
+    check_definite_components("F", F, shape=(K, 3))
+    return _return_map_batch(T_tr, N_abs, B, F, method, tangent, vectorize)
+
+
+def _return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True, vectorize=None):
+    """return_map_batch without the input checks (kernel path of ContactLaw.evaluate)."""
     T_tr = np.asarray(T_tr, dtype=float)
     N = np.asarray(N_abs, dtype=float)
     B = np.asarray(B, dtype=float)
@@ -366,7 +393,7 @@ def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True, vectorize=
         vectorize = int(np.count_nonzero(loaded)) >= VECTORIZE_MIN_POINTS
     # plain-float loop: all sliding points when not vectorising, else only the rare |N| = 0 ones
     for j in np.nonzero(slip & ~loaded if vectorize else slip)[0]:
-        r = return_map_point(T_tr[j], N[j], B[j], F[j], method, tangent)
+        r = _return_map_point(T_tr[j], N[j], B[j], F[j], method, tangent)
         T[j], kappa[j], dxi[j], D[j] = r.T, r.kappa, r.slip, r.dissipation
         if tangent:
             dT[j] = r.dT

@@ -214,6 +214,9 @@ class _ParamsMixin:
             object.__setattr__(self, name, _check(name, getattr(self, name), rule))
         if not self.dt <= self.t_end:
             raise ValueError(f"dt must be <= t_end; got dt={self.dt!r} > t_end={self.t_end!r}")
+        if getattr(self, "model", None) == "full" and getattr(self, "points_per_ring", 3) < 3:
+            raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); "
+                             f"got {self.points_per_ring}")
 
     @classmethod
     def _unknown(cls, names):
@@ -225,7 +228,11 @@ class _ParamsMixin:
     def from_strings(cls, values):
         """Build from a mapping name -> string (or value), e.g. parsed 'name=value' CLI pairs;
         missing names take their defaults. Raises ValueError on unknown names or bad values."""
-        values = dict(values)
+        try:
+            values = dict(values)
+        except (TypeError, ValueError):
+            raise TypeError(f"{cls.__name__}.from_strings: values must be a mapping name -> value (e.g. "
+                            f"{{'mass': '2'}}); got {values!r} ({type(values).__name__})") from None
         cls._unknown(values)
         return cls(**values)
 
