@@ -72,8 +72,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .contact import ContactLaw
 from .scenes import (BlockParams, ScrewParams, block_contact_law, block_points, block_summary,
                      screw_contact_law, screw_points, screw_summary)
+from .validation import check_bool, check_in_range, check_instance, check_integer, check_keywords, check_positive
 
 # ----------------------------------------------------------------------------------------------
 # SO(3) helpers
@@ -360,9 +362,7 @@ def _coefficients(solver, rho_inf):
     if solver == "trapezoidal":
         return 0.0, 0.0, 0.25, 0.5
     if solver == "generalized_alpha":
-        r = float(rho_inf)
-        if not 0.0 <= r <= 1.0:
-            raise ValueError(f"rho_inf must lie in [0, 1]; got {rho_inf!r}")
+        r = check_in_range("rho_inf", rho_inf, 0.0, 1.0)
         am, af = (2 * r - 1) / (r + 1), r / (r + 1)
         gamma = 0.5 + af - am
         return am, af, 0.25 * (gamma + 0.5) ** 2, gamma
@@ -387,9 +387,9 @@ class _Stepper:
         self.m = model
         self.am, self.af, self.beta, self.gamma = _coefficients(solver, rho_inf)
         self.jacobian = jacobian
-        self.tol = float(newton_tol)
-        self.max_newton = int(max_newton)
-        self.max_halvings = int(max_halvings)
+        self.tol = check_positive("newton_tol", newton_tol)
+        self.max_newton = check_integer("max_newton", max_newton, 1)
+        self.max_halvings = check_integer("max_halvings", max_halvings, 0)
         self.floor = float(floor)
         self.n_iter = 0
         self.n_rejected = 0
@@ -488,6 +488,8 @@ class _Stepper:
 
 def _model_for(p, law=None):
     """Model of the scene; ``law`` replaces the scene's ContactLaw (e.g. another formulation)."""
+    if law is not None:
+        check_instance("law", law, ContactLaw)
     if isinstance(p, BlockParams):
         law = block_contact_law(p) if law is None else law
         return (_BlockPlanar(p, law) if p.model == "planar" else _BlockFull(p, law)), 1e-6 * p.eps_n * p.size
@@ -531,10 +533,18 @@ def jacobian_check(params, steps=50, rho_inf=0.8):
     return A, Nm, float(np.max(np.abs(A - Nm)) / np.max(np.abs(Nm - Mi)))
 
 
+_RUN_OPTIONS = ("jacobian", "rho_inf", "newton_tol", "max_newton", "max_halvings", "nonsmooth_accept",
+                "reject_steps", "split_steps")
+
+
 def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_newton=25, max_halvings=6,
          nonsmooth_accept=True, reject_steps=(), split_steps=(), floor):
     stepper = _Stepper(model, p.solver, rho_inf, jacobian, newton_tol, max_newton, max_halvings, floor)
-    reject_steps, split_steps = set(reject_steps), set(split_steps)
+    nonsmooth_accept = check_bool("nonsmooth_accept", nonsmooth_accept)
+    reject_steps = {check_integer("reject_steps entry", i, 0) for i in check_instance(
+        "reject_steps", reject_steps, (list, tuple, set, range, np.ndarray), "sequence of step indices")}
+    split_steps = {check_integer("split_steps entry", i, 0) for i in check_instance(
+        "split_steps", split_steps, (list, tuple, set, range, np.ndarray), "sequence of step indices")}
     wall0 = time.perf_counter()
     S = stepper.initial(0.0)
     rows = []
@@ -587,6 +597,7 @@ def simulate_block(params=None, **options):
     p = BlockParams() if params is None else params
     if not isinstance(p, BlockParams):
         raise TypeError(f"params must be BlockParams; got {type(p).__name__}")
+    check_keywords("simulate_block", options, _RUN_OPTIONS + ("law",))
     model, floor = _model_for(p, options.pop("law", None))
     traj, wall, iters, steps, info = _run(model, p, floor=floor, **options)
     summary = block_summary(traj, wall, steps, iters)
@@ -601,6 +612,7 @@ def simulate_screw(params=None, **options):
         raise TypeError(f"params must be ScrewParams; got {type(p).__name__}")
     if p.model == "full" and p.points_per_ring < 3:
         raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
+    check_keywords("simulate_screw", options, _RUN_OPTIONS)
     model, floor = _model_for(p)
     traj, wall, iters, steps, info = _run(model, p, floor=floor, **options)
     summary = screw_summary(traj, wall, steps, iters)

@@ -190,7 +190,7 @@ class Cylinder:
         a = check_vector("axis_direction", axis_direction, 3)
         na = np.linalg.norm(a)
         if not na > 0.0:
-            raise ValueError(f"Cylinder: axis_direction must be a non-zero vector; got {list(a)}")
+            raise ValueError(f"Cylinder: axis_direction must be a non-zero vector; got {a.tolist()}")
         a = a / na
         if side not in ("inside", "outside"):
             raise ValueError(f"Cylinder: side must be 'inside' (hole) or 'outside' (shaft); got {side!r}")

@@ -46,7 +46,7 @@ def check_vector(name, value, size):
     if arr.shape != (size,):
         raise ValueError(f"{name} must have shape ({size},); got shape {arr.shape} from {value!r}")
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite; got {list(arr)}")
+        raise ValueError(f"{name} must be finite; got {arr.tolist()}")
     return arr
 
 
