@@ -29,7 +29,7 @@ import numpy as np
 from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode, SensorUserFunction
 
 from .contact import HISTORY_FIELDS, N_HISTORY, ContactLaw
-from .validation import check_points
+from .validation import check_bool, check_index, check_instance, check_points
 
 _SETS_KEY = "exu_aniso_contact_sets"
 _SOS = exu.ConfigurationType.StartOfStep
@@ -256,10 +256,23 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         if normalStiffness is None:
             raise ValueError("CreateAnisotropicContact: give normalStiffness (with surface, adhesion, friction) "
                              "or a ready contactLaw")
-        contactLaw = ContactLaw(surface, adhesion, friction, normalStiffness, normalDamping, returnMap)
+        try:
+            contactLaw = ContactLaw(surface, adhesion, friction, normalStiffness, normalDamping, returnMap)
+        except (TypeError, ValueError) as e:   # name the arguments as this function spells them
+            raise type(e)("CreateAnisotropicContact: " + str(e).replace("normal_stiffness", "normalStiffness").replace(
+                "normal_damping", "normalDamping").replace("return_map", "returnMap")) from None
     elif any(a is not None for a in (surface, adhesion, friction, normalStiffness)):
         raise ValueError("CreateAnisotropicContact: contactLaw replaces surface/adhesion/friction/normalStiffness; "
                          "give one or the other")
+    check_instance("mbs", mbs, exu.MainSystem, "MainSystem of Exudyn (SC.AddSystem())")
+    check_instance("contactLaw", contactLaw, ContactLaw)
+    nObjects = mbs.systemData.NumberOfObjects()
+    if (masterBodyNumber is not None and check_index("masterBodyNumber", masterBodyNumber, nObjects, "object")
+            == check_index("bodyNumber", bodyNumber, nObjects, "object")):
+        raise ValueError(f"CreateAnisotropicContact: masterBodyNumber must differ from bodyNumber; got both {bodyNumber}")
+    check_index("bodyNumber", bodyNumber, nObjects, "object")
+    check_bool("initializeHistory", initializeHistory)
+    check_bool("storeSensors", storeSensors)
     if jacobian not in ("analytic", "numerical"):
         raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
     points = check_points("localPoints", localPoints)

@@ -165,3 +165,16 @@ def check_definite_components(name, value, sign=1.0, shape=None):
         bad = arr if arr.ndim == 1 else arr[~ok][0]
         raise ValueError(f"{name} (components s11, s12, s22) must be {rule}; got {bad.tolist()}")
     return arr
+
+
+def check_index(name, value, count, what="item"):
+    """An item number in [0, count): an int, or an Exudyn index (ObjectIndex, NodeIndex, ...)."""
+    if isinstance(value, (numbers.Integral, np.integer)) and not isinstance(value, bool):
+        v = int(value)
+    elif type(value).__name__.endswith("Index") and hasattr(value, "__int__"):
+        v = int(value)
+    else:
+        raise TypeError(f"{name} must be an {what} number (int); got {_describe(value)}")
+    if not 0 <= v < count:
+        raise ValueError(f"{name} must be an existing {what} number in [0, {count - 1}]; got {v}")
+    return v
