@@ -127,7 +127,8 @@ def check_instance(name, value, cls, what=None):
     if not isinstance(value, cls):
         if what is None:
             what = " or ".join(c.__name__ for c in (cls if isinstance(cls, tuple) else (cls,)))
-        raise TypeError(f"{name} must be a {what}; got {_describe(value)}")
+        article = "an" if what[:1].lower() in "aeiou" else "a"
+        raise TypeError(f"{name} must be {article} {what}; got {_describe(value)}")
     return value
 
 

@@ -38,6 +38,7 @@ from exu_aniso.exudyn_glue import CreateAnisotropicContact
 from exu_aniso.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.reference import Result
 from exu_aniso.scenes import BlockParams, block_contact_law, block_points, block_summary
+from exu_aniso.validation import check_in_range, check_instance, check_positive
 
 SOLVER_TYPES = {"trapezoidal": exu.DynamicSolverType.TrapezoidalIndex2,
                 "generalized_alpha": exu.DynamicSolverType.GeneralizedAlpha}
@@ -55,6 +56,10 @@ def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None)
     p.solver "trapezoidal" -> TrapezoidalIndex2 (Newmark beta 1/4, gamma 1/2, as the reference);
     "generalized_alpha" -> GeneralizedAlpha with spectralRadius = rhoInf (reference rho_inf).
     solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check)."""
+    rhoInf = check_in_range("rhoInf", rhoInf, 0.0, 1.0)
+    newtonTolerance = check_positive("newtonTolerance", newtonTolerance)
+    if solverType is not None:
+        check_instance("solverType", solverType, exu.DynamicSolverType, "exudyn.DynamicSolverType")
     ss = exu.SimulationSettings()
     ti = ss.timeIntegration
     ti.numberOfSteps = int(round(p.t_end / p.dt))
@@ -188,6 +193,7 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     generalized-alpha; newtonTolerance: Newton relative and absolute tolerance."""
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
+    check_instance("p", p, BlockParams)
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
 

@@ -35,6 +35,7 @@ from exu_aniso.failure import SimulationFailure
 from exu_aniso.models.block import NODE_TYPES, AddNodeDrive, HistoryOutputs, SimulationSettingsFor, SolveTimed, Unwrap
 from exu_aniso.reference import Result
 from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_points, screw_summary
+from exu_aniso.validation import check_bool, check_instance
 
 
 def _skew(a):
@@ -66,6 +67,7 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     Options as for exu_aniso.models.block.BuildBlock."""
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
+    check_instance("p", p, ScrewParams)
     if p.model == "full" and p.points_per_ring < 3:
         raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
     SC = exu.SystemContainer()
@@ -214,6 +216,7 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, **options):
     """Build and solve the screw scene; returns exu_aniso.reference.Result (trajectory with the
     reference's keys, summary = scenes.screw_summary, params, info). options: see BuildScrew."""
     p = ScrewParams() if p is None else p
+    check_bool("contactOutputs", contactOutputs)
     model = BuildScrew(p, **options)
     try:
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
