@@ -185,6 +185,11 @@ def main(argv=None):
         if a.scene == "all" and sets:
             raise UsageError("--set applies to one scene; run 'block' or 'screw' to override parameters")
         jobs = [(s, make_params(s, sets), os.path.join(a.out, s) if a.scene == "all" else a.out) for s in scenes]
+        up = os.path.abspath(a.out)      # --out must be (or become) a directory: no existing file on its path
+        while not os.path.exists(up):
+            up = os.path.dirname(up)
+        if not os.path.isdir(up):
+            raise UsageError(f"--out must be a directory (created if missing); got {a.out!r}, but {up!r} is a file")
     except UsageError as e:
         print(f"exu-aniso: error: {e}", file=sys.stderr)
         return 2
