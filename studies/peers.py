@@ -1,0 +1,485 @@
+"""Peers side by side: our Exudyn models against MuJoCo on two cases (issue 5, part 5).
+
+    python studies/peers.py [--quick] [--repeats N] [--out DIR]
+
+Needs the optional ``bench`` extra (``pip install ".[bench]"`` = mujoco). Without mujoco the study
+writes a report.md that says it was skipped and exits with code 0.
+
+1. Orthotropic sliding. A 1 kg box on the plane, friction mu = 0.2 along x and 0.6 along y
+   (constant axes), pulled from rest by a constant 10 N at 45 deg from x, gravity 9.81. With the
+   associated (maximum-dissipation) law the friction traction lies on the ellipse
+   sqrt(T.F T) = |N|, F = diag(1/mu_x^2, 1/mu_y^2), with the slip direction along its normal, so the
+   friction force for the sliding direction v is -|N| F^-1 v / sqrt(v.F^-1 v); from rest the box
+   slides along the constant heading where pull + friction is parallel to v
+   (``orthotropic_heading``, root found with brentq). Ours: ``RunBlock`` (planar model, one contact
+   point at the centre, exact return map, trapezoidal rule) at several steps; MuJoCo: the box of
+   ``mujoco_models.BoxOnPlane`` (explicit contact pair, elliptic and pyramidal cones) at its default
+   step 0.002 s and smaller ones. Error = heading of the end velocity (t = 1 s) minus the analytic
+   heading; also the heading of the displacement over the second half. Wall time per simulated
+   second = median over the repeats of the stepping time (ours: SolveDynamic; MuJoCo: mj_step).
+   A pull of 4 N along x (above mu_x N) and along y (below mu_y N) checks that the friction pair
+   is oriented as intended (MuJoCo's contact frame for a plane is t1 = +y, t2 = -x).
+2. Thread. MuJoCo's nut on bolt (SDF plugins, ``mujoco_models.NutOnBolt``) spun at 1 rev/s by a
+   velocity actuator against our screw scene (``RunScrew``, reduced model, rotation drive at
+   1 rev/s); advance per revolution (fit of z against the angle over the second half) against
+   each model's pitch, and wall time per simulated second (median over the repeats).
+
+Timed cases run one after the other in this process (``--serial`` is implied; a process pool
+would let the engines compete for the cores); ours and MuJoCo's runs of a case alternate.
+"""
+from __future__ import annotations
+
+import importlib.util
+import math
+import os
+import sys
+
+import numpy as np
+from scipy.optimize import brentq
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
+
+from studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
+
+NAME = "peers"
+
+# the sliding case
+MASS = 1.0                  # kg
+GRAVITY = 9.81              # m/s^2
+MU_X, MU_Y = 0.2, 0.6       # friction along x and along y
+PULL = 10.0                 # N
+PULL_ANGLE = 45.0           # deg from x
+SLIDE_T = 1.0               # s simulated
+TARGET_DEG = 0.05           # heading error target of ours [deg]
+TARGET_SLIDE_RATIO = 2.0    # ours wall / MuJoCo wall per simulated second (at most)
+TARGET_THREAD_RATIO = 0.1   # ours wall / MuJoCo wall per simulated second (at most)
+SPIN = 2.0 * math.pi        # rad/s, both thread models
+
+
+def orthotropic_heading(pull_angle, pull, normal_force, mu_1, mu_2):
+    """Heading [rad] of the steady sliding of a body pulled from rest by a constant force
+    ``pull`` [N] at ``pull_angle`` [rad] from e_1 on a plane with orthotropic Coulomb friction
+    (coefficient mu_1 along e_1, mu_2 along e_2) and the associated (maximum-dissipation) law,
+    under the normal force ``normal_force`` [N].
+
+    The friction force for the sliding direction v is -|N| F^-1 v / sqrt(v.F^-1 v),
+    F^-1 = diag(mu_1^2, mu_2^2); the heading is the v where pull + friction is parallel to v
+    (then the body accelerates along v and the direction stays constant). Solved with brentq in
+    the quadrant of the pull (the problem is symmetric under reflections of either axis). Raises
+    ValueError when the pull lies inside the friction ellipse (the body sticks) or an input is
+    not finite / not positive."""
+    for name, v in (("pull", pull), ("normal_force", normal_force), ("mu_1", mu_1), ("mu_2", mu_2)):
+        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"orthotropic_heading: {name} must be a finite number > 0; got {v!r}")
+    if not math.isfinite(pull_angle):
+        raise ValueError(f"orthotropic_heading: pull_angle must be finite; got {pull_angle!r}")
+    px, py = pull * math.cos(pull_angle), pull * math.sin(pull_angle)
+    if (px / (mu_1 * normal_force)) ** 2 + (py / (mu_2 * normal_force)) ** 2 <= 1.0:
+        raise ValueError(f"orthotropic_heading: the pull ({px:.6g}, {py:.6g}) N lies inside the friction ellipse "
+                         f"(mu_1 |N|, mu_2 |N|) = ({mu_1 * normal_force:.6g}, {mu_2 * normal_force:.6g}) N: "
+                         "the body sticks, there is no sliding heading")
+    ax, ay = abs(px), abs(py)
+    if ay <= 1e-15 * pull:
+        phi = 0.0
+    elif ax <= 1e-15 * pull:
+        phi = 0.5 * math.pi
+    else:
+        m1, m2 = mu_1 ** 2, mu_2 ** 2
+
+        def cross(phi):              # (pull + friction(phi)) x v
+            c, s = math.cos(phi), math.sin(phi)
+            k = normal_force / math.sqrt(m1 * c * c + m2 * s * s)
+            return (ax - k * m1 * c) * s - (ay - k * m2 * s) * c
+
+        phi = brentq(cross, 0.0, 0.5 * math.pi, xtol=1e-15, maxiter=200)
+    return math.atan2(math.copysign(math.sin(phi), py), math.copysign(math.cos(phi), px))
+
+
+def analytic_heading_deg():
+    return math.degrees(orthotropic_heading(math.radians(PULL_ANGLE), PULL, MASS * GRAVITY, MU_X, MU_Y))
+
+
+def _wrap_deg(a):
+    return (a + 180.0) % 360.0 - 180.0
+
+
+# ----------------------------------------------------------------------------------------------
+# case functions (module level: run by studylib.sweep)
+
+def _ours_block_params(dt, points="center"):
+    from exu_aniso.scenes import BlockParams
+    return BlockParams(mass=MASS, normal_load=MASS * GRAVITY, points=points, adhesion="cartesian", eps_1=1e5,
+                       eps_2=1e5, friction="cartesian", mu_1=MU_X, mu_2=MU_Y, friction_angle=0.0,
+                       return_map="exact", drive="force", drive_angle=PULL_ANGLE, force=PULL, t_end=SLIDE_T, dt=dt,
+                       model="planar", solver="trapezoidal")
+
+
+def slide_ours(case):
+    """Our block at step dt: heading errors and median solve time per simulated second."""
+    from exu_aniso.models.block import RunBlock
+    p = _ours_block_params(case["dt"], case.get("points", "center"))
+    walls = []
+    for i in range(case["repeats"] + 1):          # run 0: trajectory and warm-up, not timed
+        r = RunBlock(p)
+        if i > 0:
+            walls.append(r.summary["wall_s"])
+        else:
+            tr = r.trajectory
+            j = int(np.argmin(np.abs(tr["t"] - 0.5 * SLIDE_T)))
+            path = math.degrees(math.atan2(tr["y"][-1] - tr["y"][j], tr["x"][-1] - tr["x"][j]))
+            first = dict(heading=r.summary["heading_deg"], path=path, steps=r.summary["steps"],
+                         newton=r.summary["newton_iterations"])
+    ref = analytic_heading_deg()
+    return dict(engine="exudyn", setting=f"planar, {p.points}, exact map, trapezoidal", cone="-", dt=p.dt,
+                heading=first["heading"], heading_error=_wrap_deg(first["heading"] - ref),
+                path_heading_error=_wrap_deg(first["path"] - ref), wall_per_sim_s=float(np.median(walls)) / SLIDE_T,
+                steps=first["steps"], newton=first["newton"], airborne=float("nan"), repeats=case["repeats"])
+
+
+def slide_mujoco(case):
+    """MuJoCo's box at step dt with the given cone: heading errors, share of steps without contact,
+    median stepping time per simulated second."""
+    import mujoco
+    import mujoco_models as M
+    imp = case.get("impratio")
+    model, data, _ = M.BoxOnPlane(MU_X, MU_Y, cone=case["cone"], dt=case["dt"], mass=MASS, impratio=imp)
+    diag = M.SlideBox(model, data, PULL, math.radians(PULL_ANGLE), SLIDE_T, count_airborne=True)
+    walls = []
+    for _ in range(case["repeats"]):
+        mujoco.mj_resetData(model, data)
+        r = M.SlideBox(model, data, PULL, math.radians(PULL_ANGLE), SLIDE_T)
+        walls.append(r["wall_s"])
+    ref = analytic_heading_deg()
+    heading = math.degrees(math.atan2(r["vy"], r["vx"]))
+    path = math.degrees(math.atan2(r["y"] - r["y_mid"], r["x"] - r["x_mid"]))
+    setting = "free box, explicit pair" + ("" if imp is None else f", impratio {imp:g}")
+    return dict(engine="mujoco", setting=setting, cone=case["cone"], dt=case["dt"], heading=heading,
+                heading_error=_wrap_deg(heading - ref), path_heading_error=_wrap_deg(path - ref),
+                wall_per_sim_s=float(np.median(walls)) / SLIDE_T, steps=r["steps"], newton=float("nan"),
+                airborne=diag["airborne_fraction"], repeats=case["repeats"])
+
+
+def frame_check(case):
+    """MuJoCo's contact frame of the box on the plane, and pulls of 4 N along x and y (elliptic cone):
+    along x (mu_x N = 1.96 N < 4 N) the box must slide with a = (4 - mu_x m g) / m, along y
+    (mu_y N = 5.89 N > 4 N) it must stick."""
+    import mujoco_models as M
+    force, T = 4.0, 0.5
+    rows = []
+    for direction, angle, mu in (("x", 0.0, MU_X), ("y", 0.5 * math.pi, MU_Y)):
+        model, data, frame = M.BoxOnPlane(MU_X, MU_Y, cone="elliptic", dt=0.002, mass=MASS)
+        r = M.SlideBox(model, data, force, angle, T)
+        v = r["vx"] * math.cos(angle) + r["vy"] * math.sin(angle)
+        # mean acceleration over the second half from the positions (s = v_end T/2 - a (T/2)^2 / 2)
+        s = (r["x"] - r["x_mid"]) * math.cos(angle) + (r["y"] - r["y_mid"]) * math.sin(angle)
+        a = 2.0 * (v * 0.5 * T - s) / (0.5 * T) ** 2
+        rows.append(dict(direction=direction, force=force, mu=mu,
+                         expected=max(force - mu * MASS * GRAVITY, 0.0) / MASS, measured=a, v_end=v))
+    return dict(frame=np.asarray(frame).tolist(), pulls=rows)
+
+
+def _fit_advance(t, angle, z):
+    late = t >= 0.5 * t[-1]
+    return float(np.polyfit(angle[late], z[late], 1)[0] * 2.0 * math.pi)
+
+
+def _decimate(n, keep=300):
+    return np.unique(np.r_[np.arange(0, n, max(1, n // keep)), n - 1])
+
+
+def thread_ours(case):
+    """Our screw (reduced model, rotation drive at 1 rev/s): advance per revolution, median wall
+    time of the solve per simulated second, trajectory of the first run."""
+    from exu_aniso.models.screw import RunScrew
+    from exu_aniso.scenes import ScrewParams, pitch
+    p = ScrewParams(t_end=case["t_end"], rotation_speed=SPIN, drive="rotation", model="reduced", **case["params"])
+    walls = []
+    for i in range(case["repeats"] + 1):          # run 0: trajectory and warm-up, not timed
+        r = RunScrew(p, contactOutputs=False)
+        if i > 0:
+            walls.append(r.summary["wall_s"])
+        else:
+            tr = r.trajectory
+            adv = _fit_advance(tr["t"], tr["angle"], tr["z"])
+            k = _decimate(len(tr["t"]))
+            traj = dict(t=tr["t"][k].tolist(), angle=tr["angle"][k].tolist(), advance=(tr["z"][k] - tr["z"][0]).tolist())
+            steps = r.summary["steps"]
+    K = p.rings * p.points_per_ring
+    return dict(engine="exudyn", setting=case["label"] + f" ({K} points, dt {p.dt:g} s, {p.return_map} map)",
+                label=case["label"], dt=p.dt, pitch=pitch(p), advance_per_rev=adv,
+                wall_per_sim_s=float(np.median(walls)) / p.t_end, steps=steps, repeats=case["repeats"], traj=traj)
+
+
+def thread_mujoco(case):
+    """MuJoCo's nut on bolt spun at -1 rev/s (screwing down): advance per revolution, median
+    stepping time per simulated second, trajectory of the first run."""
+    import mujoco
+    import mujoco_models as M
+    model, data = M.NutOnBolt(**case["params"])
+    r = M.SpinNut(model, data, -SPIN, case["t_end"])
+    adv = _fit_advance(r["t"], r["angle"], r["z"])
+    k = _decimate(len(r["t"]))
+    traj = dict(t=r["t"][k].tolist(), angle=r["angle"][k].tolist(), advance=(r["z"][k] - r["z"][0]).tolist())
+    walls = []
+    for _ in range(case["repeats"]):
+        mujoco.mj_resetData(model, data)
+        walls.append(M.SpinNut(model, data, -SPIN, case["t_end"], record=False)["wall_s"])
+    o = model.opt
+    return dict(engine="mujoco", setting=case["label"] + f" (sdf {o.sdf_iterations}/{o.sdf_initpoints}, "
+                f"dt {o.timestep:g} s)", label=case["label"], dt=float(o.timestep), pitch=M.BOLT_PITCH,
+                advance_per_rev=adv, wall_per_sim_s=float(np.median(walls)) / case["t_end"], steps=r["steps"],
+                repeats=case["repeats"], traj=traj, xy_drift=r["xy_drift"])
+
+
+CASE_FUNCTIONS = {"slide_ours": slide_ours, "slide_mujoco": slide_mujoco, "frame_check": frame_check,
+                  "thread_ours": thread_ours, "thread_mujoco": thread_mujoco}
+
+
+def run_case(case):
+    return CASE_FUNCTIONS[case["kind"]](case)
+
+
+def cases(quick, repeats):
+    if quick:
+        ours_dt, mj_dt, T = [0.1, 0.05], [0.002], 0.3
+        ours_thread = [("default", {})]
+        mj_thread = [("example", {})]
+    else:
+        ours_dt, mj_dt, T = [0.5, 0.25, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001], [0.002, 0.001, 5e-4, 2e-4, 1e-4], 2.0
+        ours_thread = [("default", {}), ("cheap", dict(rings=1, points_per_ring=4, dt=5e-3)),
+                       ("stiff thread", dict(eps_2=1e8, mu_2=5.0, dt=2e-3))]
+        mj_thread = [("example", {}), ("coarse SDF", dict(sdf_iterations=5, sdf_initpoints=20)),
+                     ("coarse SDF, large step", dict(sdf_iterations=5, sdf_initpoints=20, dt=0.005))]
+    out = [dict(kind="frame_check")]
+    out += [dict(kind="slide_ours", dt=dt, repeats=repeats) for dt in ours_dt]
+    if not quick:
+        out.append(dict(kind="slide_ours", dt=0.05, points="corners", repeats=repeats))
+    out += [dict(kind="slide_mujoco", cone=c, dt=dt, repeats=repeats) for c in ("elliptic", "pyramidal") for dt in mj_dt]
+    if not quick:
+        out.append(dict(kind="slide_mujoco", cone="elliptic", dt=0.002, impratio=10.0, repeats=repeats))
+    for (lo, po), (lm, pm) in zip(ours_thread, mj_thread):   # alternate the engines
+        out.append(dict(kind="thread_ours", label=lo, params=po, t_end=T, repeats=repeats))
+        out.append(dict(kind="thread_mujoco", label=lm, params=pm, t_end=T, repeats=repeats))
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# tables, figures, report
+
+SLIDE_COLS = ["engine [-]", "setting [-]", "cone [-]", "dt [s]", "heading [deg]", "heading_error [deg]",
+              "path_heading_error [deg]", "wall_per_sim_s [s/s]", "steps [-]", "newton_iterations [-]",
+              "airborne_fraction [-]", "repeats [-]"]
+THREAD_COLS = ["engine [-]", "setting [-]", "dt [s]", "pitch [m]", "advance_per_rev [m]", "advance_ratio [-]",
+               "wall_per_sim_s [s/s]", "steps [-]", "repeats [-]"]
+TRAJ_COLS = ["engine [-]", "setting [-]", "t [s]", "angle [rad]", "advance [m]", "advance [pitch]",
+             "revolutions [-]"]
+RATIO_COLS = ["case [-]", "ours [-]", "mujoco [-]", "ours_error [-]", "mujoco_error [-]", "ours_wall_per_sim_s [s/s]",
+              "mujoco_wall_per_sim_s [s/s]", "ratio [-]", "target_ratio [-]", "met [-]"]
+
+
+def write_tables(out, results):
+    frame = next(r for r in results if "frame" in r)
+    table(os.path.join(out, "tangent_frame.csv"), ["row [-]", "x [-]", "y [-]", "z [-]"],
+          [[name, *map(float, v)] for name, v in zip(("normal", "t1", "t2"), frame["frame"])])
+    table(os.path.join(out, "frame_check.csv"),
+          ["pull_direction [-]", "force [N]", "mu_along_pull [-]", "expected_acceleration [m/s^2]",
+           "measured_acceleration [m/s^2]", "end_speed [m/s]"],
+          [[p["direction"], p["force"], p["mu"], p["expected"], p["measured"], p["v_end"]] for p in frame["pulls"]])
+    slide = [r for r in results if "heading" in r]
+    table(os.path.join(out, "slide.csv"), SLIDE_COLS,
+          [[r["engine"], r["setting"], r["cone"], float(r["dt"]), r["heading"], r["heading_error"],
+            r["path_heading_error"], r["wall_per_sim_s"], int(r["steps"]), r["newton"], r["airborne"], r["repeats"]]
+           for r in slide])
+    thread = [r for r in results if "advance_per_rev" in r]
+    table(os.path.join(out, "thread.csv"), THREAD_COLS,
+          [[r["engine"], r["setting"], float(r["dt"]), float(r["pitch"]), r["advance_per_rev"],
+            r["advance_per_rev"] / r["pitch"], r["wall_per_sim_s"], int(r["steps"]), r["repeats"]] for r in thread])
+    rows = []
+    for r in thread:
+        tr = r["traj"]
+        for t, a, z in zip(tr["t"], tr["angle"], tr["advance"]):
+            rows.append([r["engine"], r["label"], float(t), float(a), float(z), float(z) / r["pitch"],
+                         float(a) / (2.0 * math.pi)])
+    table(os.path.join(out, "thread_trajectory.csv"), TRAJ_COLS, rows)
+
+
+def ratio_rows(out):
+    """Ratio table from slide.csv and thread.csv: ours / MuJoCo wall time per simulated second."""
+    S = read_table(os.path.join(out, "slide.csv"))
+    n = len(S["engine [-]"])
+    rows = []
+    ours = [i for i in range(n) if S["engine [-]"][i] == "exudyn" and "center" in S["setting [-]"][i]]
+    mj = [i for i in range(n) if S["engine [-]"][i] == "mujoco" and S["cone [-]"][i] == "elliptic"
+          and S["dt [s]"][i] == 0.002 and "impratio" not in S["setting [-]"][i]]
+    ok = [i for i in ours if abs(S["heading_error [deg]"][i]) < TARGET_DEG]
+    pick = max(ok, key=lambda i: S["dt [s]"][i]) if ok else min(ours, key=lambda i: abs(S["heading_error [deg]"][i]))
+    if mj:
+        j = mj[0]
+        ratio = S["wall_per_sim_s [s/s]"][pick] / S["wall_per_sim_s [s/s]"][j]
+        met = abs(S["heading_error [deg]"][pick]) < TARGET_DEG and ratio <= TARGET_SLIDE_RATIO
+        rows.append(["sliding (heading)", f"dt {S['dt [s]'][pick]:g} s (largest step with error < {TARGET_DEG:g} deg)",
+                     f"elliptic, default dt {S['dt [s]'][j]:g} s",
+                     f"{S['heading_error [deg]'][pick]:.3g} deg", f"{S['heading_error [deg]'][j]:.3g} deg",
+                     S["wall_per_sim_s [s/s]"][pick], S["wall_per_sim_s [s/s]"][j], ratio, TARGET_SLIDE_RATIO,
+                     "yes" if met else "no"])
+    T = read_table(os.path.join(out, "thread.csv"))
+    m = len(T["engine [-]"])
+    o = [i for i in range(m) if T["engine [-]"][i] == "exudyn"]
+    u = [i for i in range(m) if T["engine [-]"][i] == "mujoco"]
+    pairs = [(o[0], u[0])]                                   # default against the example's settings
+    if len(o) > 1 and len(u) > 1:                            # cheapest against cheapest
+        pairs.append((min(o, key=lambda i: T["wall_per_sim_s [s/s]"][i]),
+                      min(u, key=lambda i: T["wall_per_sim_s [s/s]"][i])))
+    for i, j in pairs:
+        ratio = T["wall_per_sim_s [s/s]"][i] / T["wall_per_sim_s [s/s]"][j]
+        rows.append(["thread (advance/rev)", T["setting [-]"][i], T["setting [-]"][j],
+                     f"{T['advance_ratio [-]'][i] - 1.0:+.2%} of pitch", f"{T['advance_ratio [-]'][j] - 1.0:+.2%} of pitch",
+                     T["wall_per_sim_s [s/s]"][i], T["wall_per_sim_s [s/s]"][j], ratio, TARGET_THREAD_RATIO,
+                     "yes" if ratio <= TARGET_THREAD_RATIO else "no"])
+    table(os.path.join(out, "ratio.csv"), RATIO_COLS, rows)
+    return rows
+
+
+def plot(out):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    S = read_table(os.path.join(out, "slide.csv"))
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    groups = {}
+    for i, eng in enumerate(S["engine [-]"]):
+        if eng == "exudyn" and "corners" in S["setting [-]"][i]:
+            key = "ours, 4 corner points"
+        elif eng == "exudyn":
+            key = "ours (Exudyn), centre point, exact map"
+        elif "impratio" in S["setting [-]"][i]:
+            key = "MuJoCo elliptic, impratio 10"
+        else:
+            key = f"MuJoCo {S['cone [-]'][i]}"
+        groups.setdefault(key, []).append(i)
+    markers = {"ours (Exudyn), centre point, exact map": "o-", "ours, 4 corner points": "s",
+               "MuJoCo elliptic": "^-", "MuJoCo pyramidal": "v-", "MuJoCo elliptic, impratio 10": "D"}
+    for key, idx in groups.items():
+        idx = sorted(idx, key=lambda i: S["wall_per_sim_s [s/s]"][i])
+        x = [S["wall_per_sim_s [s/s]"][i] for i in idx]
+        y = [max(abs(S["heading_error [deg]"][i]), 1e-6) for i in idx]
+        ax.loglog(x, y, markers.get(key, "x-"), label=key)
+        for i, xi, yi in zip(idx, x, y):
+            ax.annotate(f"{S['dt [s]'][i]:g}", (xi, yi), textcoords="offset points", xytext=(4, 3), fontsize=7)
+    ax.axhline(TARGET_DEG, color="grey", ls="--", lw=0.8, label=f"target {TARGET_DEG:g} deg")
+    ax.set_xlabel("wall time per simulated second [s/s]")
+    ax.set_ylabel("|heading error| at t = 1 s [deg]")
+    ax.set_title("orthotropic sliding (mu 0.2 / 0.6, pull 45 deg); labels: dt [s]", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "slide_work_precision.png"), dpi=120)
+    plt.close(fig)
+
+    D = read_table(os.path.join(out, "thread_trajectory.csv"))
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    series = {}
+    for i, (e, s) in enumerate(zip(D["engine [-]"], D["setting [-]"])):
+        series.setdefault((e, s), []).append(i)
+    for (e, s), idx in series.items():
+        t = np.array([D["t [s]"][i] for i in idx])
+        adv = np.array([D["advance [pitch]"][i] for i in idx])
+        rev = np.array([D["revolutions [-]"][i] for i in idx])
+        name = ("ours" if e == "exudyn" else "MuJoCo") + f" {s}"
+        line, = ax.plot(t, adv, label=f"{name}: advance / pitch")
+        ax.plot(t, rev - rev[0], ls=":", color=line.get_color(), label=f"{name}: revolutions turned")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("axial advance [pitches]  /  rotation [rev]")
+    ax.set_title("thread: advance vs time (ours: +1 rev/s; MuJoCo nut: -1 rev/s, screwing down)", fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "thread_advance.png"), dpi=120)
+    plt.close(fig)
+
+
+def report(out):
+    import mujoco
+    S = read_table(os.path.join(out, "slide.csv"))
+    F = read_table(os.path.join(out, "frame_check.csv"))
+    TF = read_table(os.path.join(out, "tangent_frame.csv"))
+    T = read_table(os.path.join(out, "thread.csv"))
+    R = read_table(os.path.join(out, "ratio.csv"))
+    ref = analytic_heading_deg()
+
+    def rows(tab, cols):
+        n = len(tab[cols[0]])
+        return [[tab[c][i] for c in cols] for i in range(n)]
+
+    t1 = [TF[c][1] for c in ("x [-]", "y [-]", "z [-]")]
+    t2 = [TF[c][2] for c in ("x [-]", "y [-]", "z [-]")]
+    body = f"""MuJoCo {mujoco.__version__} against our Exudyn models, same run, same machine; timed cases run one
+after the other (median of the repeats; MuJoCo: `mj_step` loop only, ours: `SolveDynamic` only).
+
+### 1. Orthotropic sliding
+
+1 kg box, mu = {MU_X:g} along x and {MU_Y:g} along y, pull {PULL:g} N at {PULL_ANGLE:g} deg from x, g = {GRAVITY:g} m/s^2,
+from rest for {SLIDE_T:g} s. Analytic heading (associated law, `orthotropic_heading`, brentq): **{ref:.6f} deg**.
+Error = heading of the end velocity minus that; `path_heading_error` = heading of the displacement over
+the second half.
+
+MuJoCo's tangent frame of the plane-box contact, read from `data.contact.frame`: t1 = {t1}, t2 = {t2}.
+It follows from the normal alone (rotating the plane about its normal does not change it), so
+`friction="f1 f2"` puts f1 along y: `BoxOnPlane` writes the pair as `friction="{MU_Y:g} {MU_X:g} ..."`. Check with
+a 4 N pull (elliptic cone, 0.5 s; acceleration over the second half):
+
+{markdown_table(list(F), rows(F, list(F)))}
+{markdown_table(list(S), rows(S, list(S)))}
+![heading error vs wall time per simulated second](./slide_work_precision.png)
+
+`airborne_fraction` is the share of MuJoCo steps with no active contact: the sliding box loses
+contact (hops by up to millimetres) for most of the steps at every step size and cone tried,
+so the pull acts without friction part of the time and the heading leans towards the pull; the
+error does not shrink with the step. Ours is the trapezoidal rule on a planar model: once sliding
+it integrates the constant acceleration exactly; the error comes from the stick-slip onset and
+falls as about dt^2.
+
+### 2. Thread
+
+MuJoCo: nut and bolt of `model/plugin/sdf/nutbolt.xml` (SDF plugins shipped in the wheel, pitch
+1/12 m, radius 0.26 m), free joint, spun at 1 rev/s by a velocity actuator (screwing down).
+Ours: `RunScrew` reduced model (rotation + axial), torsional spring to a driver at 1 rev/s.
+
+{markdown_table(list(T), rows(T, list(T)))}
+![advance vs time](./thread_advance.png)
+
+### Ratio table (ours / MuJoCo wall time per simulated second)
+
+{markdown_table(list(R), rows(R, list(R)))}
+"""
+    return body
+
+
+def main(argv=None):
+    args = parse_args(NAME, __doc__.splitlines()[0], argv,
+                      extra=lambda ap: ap.add_argument("--repeats", type=int, default=None,
+                                                       help="timing repeats per case (default 5; --quick: 2)"))
+    timer = Timer()
+    if importlib.util.find_spec("mujoco") is None:
+        msg = ("Skipped: MuJoCo is not installed. This peer benchmark needs the optional extra "
+               "`pip install \".[bench]\"` (mujoco>=3.2); nothing was measured.")
+        print(f"{NAME}: {msg}", file=sys.stderr)
+        finish(args, timer, msg, "Peers: MuJoCo side by side")
+        return 0
+    repeats = args.repeats or (2 if args.quick else 5)
+    if repeats < 1:
+        raise SystemExit(f"{NAME}: --repeats must be >= 1; got {repeats}")
+    args.serial = True                  # timed cases: no process pool (see the module doc)
+    results = sweep(run_case, cases(args.quick, repeats), args)
+    write_tables(args.out, results)
+    ratio_rows(args.out)
+    plot(args.out)
+    finish(args, timer, report(args.out), "Peers: MuJoCo side by side")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
