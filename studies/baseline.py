@@ -278,7 +278,7 @@ def ratio_case(case):
 
 
 def ratio_cases(quick, repeats, extra_options=None):
-    t_end, dt = (0.1, 1e-3) if quick else (0.2, 1e-3)
+    t_end, dt = (0.05, 1e-3) if quick else (0.2, 1e-3)
     return [dict(scene=s, params=dict(model=m, t_end=t_end, dt=dt, **ov), options=dict(extra_options or {}),
                  repeats=repeats, drive=drv) for s, m, ov, drv in RATIO_SCENES]
 

@@ -265,7 +265,7 @@ def main(argv=None):
     reps = args.repeats or (3 if args.quick else 5)
     if reps < 3:
         raise ValueError(f"--repeats must be >= 3 (medians); got {reps}")
-    t_end, dt = (0.1, 1e-3) if args.quick else (0.2, 1e-3)
+    t_end, dt = (0.05, 1e-3) if args.quick else (0.2, 1e-3)
 
     # 1. scenes across settings
     cases = []

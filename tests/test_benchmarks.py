@@ -1,0 +1,185 @@
+"""Benchmark, work-precision and C++-baseline studies (studies/benchmarks.py, work_precision.py,
+baseline.py). The scripts run in their quick mode; the assertions are properties that hold on any
+machine load: timings positive and finite, cost growing linearly with the number of contact points,
+errors falling with the step size at second order on a smooth case, and the C++ baseline equal to
+our contact where our law is a linear spring (pure stick, isotropic adhesion). No time bounds."""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("exudyn")
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "studies"))
+
+from exu_aniso.output import read_table  # noqa: E402
+
+
+def _run_study(name, out):
+    subprocess.run([sys.executable, f"studies/{name}.py", "--quick", "--serial", "--out", str(out)], cwd=ROOT,
+                   check=True, timeout=300, stdout=subprocess.DEVNULL)
+
+
+@pytest.fixture(scope="module")
+def bench_out(tmp_path_factory):
+    out = tmp_path_factory.mktemp("benchmarks")
+    _run_study("benchmarks", out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def wp_out(tmp_path_factory):
+    out = tmp_path_factory.mktemp("work_precision")
+    _run_study("work_precision", out)
+    return out
+
+
+def _positive_finite(values):
+    v = np.asarray(values, dtype=float)
+    return v.size > 0 and bool(np.all(np.isfinite(v)) and np.all(v > 0))
+
+
+def test_benchmark_timings_positive_and_finite(bench_out):
+    T = read_table(bench_out / "benchmarks.csv")
+    assert set(T["status [-]"]) == {"ok"}, T["status [-]"]
+    for c in ("cpu_per_step [s]", "cpu_per_sim_second [s/s]", "cpu_per_point_eval [s]", "wall_per_step [s]",
+              "newton_per_step [-]", "relative_to_base [-]"):
+        assert _positive_finite(T[c]), c
+    assert {"block", "screw"} <= set(T["scene [-]"])
+    assert {"exudyn", "reference"} <= set(T["implementation [-]"])
+    for factor in ("K", "return_map", "model", "jacobian", "solver"):
+        assert factor in T["factor [-]"], factor
+    # CPU time per simulated second = per step x steps / t_end
+    for j in range(len(T["K [-]"])):
+        assert T["cpu_per_sim_second [s/s]"][j] > 0
+    K = read_table(bench_out / "kernel.csv")
+    assert _positive_finite(K["per_point [s]"]) and set(K["K [-]"]) == {1.0, 64.0}
+    B = read_table(bench_out / "baseline.csv")
+    for c in ("ours_per_step [s]", "baseline_per_step [s]", "ours_over_baseline [-]",
+              "ours_over_baseline_per_newton [-]"):
+        assert _positive_finite(B[c]), c
+    assert {("block", "planar"), ("block", "full"), ("screw", "reduced"), ("screw", "full")} <= set(
+        zip(B["scene [-]"], B["model [-]"]))
+    assert (bench_out / "cost_vs_points.png").stat().st_size > 0
+    assert "ours/C++" in (bench_out / "report.md").read_text()
+
+
+def test_cost_grows_linearly_with_contact_points(bench_out):
+    """Exudyn route: per-step cost = a + b K with b > 0 and R^2 > 0.9 over K = 1 ... 64 (refit here
+    from the CSV). The reference switches from a point loop to numpy arrays at 24 points, so its
+    cost is not linear in K by design; it is only required to grow."""
+    import benchmarks
+    T = read_table(bench_out / "benchmarks.csv")
+    for scene in ("block", "screw"):
+        for impl in ("exudyn", "reference"):
+            idx = [j for j in range(len(T["K [-]"])) if T["scene [-]"][j] == scene
+                   and T["implementation [-]"][j] == impl and T["factor [-]"][j] in ("K", "base")]
+            K = np.array([T["K [-]"][j] for j in idx])
+            y = np.array([T["cpu_per_step [s]"][j] for j in idx])
+            assert K.min() == 1 and K.max() == 64
+            a, b, r2 = benchmarks.linear_fit(K, y)
+            print(f"{scene} {impl}: cost per step {a * 1e3:.4f} ms + {b * 1e6:.3f} us K, R^2 {r2:.4f}")
+            assert b > 0
+            if impl == "exudyn":
+                assert r2 > 0.9
+
+
+def test_work_precision_errors_fall_with_dt(wp_out):
+    """Converging settings (every map but seed, both solvers, both models): the error against the fine
+    solution falls at every halving of dt; the seed map is exempt (its sliding depends on dt)."""
+    T = read_table(wp_out / "work_precision.csv")
+    assert set(T["status [-]"]) == {"ok"}
+    assert _positive_finite(T["cpu [s]"]) and _positive_finite(T["cpu_per_step [s]"])
+    O = read_table(wp_out / "orders.csv")
+    fams = dict(zip(O["family [-]"], range(len(O["family [-]"]))))
+    converging = ["block exudyn", "block exact", "block generalized_alpha", "block full", "block oracle harmonic",
+                  "screw exudyn", "screw exact", "screw generalized_alpha", "screw full"]
+    for f in converging:
+        j = fams[f]
+        assert O["decreasing [-]"][j] == "yes", f
+        assert O["observed_order [-]"][j] > 1.0, (f, O["observed_order [-]"][j])
+    assert (wp_out / "work_precision.png").stat().st_size > 0
+
+
+def test_work_precision_smooth_case_second_order(wp_out):
+    """Trapezoidal rule on the smooth oracle (isotropic stick, spring drive = forced oscillator):
+    observed order > 1 against the analytic solution (2 expected) and the error at the smallest step
+    below 1e-3 relative."""
+    O = read_table(wp_out / "orders.csv")
+    j = O["family [-]"].index("block oracle harmonic")
+    print(f"harmonic oracle: order {O['oracle_order [-]'][j]:.3f}, error {O['oracle_error_rel_at_dt_min [-]'][j]:.2e}")
+    assert O["oracle_order [-]"][j] > 1.5
+    assert O["oracle_error_rel_at_dt_min [-]"][j] < 1e-3
+    T = read_table(wp_out / "work_precision.csv")
+    idx = [i for i in range(len(T["dt [s]"])) if T["family [-]"][i] == "block oracle coulomb"]
+    # constant acceleration: the trapezoidal rule reproduces (P - mu m g)/m to round-off
+    assert max(T["oracle_error_rel [-]"][i] for i in idx) < 1e-9
+
+
+# ----------------------------------------------------------------------------------------------
+# the C++ baseline is our law in pure stick with isotropic adhesion
+
+STICK = dict(adhesion="isotropic", friction="isotropic", mu_1=50.0, eps_1=1e4)
+
+
+@pytest.mark.parametrize("model", ["planar", "full"])
+def test_baseline_block_equals_contact_in_stick(model):
+    """Isotropic adhesion, every point sticking (mu = 50, pull 1 N < tipping): our contact is a linear
+    spring per point, anchored at the initial contact point, and the C++ CartesianSpringDamper model
+    gives the same trajectory to Newton tolerance (same solver, same steps)."""
+    import baseline
+    from exu_aniso.models.block import RunBlock
+    from exu_aniso.scenes import BlockParams
+    p = BlockParams(model=model, t_end=0.1, dt=1e-3, drive="force", force=1.0, drive_angle=30.0, points="corners",
+                    **STICK)
+    ours = RunBlock(p)
+    m, cpu, steps, _ = baseline.RunBaseline("block", p)
+    assert steps == ours.summary["steps"] == 100 and cpu > 0
+    assert ours.summary["slip_distance"] == 0.0          # pure stick: the law is linear
+    Q = baseline.BaselineTrajectory(m)
+    tr = ours.trajectory
+    if model == "planar":
+        a = np.column_stack([Q[:, 1] + p.x0, Q[:, 2] + p.y0])
+        rot = np.max(np.abs(Q[:, 3] - tr["theta"]))
+    else:
+        a = Q[:, 1:3]
+        rot = np.max(np.abs(Q[:, 3] - tr["z"]))          # height (normal spring)
+    b = np.column_stack([tr["x"], tr["y"]])
+    moved = np.max(np.linalg.norm(b - b[0], axis=1))
+    err = np.max(np.linalg.norm(a - b, axis=1))
+    print(f"block {model}: moved {moved:.3e} m, max difference {err:.2e} m, theta/z {rot:.2e}")
+    assert moved > 1e-5
+    assert err < 1e-9 * moved + 1e-15 and rot < 1e-12
+
+
+def test_baseline_reduced_screw_equals_contact_in_stick():
+    """Reduced screw turned by the rotation drive, isotropic stick: torque -eps/K R (R + i) psi per
+    point is exactly linear in psi, so the coordinate springs reproduce our run (0.5 rad turned)."""
+    import baseline
+    from exu_aniso.models.screw import RunScrew
+    from exu_aniso.scenes import ScrewParams
+    p = ScrewParams(model="reduced", t_end=0.1, dt=1e-3, drive="rotation", **STICK)
+    ours = RunScrew(p, contactOutputs=False)
+    m, _, steps, _ = baseline.RunBaseline("screw", p)
+    assert ours.trajectory["slip_distance"][-1] == 0.0 and steps == ours.summary["steps"]
+    Q = baseline.BaselineTrajectory(m)
+    tr = ours.trajectory
+    turned = np.max(np.abs(tr["angle"]))
+    print(f"screw reduced: turned {turned:.3f} rad, difference {np.max(np.abs(Q[:, 1] - tr['angle'])):.2e} rad")
+    assert turned > 0.1
+    np.testing.assert_allclose(Q[:, 1], tr["angle"], rtol=0, atol=1e-10 * turned)
+    np.testing.assert_allclose(Q[:, 2], tr["z"], rtol=0, atol=1e-15)
+
+
+def test_baseline_argument_errors():
+    import baseline
+    from exu_aniso.scenes import BlockParams, ScrewParams
+    with pytest.raises(ValueError, match="nodeType"):
+        baseline.BuildBlockBaseline(BlockParams(), nodeType="bad")
+    with pytest.raises(ValueError, match="drive 'rotation'"):
+        baseline.BuildScrewBaseline(ScrewParams(model="full", drive="rotation"))
