@@ -211,6 +211,51 @@ class _ContactSet:
         mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
 
 
+class _CompiledSet(_ContactSet):
+    """The same contact set evaluated by the compiled kernel ``exu_aniso.fastpath`` (ground
+    master, transport formulation): one compiled call per user function on arrays packed once
+    (``fastpath.PackedSet``). The converged history is copied into the packed arrays once per
+    Newton solve (it only changes when a step is accepted)."""
+
+    def __init__(self, mbs, law, slave, points, master):
+        from . import fastpath
+        super().__init__(mbs, law, slave, points, master)
+        self._kernel = fastpath.evaluate_packed
+        self.pk = fastpath.PackedSet(law, slave.kind, slave.ref, points)
+        self._H_time = None
+
+    def _load_history(self, mbs, t):
+        if t != self._H_time:
+            self.pk.H[:] = self.history(mbs, _SOS)
+            self._H_time = t
+
+    def force(self, mbs, t, itemNumber, q, q_t):
+        self._load_history(mbs, t)
+        pk = self.pk
+        self._kernel(0, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), 0.0, 0.0, pk.W, pk.P, pk.S, pk.I)
+        return pk.Q
+
+    def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        self._load_history(mbs, t)
+        self._kernel(1, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fODE2, fODE2_t,
+                     self.pk.W, self.pk.P, self.pk.S, self.pk.I)
+        return self.pk.J
+
+    def commit_candidate(self, mbs):
+        node = self.slave.node
+        q = mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates, configuration=_CUR)
+        q_t = mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates_t, configuration=_CUR)
+        self.pk.H[:] = self.history(mbs, _SOS)
+        self._H_time = None                   # the next Newton solve reads the history afresh
+        pk = self.pk
+        self._kernel(2, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), 0.0, 0.0, pk.W, pk.P, pk.S, pk.I)
+        if self.ltg is None:
+            self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
+        data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
+        data[self.ltg] = self.pk.Hn.ravel()
+        mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+
+
 def _body_node(mbs, bodyNumber):
     """Node of a body object: 'nodeNumber' of a rigid body, the single node of an ObjectGenericODE2."""
     obj = mbs.GetObject(bodyNumber)
@@ -231,7 +276,8 @@ def _post_newton(mbs, t):
 
 def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
                              normalStiffness=None, normalDamping=0.0, returnMap="exact", contactLaw=None,
-                             masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True):
+                             masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True,
+                             implementation="auto"):
     """Add anisotropic frictional contact between body-fixed points and an analytical surface.
 
     bodyNumber: slave body (ObjectRigidBody, or ObjectRigidBody2D for a planar model);
@@ -247,10 +293,14 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     they start as a new contact in the first step.
     Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, or a NodeGenericODE2
     with 2 coordinates (psi about z [rad], z [m]) for a reduced screw-joint model.
+    implementation: "compiled" (the numba kernel of exu_aniso.fastpath: one compiled call per user
+    function; ground master and the transport formulation), "numpy" (ContactLaw.evaluate with
+    numpy; any configuration) or "auto" (compiled where it applies, numpy otherwise). Both give
+    the same results to round-off (tests/test_fastpath.py).
 
     Returns a dict with 'oContact' (ObjectGenericODE2), 'nData' (NodeGenericData, the history:
     9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history), 'sDissipation'
-    (sensor of the total dissipated energy [J]), 'law' and 'points'.
+    (sensor of the total dissipated energy [J]), 'law', 'points' and 'implementation' (the one used).
     """
     if contactLaw is None:
         if normalStiffness is None:
@@ -282,7 +332,15 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         master = _BodyKinematics(mbs, _body_node(mbs, masterBodyNumber))
         if master.kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
             raise ValueError("CreateAnisotropicContact: masterBodyNumber must be a 3D rigid body (RotVecLG or EP node)")
-    cs = _ContactSet(mbs, contactLaw, slave, points, master)
+    if implementation not in ("auto", "compiled", "numpy"):
+        raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
+                         f"got {implementation!r}")
+    compiled_ok = master is None and contactLaw.formulation == "transport"
+    if implementation == "compiled" and not compiled_ok:
+        raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a master fixed to ground "
+                         "(masterBodyNumber=None) and a ContactLaw with formulation='transport'; use 'numpy' or 'auto'")
+    use_compiled = compiled_ok and implementation != "numpy"
+    cs = (_CompiledSet if use_compiled else _ContactSet)(mbs, contactLaw, slave, points, master)
     K = points.shape[0]
     h0 = np.zeros(K * N_HISTORY)
     if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
@@ -302,7 +360,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         mbs.variables[_SETS_KEY] = []
         mbs.SetPostNewtonUserFunction(_post_newton)
     mbs.variables[_SETS_KEY].append(cs)
-    out = {"oContact": oContact, "nData": cs.nData, "law": contactLaw, "points": points}
+    out = {"oContact": oContact, "nData": cs.nData, "law": contactLaw, "points": points,
+           "implementation": "compiled" if use_compiled else "numpy"}
     if storeSensors:
         sHistory = mbs.AddSensor(SensorNode(nodeNumber=cs.nData, outputVariableType=exu.OutputVariableType.Coordinates,
                                             storeInternal=True))

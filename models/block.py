@@ -182,13 +182,14 @@ def Unwrap(angle):
 # the block scene
 
 def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10):
+               newtonTolerance=1e-10, implementation="auto"):
     """Build the block scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nBlock, oBlock, contact (dict of CreateAnisotropicContact), sensors (dict) and oDrive (or None).
 
     jacobian: "analytic" | "numerical" (contact Jacobian); nodeType: "EP" (default: exact for small
     rotations) | "RotVecLG" (needed by explicit solvers; Exudyn 1.13.6 loses rotation increments
     below ~1.5e-8 rad in its composition, see tests/test_exudyn_scenes.py) for the full model;
+    implementation: contact kernel "auto" | "compiled" | "numpy" (CreateAnisotropicContact);
     solverType: an exu.DynamicSolverType overriding p.solver; rhoInf: spectral radius of
     generalized-alpha; newtonTolerance: Newton relative and absolute tolerance."""
     if nodeType not in NODE_TYPES:
@@ -244,7 +245,8 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
         oDrive = AddNodeDrive(mbs, nBlock, nq, DriveForce, lambda t, q: Kdrive)
 
     contact = CreateAnisotropicContact(mbs, bodyNumber=oBlock, localPoints=localPoints,
-                                       contactLaw=block_contact_law(p), jacobian=jacobian, initializeHistory=True)
+                                       contactLaw=block_contact_law(p), jacobian=jacobian, initializeHistory=True,
+                                       implementation=implementation)
     mbs.Assemble()
     ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nBlock=nBlock, oBlock=oBlock,
@@ -296,7 +298,8 @@ def RunBlock(p: BlockParams = None, **options):
     traj = BlockTrajectory(model)
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
-                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10))
+                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
+                implementation=model["contact"]["implementation"])
     return Result(traj, block_summary(traj, wall, steps, iters), p, info)
 
 

@@ -61,7 +61,7 @@ def _axial_force(p, z, t):
 
 
 def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10):
+               newtonTolerance=1e-10, implementation="auto"):
     """Build the screw scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nScrew, oScrew, contact (dict of CreateAnisotropicContact), sensors (dict), oDrive (or None).
     Options as for exu_aniso.models.block.BuildBlock."""
@@ -158,7 +158,8 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
                                                      outputVariableType=getattr(exu.OutputVariableType, ovt)))
 
     contact = CreateAnisotropicContact(mbs, bodyNumber=oScrew, localPoints=screw_points(p),
-                                       contactLaw=screw_contact_law(p), jacobian=jacobian, initializeHistory=True)
+                                       contactLaw=screw_contact_law(p), jacobian=jacobian, initializeHistory=True,
+                                       implementation=implementation)
     mbs.Assemble()
     ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nScrew=nScrew, oScrew=oScrew,
@@ -229,7 +230,8 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, **options):
     traj = ScrewTrajectory(model, contactOutputs)
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
-                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10))
+                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
+                implementation=model["contact"]["implementation"])
     return Result(traj, screw_summary(traj, wall, steps, iters), p, info)
 
 
