@@ -61,10 +61,18 @@ def _axial_force(p, z, t):
 
 
 def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10, implementation="auto"):
+               newtonTolerance=1e-10, implementation="auto", symmetry=True):
     """Build the screw scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nScrew, oScrew, contact (dict of CreateAnisotropicContact), sensors (dict), oDrive (or None).
-    Options as for exu_aniso.models.block.BuildBlock."""
+    Options as for exu_aniso.models.block.BuildBlock, and
+    symmetry (reduced model only): True -> one representative contact point carrying the totals
+    eps_n, eps_1, eps_2. Under the screw joint (rotation about and translation along the hole
+    axis) every point of the layout sits at the same radius in the same rotation- and
+    translation-invariant spiral field with the same history, so all points have the same state.
+    Their summed generalized force equals that of one point with the total stiffnesses, because
+    the return maps are positively homogeneous in (B, N). The two give the same trajectory to
+    round-off (tests/test_fastpath.py). False -> every point of the rings x points_per_ring
+    layout is evaluated."""
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
     check_instance("p", p, ScrewParams)
@@ -157,8 +165,9 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
             sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
                                                      outputVariableType=getattr(exu.OutputVariableType, ovt)))
 
-    contact = CreateAnisotropicContact(mbs, bodyNumber=oScrew, localPoints=screw_points(p),
-                                       contactLaw=screw_contact_law(p), jacobian=jacobian, initializeHistory=True,
+    pc = p.with_overrides(rings=1, points_per_ring=1) if (symmetry and p.model == "reduced") else p
+    contact = CreateAnisotropicContact(mbs, bodyNumber=oScrew, localPoints=screw_points(pc),
+                                       contactLaw=screw_contact_law(pc), jacobian=jacobian, initializeHistory=True,
                                        implementation=implementation)
     mbs.Assemble()
     ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
@@ -173,7 +182,7 @@ def ScrewTrajectory(model, contactOutputs=True):
     stored states and the history of the previous step (what the solver saw at convergence)."""
     mbs, p, S = model["mbs"], model["params"], model["sensors"]
     diss, slip, H = HistoryOutputs(mbs, model["contact"])
-    s = screw_points(p)
+    s = np.asarray(model["contact"]["points"])   # the evaluated points (one under symmetry)
     if p.model == "reduced":
         Q = mbs.GetSensorStoredData(S["sCoordinates"])
         V = mbs.GetSensorStoredData(S["sVelocities"])
