@@ -100,30 +100,35 @@ def BoxOnPlane(mu_x, mu_y, cone="elliptic", dt=0.002, mass=1.0, size=0.1, imprat
 
 def SlideBox(model, data, force, angle, t_end, count_airborne=False):
     """Pull the box from rest with a constant horizontal force [N] at ``angle`` [rad] from e_x for
-    t_end [s]. Returns dict: wall_s (time of the stepping only: ``mj_step(..., nstep)`` in two
-    chunks, no Python per step unless count_airborne), steps, vx, vy (end velocity), x, y (end
+    t_end [s]. Returns dict: wall_s, cpu_s (wall and CPU time of the stepping only:
+    ``mj_step(..., nstep)`` in two chunks, no Python per step unless count_airborne), steps, vx, vy (end velocity), x, y (end
     position), x_mid, y_mid (position at t_end / 2), airborne_fraction (share of steps without an
-    active contact; counted step by step only with count_airborne, else NaN)."""
+    active contact; counted step by step only with count_airborne, else NaN), max_lift (largest
+    height of the box's centre above its resting height size/2 [m], with count_airborne)."""
     b = model.body("box").id
     data.xfrc_applied[b, :3] = [force * math.cos(angle), force * math.sin(angle), 0.0]
     n = int(round(t_end / model.opt.timestep))
     n_mid = n // 2
     free = 0
-    t0 = time.perf_counter()
+    lift = 0.0
+    h = float(model.geom_size[model.geom("box").id][2])
+    t0, c0 = time.perf_counter(), time.process_time()
     if count_airborne:
         for i in range(n):
             mujoco.mj_step(model, data)
             free += data.ncon == 0
+            lift = max(lift, float(data.qpos[2]) - h)
             if i + 1 == n_mid:
                 mid = (float(data.qpos[0]), float(data.qpos[1]))
     else:
         mujoco.mj_step(model, data, nstep=n_mid)
         mid = (float(data.qpos[0]), float(data.qpos[1]))
         mujoco.mj_step(model, data, nstep=n - n_mid)
-    wall = time.perf_counter() - t0
-    return dict(wall_s=wall, steps=n, vx=float(data.qvel[0]), vy=float(data.qvel[1]), x=float(data.qpos[0]),
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return dict(wall_s=wall, cpu_s=cpu, steps=n, vx=float(data.qvel[0]), vy=float(data.qvel[1]), x=float(data.qpos[0]),
                 y=float(data.qpos[1]), x_mid=mid[0], y_mid=mid[1],
-                airborne_fraction=free / n if count_airborne else float("nan"))
+                airborne_fraction=free / n if count_airborne else float("nan"),
+                max_lift=lift if count_airborne else float("nan"))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -173,8 +178,8 @@ def NutOnBolt(dt=0.002, sdf_iterations=15, sdf_initpoints=60, friction=0.01, dam
 
 
 def SpinNut(model, data, omega, t_end, record=True):
-    """Drive the nut's spin at omega [rad/s] (about +z) for t_end [s]. Returns dict: wall_s (time
-    of the stepping only), steps, t, angle (unwrapped yaw [rad]), z (height of the nut's frame
+    """Drive the nut's spin at omega [rad/s] (about +z) for t_end [s]. Returns dict: wall_s, cpu_s
+    (wall and CPU time of the stepping only), steps, t, angle (unwrapped yaw [rad]), z (height of the nut's frame
     [m]) at every step (record=True) or at the start and the end only (record=False: one
     ``mj_step(..., nstep)`` call, for timing), xy_drift (largest distance of the nut from the axis
     [m], NaN without record)."""
@@ -191,7 +196,7 @@ def SpinNut(model, data, omega, t_end, record=True):
 
     mujoco.mj_forward(model, data)
     state()
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     if record:
         for _ in range(n):
             mujoco.mj_step(model, data)
@@ -200,6 +205,6 @@ def SpinNut(model, data, omega, t_end, record=True):
     else:
         mujoco.mj_step(model, data, nstep=n)
         state()
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     A = np.array(rows)
-    return dict(wall_s=wall, steps=n, t=A[:, 0], angle=np.unwrap(A[:, 1]), z=A[:, 2], xy_drift=drift)
+    return dict(wall_s=wall, cpu_s=cpu, steps=n, t=A[:, 0], angle=np.unwrap(A[:, 1]), z=A[:, 2], xy_drift=drift)
