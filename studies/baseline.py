@@ -1,7 +1,7 @@
 """C++ baseline: the block and screw scenes with Exudyn's built-in linear spring-dampers in place of
 the anisotropic contact, same bodies, drives, sensors, solver and step (issue 5, part 3).
 
-    python studies/baseline.py [--quick] [--repeats 5]      # prints the ours/baseline table
+    python studies/baseline.py [--quick] [--repeats 5] [--implementation numpy]   # ours/baseline table
 
 What replaces the contact (per contact point, stiffness = our per-point values eps / K, so the
 baseline is *our law in pure stick with isotropic adhesion*, which is a linear spring):
@@ -41,14 +41,24 @@ import time
 
 import exudyn as exu
 import numpy as np
-from exudyn.itemInterface import (LoadCoordinate, MarkerBodyPosition, MarkerNodeCoordinate, NodeGenericODE2,
-                                  NodePointGround, ObjectConnectorCartesianSpringDamper,
-                                  ObjectConnectorCoordinateSpringDamper, ObjectGenericODE2, ObjectGround,
-                                  ObjectRigidBody2D, NodeRigidBody2D, SensorNode)
+from exu_aniso.models.block import NODE_TYPES, AddNodeDrive, SimulationSettingsFor, SolveTimed
+from exudyn.itemInterface import (
+    LoadCoordinate,
+    MarkerBodyPosition,
+    MarkerNodeCoordinate,
+    NodeGenericODE2,
+    NodePointGround,
+    NodeRigidBody2D,
+    ObjectConnectorCartesianSpringDamper,
+    ObjectConnectorCoordinateSpringDamper,
+    ObjectGenericODE2,
+    ObjectGround,
+    ObjectRigidBody2D,
+    SensorNode,
+)
 from exudyn.rigidBodyUtilities import RigidBodyInertia
 from exudyn.utilities import InertiaCuboid
 
-from exu_aniso.models.block import NODE_TYPES, AddNodeDrive, SimulationSettingsFor, SolveTimed
 from exu_aniso.scenes import BlockParams, ScrewParams, block_points, screw_points
 
 
@@ -297,9 +307,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description="ours/C++-baseline step cost per scene and model (serial timing)")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--repeats", type=int, default=None)
+    ap.add_argument("--implementation", default=None, help="contact kernel passed to BuildBlock/BuildScrew "
+                    "(auto | compiled | numpy; default: their default)")
     a = ap.parse_args(argv)
     reps = a.repeats or (3 if a.quick else 5)
-    rows = [ratio_case(c) for c in ratio_cases(a.quick, reps)]
+    opts = {} if a.implementation is None else {"implementation": a.implementation}
+    rows = [ratio_case(c) for c in ratio_cases(a.quick, reps, opts)]
     print_ratio_table(rows)
     return 0
 

@@ -272,8 +272,8 @@ def main(argv=None):
     for scene in ("block", "screw"):
         for impl, (engine, impl_opts) in IMPLEMENTATIONS.items():
             for factor, value, ov, opts in variations(scene, args.quick):
-                if args.quick and engine == "reference" and factor not in ("base", "K"):
-                    continue                 # quick: the slow reference only for the K fit
+                if args.quick and impl != "exudyn" and factor not in ("base", "K"):
+                    continue                 # quick: other implementations only for the K fit
                 params = dict(BASE[scene], t_end=t_end, dt=dt)
                 params.update(ov)
                 cases.append(dict(scene=scene, implementation=impl, engine=engine, factor=factor, value=value,
@@ -304,7 +304,10 @@ def main(argv=None):
 
     # 3. ours / C++ baseline (studies/baseline.py), interleaved repeats in the same run
     import baseline
-    bcases = baseline.ratio_cases(args.quick, reps)
+    bcases = []
+    for impl, (engine, opts) in IMPLEMENTATIONS.items():
+        if engine == "exudyn" and (impl == "exudyn" or not args.quick):
+            bcases += baseline.ratio_cases(args.quick, reps, opts)
     bres = sweep(baseline_case, bcases, args)
     table(os.path.join(args.out, "baseline.csv"), BASE_COLUMNS,
           [[r["scene"], r["model"], r["drive"], r["contact"], r["K"], r["ours_step_s"], r["base_step_s"], r["ratio_step"],
