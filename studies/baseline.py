@@ -16,12 +16,13 @@ baseline is *our law in pure stick with isotropic adhesion*, which is a linear s
   onto the plane, so the spring starts with the static penetration and carries normal_load exactly
   as our normal penalty does.
 * screw, reduced model (``NodeGenericODE2`` with psi, z): there are no position markers on a
-  generic node, so the only C++ items acting on it are coordinate items. Per contact point two
-  ``ObjectConnectorCoordinateSpringDamper`` (psi with k = eps_1/K * R * (R + interference), z with
-  k = eps_1/K) between a ``MarkerNodeCoordinate`` of the screw node and one of a ground node.
+  generic node, so the only C++ items acting on it are coordinate items: per evaluated contact
+  point two ``ObjectConnectorCoordinateSpringDamper`` (psi with k = eps_1/K * R * (R + interference),
+  z with k = eps_1/K) between a ``MarkerNodeCoordinate`` of the screw node and one of a ground node.
   This is exactly our law in stick with isotropic adhesion (torque -eps R rho psi, force -eps z per
-  point), and it keeps one C++ item pair per point, so the baseline cost also grows with K (the
-  fair comparison for a per-point cost; a lumped pair of springs would hide the K dependence).
+  point). ``symmetry`` mirrors ``BuildScrew``: True (its default) -> ours evaluates ONE
+  representative point carrying the totals, so the fair baseline is ONE pair with the total
+  stiffnesses; False -> one pair per point of the layout (cost grows with K on both sides).
 * screw, full model (3D rigid body): one ``ObjectConnectorCartesianSpringDamper`` per point, ground
   marker at the point's projection onto the hole (radius R); stiffness = the diagonal, in global
   components, of the point's local tensor diag(eps_n, eps_1, eps_1) in (e_r, e_phi, e_z)
@@ -130,9 +131,11 @@ def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.
                 springs=springs, sensors=sensors, nodeType=nodeType)
 
 
-def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rhoInf=0.8, newtonTolerance=1e-10):
-    """The screw scene with C++ spring-dampers per contact point (see module doc). Returns
-    dict(SC, mbs, simulationSettings, solverType, params, nScrew, oScrew, springs, sensors)."""
+def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
+                       symmetry=True):
+    """The screw scene with C++ spring-dampers per contact point (see module doc; symmetry as in
+    BuildScrew, reduced model only). Returns dict(SC, mbs, simulationSettings, solverType, params,
+    nScrew, oScrew, springs, sensors)."""
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
     SC = exu.SystemContainer()
@@ -167,8 +170,9 @@ def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rho
             AddNodeDrive(mbs, nScrew, 2, DriveForce, lambda t, q: Kdrive)
         nGround = mbs.AddNode(NodePointGround())
         mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
-        for _ in range(K):
-            for mC, kc in ((mPsi, kt * p.radius * rho), (mZ, kt)):
+        pairs = 1 if symmetry else K
+        for _ in range(pairs):
+            for mC, kc in ((mPsi, p.eps_1 / pairs * p.radius * rho), (mZ, p.eps_1 / pairs)):
                 springs.append(mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mGround, mC],
                                                                                    stiffness=kc, damping=0.0)))
         sensors["sCoordinates"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
@@ -240,18 +244,19 @@ def BaselineTrajectory(model):
 # ----------------------------------------------------------------------------------------------
 # the ratio table (ours / baseline, measured in the same run)
 
-# scenes of the ratio table: (scene, model, overrides, drive label). "C++ load" drives leave the
+# scenes of the ratio table: (scene, model, overrides, drive label, Build* options). "C++ load" drives leave the
 # contact as the only Python user function in ours; the default spring drives are Python
 # (AddNodeDrive) in both models, as in the scenes' defaults. The full screw's default rotation
 # drive (yaw tracking in Python) has no baseline builder: torque only.
 RATIO_SCENES = [
-    ("block", "planar", dict(points="corners", drive="force"), "C++ load"),
-    ("block", "full", dict(points="corners", drive="force"), "C++ load"),
-    ("screw", "reduced", dict(drive="torque"), "C++ load"),
-    ("screw", "full", dict(drive="torque"), "C++ load"),
-    ("block", "planar", dict(points="corners"), "Python spring (default)"),
-    ("block", "full", dict(points="corners"), "Python spring (default)"),
-    ("screw", "reduced", dict(), "Python spring (default)"),
+    ("block", "planar", dict(points="corners", drive="force"), "C++ load", {}),
+    ("block", "full", dict(points="corners", drive="force"), "C++ load", {}),
+    ("screw", "reduced", dict(drive="torque"), "C++ load", {}),
+    ("screw", "reduced", dict(drive="torque"), "C++ load, no symmetry", dict(symmetry=False)),
+    ("screw", "full", dict(drive="torque"), "C++ load", {}),
+    ("block", "planar", dict(points="corners"), "Python spring (default)", {}),
+    ("block", "full", dict(points="corners"), "Python spring (default)", {}),
+    ("screw", "reduced", dict(), "Python spring (default)", {}),
 ]
 
 
@@ -264,9 +269,10 @@ def ratio_case(case):
     P = BlockParams if case["scene"] == "block" else ScrewParams
     p = P(**case["params"])
     build = BuildBlock if case["scene"] == "block" else BuildScrew
+    base_opts = {k: v for k, v in case.get("options", {}).items() if k == "symmetry"}
     warm = p.with_overrides(t_end=5 * p.dt)           # first-call costs (imports, numba cache) untimed
     SolveTimed(*[build(warm, **case.get("options", {}))[k] for k in ("mbs", "simulationSettings", "solverType")])
-    RunBaseline(case["scene"], warm)
+    RunBaseline(case["scene"], warm, **base_opts)
     ours, base = [], []
     for _ in range(case["repeats"]):
         model = build(p, **case.get("options", {}))
@@ -274,13 +280,13 @@ def ratio_case(case):
         _, s, it, _ = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
         ours.append((time.process_time() - c0, s, it))
         impl = model["contact"].get("implementation", "numpy")
-        _, c, s, it = RunBaseline(case["scene"], p)
+        K_eval = len(model["contact"]["points"])          # points ours evaluates (1 under screw symmetry)
+        _, c, s, it = RunBaseline(case["scene"], p, **base_opts)
         base.append((c, s, it))
     o, b = np.array(ours, dtype=float), np.array(base, dtype=float)
     o_step, b_step = np.median(o[:, 0] / o[:, 1]), np.median(b[:, 0] / b[:, 1])
     o_it, b_it = np.median(o[:, 0] / o[:, 2]), np.median(b[:, 0] / b[:, 2])
-    return dict(scene=case["scene"], model=p.model, drive=case["drive"], contact=impl, K=int(len(block_points(p) if case["scene"] == "block"
-                                                            else screw_points(p))),
+    return dict(scene=case["scene"], model=p.model, drive=case["drive"], contact=impl, K=K_eval,
                 ours_step_s=float(o_step), base_step_s=float(b_step), ratio_step=float(o_step / b_step),
                 ours_newton_per_step=float(np.median(o[:, 2] / o[:, 1])),
                 base_newton_per_step=float(np.median(b[:, 2] / b[:, 1])),
@@ -289,8 +295,8 @@ def ratio_case(case):
 
 def ratio_cases(quick, repeats, extra_options=None):
     t_end, dt = (0.05, 1e-3) if quick else (0.2, 1e-3)
-    return [dict(scene=s, params=dict(model=m, t_end=t_end, dt=dt, **ov), options=dict(extra_options or {}),
-                 repeats=repeats, drive=drv) for s, m, ov, drv in RATIO_SCENES]
+    return [dict(scene=s, params=dict(model=m, t_end=t_end, dt=dt, **ov), options={**(extra_options or {}), **opts},
+                 repeats=repeats, drive=drv) for s, m, ov, drv, opts in RATIO_SCENES]
 
 
 def print_ratio_table(rows, file=sys.stdout):

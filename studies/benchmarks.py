@@ -74,14 +74,21 @@ K_LAYOUTS_QUICK = {
 def variations(scene, quick):
     """(factor, value, param overrides, options) varied one at a time around the base scene."""
     out = [("base", "base", {}, {})]
+    # the reduced screw evaluates ONE representative point by symmetry (BuildScrew symmetry=True,
+    # its default); the K sweep switches that off so that every point of the layout is evaluated
+    k_opts = {"symmetry": False} if scene == "screw" else {}
     for lay in (K_LAYOUTS_QUICK if quick else K_LAYOUTS)[scene]:
-        out.append(("K", lay.get("points") or f"{lay['rings']}x{lay['points_per_ring']}", lay, {}))
+        out.append(("K", lay.get("points") or f"{lay['rings']}x{lay['points_per_ring']}", lay, dict(k_opts)))
     for m in ("seed", "exact"):          # radial is the base
         out.append(("return_map", m, {"return_map": m}, {}))
     out.append(("model", "full", {"model": "full"}, {}))
     out.append(("jacobian", "numerical", {}, {"jacobian": "numerical"}))
     out.append(("solver", "generalized_alpha", {"solver": "generalized_alpha"}, {}))
     return out
+
+
+# Build* options that the reference does not take (dropped for engine "reference")
+EXUDYN_ONLY = ("implementation", "symmetry", "nodeType")
 
 
 def n_points(scene, p):
@@ -95,7 +102,8 @@ def make_params(scene, overrides):
 
 
 def run_setting(scene, engine, p, options):
-    """One simulation; returns (cpu_s, wall_s, steps, newton_iterations, contact implementation).
+    """One simulation; returns (cpu_s, wall_s, steps, newton_iterations, contact implementation,
+    number of contact points evaluated).
 
     cpu_s: process CPU time of the solve (Exudyn: SolveDynamic only; reference: the whole
     simulate_* call, whose setup is negligible); wall_s: the solver's own wall time."""
@@ -108,13 +116,15 @@ def run_setting(scene, engine, p, options):
         model = build(p, **options)
         c0 = time.process_time()
         wall, steps, iters, _ = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
-        return time.process_time() - c0, wall, steps, iters, model["contact"].get("implementation", "numpy")
+        return (time.process_time() - c0, wall, steps, iters, model["contact"].get("implementation", "numpy"),
+                len(model["contact"]["points"]))
     from exu_aniso.reference import simulate_block, simulate_screw
+    options = {k: v for k, v in options.items() if k not in EXUDYN_ONLY}
     c0 = time.process_time()
     r = (simulate_block if scene == "block" else simulate_screw)(p, **options)
     cpu = time.process_time() - c0
     s = r.summary
-    return cpu, float(s["wall_s"]), int(s["steps"]), int(s["newton_iterations"]), "numpy"
+    return cpu, float(s["wall_s"]), int(s["steps"]), int(s["newton_iterations"]), "numpy", n_points(scene, p)
 
 
 def warm_up(scene, engine, p, options):
@@ -133,7 +143,7 @@ def bench_case(case):
         try:
             if i == 0:
                 warm_up(case["scene"], case["engine"], p, case["options"])
-            *timing, impl = run_setting(case["scene"], case["engine"], p, case["options"])
+            *timing, impl, K = run_setting(case["scene"], case["engine"], p, case["options"])
             runs.append(timing)
         except Exception as e:          # a setting that fails is reported, not fatal
             err = f"{type(e).__name__}: {str(e).splitlines()[0][:80]}"
@@ -211,7 +221,7 @@ def fits_from_csv(path):
     keys = sorted({(s, i) for s, i in zip(T["scene [-]"], T["implementation [-]"])})
     for scene, impl in keys:
         idx = [j for j in range(len(T["K [-]"])) if T["scene [-]"][j] == scene and T["implementation [-]"][j] == impl
-               and T["factor [-]"][j] in ("K", "base") and T["status [-]"][j] == "ok"]
+               and T["factor [-]"][j] == "K" and T["status [-]"][j] == "ok"]
         K = np.array([T["K [-]"][j] for j in idx])
         y = np.array([T["cpu_per_step [s]"][j] for j in idx])
         if len(set(K.tolist())) < 2:
@@ -233,7 +243,7 @@ def plot(out, fits):
             if f["scene"] != scene:
                 continue
             idx = [j for j in range(len(T["K [-]"])) if T["scene [-]"][j] == scene
-                   and T["implementation [-]"][j] == f["implementation"] and T["factor [-]"][j] in ("K", "base")
+                   and T["implementation [-]"][j] == f["implementation"] and T["factor [-]"][j] == "K"
                    and T["status [-]"][j] == "ok"]
             K = np.array([T["K [-]"][j] for j in idx])
             y = np.array([T["cpu_per_step [s]"][j] for j in idx]) * 1e3
@@ -376,7 +386,9 @@ def main(argv=None):
                   B["ours_newton_per_step [-]"][j], B["baseline_newton_per_step [-]"][j],
                   B["ours_over_baseline_per_newton [-]"][j]] for j in range(len(B["K [-]"]))]
     body = f"""Timing of both scenes (t_end = {t_end} s, dt = {dt} s, base: block with 4 corner points, screw with
-3 x 8 points; defaults otherwise), medians over {reps} serial repeats. Cost = process CPU time of the solve (model building
+its default 3 x 8 layout; defaults otherwise), medians over {reps} serial repeats. K is the number of
+contact points evaluated: Exudyn's reduced screw evaluates one representative point by symmetry
+(`BuildScrew(symmetry=True)`, its default), so its K sweep runs with `symmetry=False`. Cost = process CPU time of the solve (model building
 excluded; equals wall time on an idle core, robust on a shared machine). Per-point-evaluation
 cost = CPU time / (Newton iterations x K): an upper bound that includes solver and body overhead. Files: `benchmarks.csv`, `kernel.csv`,
 `baseline.csv`, `benchmarks.json`.

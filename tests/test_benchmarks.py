@@ -78,7 +78,7 @@ def test_cost_grows_linearly_with_contact_points(bench_out):
     for scene in ("block", "screw"):
         for impl in ("exudyn", "reference"):
             idx = [j for j in range(len(T["K [-]"])) if T["scene [-]"][j] == scene
-                   and T["implementation [-]"][j] == impl and T["factor [-]"][j] in ("K", "base")]
+                   and T["implementation [-]"][j] == impl and T["factor [-]"][j] == "K"]
             K = np.array([T["K [-]"][j] for j in idx])
             y = np.array([T["cpu_per_step [s]"][j] for j in idx])
             assert K.min() == 1 and K.max() == 64
@@ -157,15 +157,18 @@ def test_baseline_block_equals_contact_in_stick(model):
     assert err < 1e-9 * moved + 1e-15 and rot < 1e-12
 
 
-def test_baseline_reduced_screw_equals_contact_in_stick():
+@pytest.mark.parametrize("symmetry", [True, False])
+def test_baseline_reduced_screw_equals_contact_in_stick(symmetry):
     """Reduced screw turned by the rotation drive, isotropic stick: torque -eps/K R (R + i) psi per
-    point is exactly linear in psi, so the coordinate springs reproduce our run (0.5 rad turned)."""
+    point is exactly linear in psi, so the coordinate springs reproduce our run (0.5 rad turned),
+    with one representative point (lumped spring pair) or all 24 points (a pair per point)."""
     import baseline
     from exu_aniso.models.screw import RunScrew
     from exu_aniso.scenes import ScrewParams
     p = ScrewParams(model="reduced", t_end=0.1, dt=1e-3, drive="rotation", **STICK)
-    ours = RunScrew(p, contactOutputs=False)
-    m, _, steps, _ = baseline.RunBaseline("screw", p)
+    ours = RunScrew(p, contactOutputs=False, symmetry=symmetry)
+    m, _, steps, _ = baseline.RunBaseline("screw", p, symmetry=symmetry)
+    assert len(m["springs"]) == (2 if symmetry else 48)
     assert ours.trajectory["slip_distance"][-1] == 0.0 and steps == ours.summary["steps"]
     Q = baseline.BaselineTrajectory(m)
     tr = ours.trajectory
