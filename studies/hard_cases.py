@@ -149,7 +149,7 @@ def run_block(p, newton_tol=1e-10, lift=None, budget=120.0):
     mbs = model["mbs"]
     if lift is not None:
         F, t0, t1 = lift
-        mbs.CreateForce(bodyNumber=model["oBlock"], loadVector=[0.0, 0.0, 0.0],
+        mbs.CreateForce(itemNumber=model["oBlock"], loadVector=[0.0, 0.0, 0.0],
                         loadVectorUserFunction=lambda mbs, t, load: [0.0, 0.0, F if t0 <= t < t1 else 0.0])
         mbs.Assemble()
     _guard(mbs, budget)
@@ -220,8 +220,8 @@ def run_master(t_end, dt):
     cube = mbs.CreateRigidBody(inertia=iCube, referencePosition=[0.1, 0.05, a - pen], initialVelocity=[0.4, -0.2, 0.0],
                                initialAngularVelocity=[0.0, 0.0, 1.0], nodeType=exu.NodeType.RotationEulerParameters,
                                returnDict=True)
-    mbs.CreateForce(bodyNumber=cube["bodyNumber"], loadVector=[0.0, 0.0, -P])
-    mbs.CreateForce(bodyNumber=plate["bodyNumber"], loadVector=[0.0, 0.0, P])
+    mbs.CreateForce(itemNumber=cube["bodyNumber"], loadVector=[0.0, 0.0, -P])
+    mbs.CreateForce(itemNumber=plate["bodyNumber"], loadVector=[0.0, 0.0, P])
     pts = np.array([[sx * a, sy * a, -a] for sx in (-1, 1) for sy in (-1, 1)])
     h = CreateAnisotropicContact(mbs, bodyNumber=cube["bodyNumber"], localPoints=pts, surface=Plane(),
                                  adhesion=Adhesion.orthotropic(2e4, 5e3, 0.3), friction=Friction.orthotropic(0.2, 0.5),

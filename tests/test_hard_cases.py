@@ -131,3 +131,71 @@ def test_cli_failure_subprocess_has_no_traceback(tmp_path):
 def test_cli_success_summary_says_complete(tmp_path):
     assert main(["run", "block", "--out", str(tmp_path), "--set", "t_end=0.02", "--set", "dt=2e-3"]) == 0
     assert json.loads((tmp_path / "summary.json").read_text())["complete"] is True
+
+
+# ----------------------------------------------------------------------------------------------
+# part 1: the hard-case suite (quick settings; each case checks itself against its own tolerances)
+
+STUDY = load_study()
+SLOW_CASES = {"moving_master"}      # numerical Jacobian of two 7-coordinate bodies: ~7 s in quick mode
+
+
+def _verdict_ok(name, row):
+    spec = STUDY.CASES[name]
+    if row["verdict"].startswith("ok"):
+        return True
+    return bool(spec.get("known")) and row["verdict"].startswith("known deficiency")
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_CASES else n
+                                  for n in STUDY.CASES])
+def test_hard_case_converges_within_tolerance_or_fails_clearly(name):
+    row = STUDY.run_case(name, quick=True)
+    spec = STUDY.CASES[name]
+    print(f"\n{name}: {row['verdict']}; error {row['error_vs_fine']:.3g}, energy {row['energy_residual']:.3g}, "
+          f"steps {row['steps']} (+{row['step_reductions']}), newton/step {row['newton_per_step']:.2f}")
+    assert _verdict_ok(name, row), f"{name}: {row['verdict']} | {row['message']}"
+    if spec["expect"] == "converge":
+        assert row["converged"] == "yes"
+        assert math.isfinite(row["error_vs_fine"]) and math.isfinite(row["energy_residual"])
+        assert row["work_in"] > 0.0
+    else:
+        assert row["converged"] == "no" and spec["expect"][1] in row["message"]
+
+
+def test_seed_large_step_deficiency_is_detected_not_silent():
+    """The seed map at 50x the default step: Exudyn cuts the step many times and the energy the
+    history reports as dissipated misses most of the drive work; the balance check must see it
+    (if this starts passing, the seed map or the bookkeeping changed: update the case)."""
+    row = STUDY.run_case("large_step_50x_seed", quick=True)
+    assert row["verdict"].startswith("known deficiency") and row["step_reductions"] > 100
+    assert abs(row["energy_residual"]) > 0.5
+
+
+def test_energy_balance_is_exact_in_stick_with_constant_adhesion():
+    """Oracle for the bookkeeping itself: a block held in stick by a slow spring drive with constant
+    (cartesian) B; trapezoidal work = kinetic + stored to round-off, nothing dissipated."""
+    p = BlockParams(adhesion="cartesian", eps_1=1e5, eps_2=1e3, adhesion_angle=30.0, friction="isotropic", mu_1=0.3,
+                    drive_angle=45.0, drive_speed=0.01, t_end=0.1)
+    r = STUDY.run_block(p)
+    b = r["balance"]
+    assert b["dissipated"] == 0.0 and b["work_in"] > 1e-6
+    assert abs(b["relative_residual"]) < 1e-9, b
+
+
+def test_quick_study_runs_and_every_row_has_a_verdict(tmp_path):
+    r = subprocess.run([sys.executable, "studies/hard_cases.py", "--quick", "--serial", "--out", str(tmp_path)],
+                       cwd=ROOT, check=True, timeout=300, capture_output=True, text=True)
+    with open(tmp_path / "hard_cases.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [row["case [-]"] for row in rows] == list(STUDY.CASES)
+    for row in rows:
+        assert _verdict_ok(row["case [-]"], {"verdict": row["verdict [-]"]}), row
+    # physical content of the quick CSV: the rotated-by-pi block retraces the default path to round-off,
+    # and |N| -> 0 leaves free acceleration (error against dt/4 at round-off: the motion is exact)
+    by = {row["case [-]"]: row for row in rows}
+    assert float(by["block_across_phi_pi"]["error_vs_fine [-]"]) < 1e-9
+    assert float(by["zero_normal"]["error_vs_fine [-]"]) < 1e-9
+    assert "Traceback" not in r.stderr
+    report = (tmp_path / "report.md").read_text()
+    assert "| case [-] |" in report and "![" in report and (tmp_path / "hard_cases.png").stat().st_size > 5000
