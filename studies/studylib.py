@@ -81,7 +81,7 @@ def sweep(function, cases, args, progress=True):
     data = dict(function=function, cases=cases, progress=progress, name=args.name)
     _, values = ParameterVariation(_call_case, parameters={"case": list(range(len(cases)))},
                                    useMultiProcessing=parallel or args.mpi, showProgress=False,
-                                   numberOfThreads=args.processes, parameterFunctionData=data, **kw)
+                                   numberOfThreads=args.processes or os.cpu_count(), parameterFunctionData=data, **kw)
     return list(values)
 
 
