@@ -34,6 +34,9 @@ from exu_aniso.failure import SimulationFailure  # noqa: E402
 from exu_aniso.scenes import BlockParams, ScrewParams  # noqa: E402
 
 NAME = "hard_cases"
+SEED_KNOWN = ("seed map: its sliding direction depends on the step (power iteration towards the dominant "
+              "eigen-direction of C F, SPEC section 2) and its traction jumps every step, so the dissipation "
+              "it reports misses part of the work")
 OBLIQUE = dict(adhesion="cartesian", eps_1=1e5, eps_2=1e3, friction="cartesian", mu_1=0.2, mu_2=0.6,
                drive_angle=45.0, adhesion_angle=30.0, friction_angle=0.0)
 
@@ -56,19 +59,19 @@ def case(name, **spec):
 # the reported dissipation T_{n+1}.dxi_sl is then not the discrete work of the jump: energy_tol 0.15
 for m, et, en in (("seed", 0.3, 0.15), ("exact", 0.05, 0.02), ("radial", 0.05, 0.02)):
     case(f"oblique_stick_slip_{m}", scene="block", map=m, params=dict(OBLIQUE, return_map=m), t_end=1.0, t_quick=0.25,
-         err_tol=et, energy_tol=en,
+         err_tol=et, energy_tol=en, known=SEED_KNOWN if m == "seed" else None,
          note="cartesian B (ratio 100 at 30 deg) and F (0.2/0.6), drive at 45 deg: stick, then slip")
 case("adhesion_ratio_1e4_radial", scene="block", map="radial", params=dict(eps_1=1e6, eps_2=1e2), t_end=2.0,
      t_quick=0.25, energy_tol=0.05, note="polar B, eps_r / eps_phi = 1e4 (hypo-elastic: polar B has no potential)")
 case("adhesion_ratio_1e4_seed", scene="block", map="seed", params=dict(eps_1=1e6, eps_2=1e2, return_map="seed"),
-     t_end=2.0, t_quick=0.25, err_tol=0.3, energy_tol=0.15,
+     t_end=2.0, t_quick=0.25, err_tol=0.3, energy_tol=0.15, known=SEED_KNOWN,
      note="polar B ratio 1e4, seed map (step-size dependent; identical to radial while T_tr stays on e_phi)")
 case("friction_ratio_100_exact", scene="block", map="exact",
      params=dict(adhesion="isotropic", eps_1=1e5, friction="cartesian", mu_1=0.01, mu_2=1.0, drive_angle=45.0,
                  return_map="exact"), t_end=1.0, t_quick=0.25, note="mu_1 / mu_2 = 1/100, drive at 45 deg")
 case("friction_ratio_100_seed", scene="block", map="seed",
      params=dict(adhesion="isotropic", eps_1=1e5, friction="cartesian", mu_1=0.01, mu_2=1.0, drive_angle=45.0,
-                 return_map="seed"), t_end=1.0, t_quick=0.25, err_tol=0.3, energy_tol=0.15,
+                 return_map="seed"), t_end=1.0, t_quick=0.25, err_tol=0.3, energy_tol=0.15, known=SEED_KNOWN,
      note="mu ratio 100 with the seed map")
 case("polar_origin_core", scene="block", map="radial",
      params=dict(points="center", x0=2e-4, y0=-0.03, drive_speed=0.1), t_end=1.0, t_quick=0.5, energy_tol=0.05,
@@ -102,8 +105,7 @@ for m in ("exact", "radial"):
              note=f"default polar scene at dt = {f} x 1e-3 s")
 case("large_step_50x_seed", scene="block", map="seed", params=dict(dt=5e-2, return_map="seed"), t_end=2.0,
      t_quick=1.0, err_tol=0.5, energy_tol=0.15, note="seed map at dt = 5e-2 s",
-     known="seed map at large steps: Exudyn cuts the step ~15x and the reported dissipation misses most of the "
-           "work (the traction jumps every step)")
+     known="seed map at large steps: Exudyn cuts the step ~15x; " + SEED_KNOWN)
 for m in ("seed", "exact", "radial"):
     case(f"vanishing_normal_{m}", scene="free", map=m,
          params=dict(normal_load=1e-9, drive="force", force=0.5, return_map=m, adhesion="cartesian",
@@ -462,7 +464,7 @@ def main(argv=None):
             + "\n".join(f"* **{r['case [-]']}** ({r['note [-]']}): {r['message [-]'] or '-'}" for r in _rows(data))
             + "\n")
     studylib.finish(args, timer, body, "Hard cases")
-    bad = [r["case"] for r in rows if not str(r["verdict"]).startswith("ok")]
+    bad = [r["case"] for r in rows if not str(r["verdict"]).startswith(("ok", "known"))]
     if bad:
         print(f"hard_cases: FAILED cases: {bad}", file=sys.stderr)
     return 0
