@@ -95,7 +95,7 @@ def step_sizes(scene, quick):
 
 
 def t_end_for(scene, quick):
-    return {"block": 0.1 if quick else 0.5, "screw": 0.02 if quick else 0.25}[scene]
+    return {"block": 0.1 if quick else 0.5, "screw": 0.02 if quick else 0.1}[scene]
 
 
 # ----------------------------------------------------------------------------------------------
