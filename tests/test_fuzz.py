@@ -458,7 +458,7 @@ def check_dissipation(inputs, method):
 
 @st.composite
 def _batch_case(draw):
-    K = draw(st.integers(1, 40))
+    K = draw(st.sampled_from([1, 2, 5, 24, 30]))      # below and above VECTORIZE_MIN_POINTS
     rows = [draw(law_inputs(N=draw(st.one_of(st.just(0.0), log_uniform(-12, 6))) if draw(st.booleans()) else None))
             for _ in range(K)]
     T_tr = np.array([r[0] for r in rows])
@@ -470,24 +470,22 @@ def _batch_case(draw):
 
 @prop("map_batch_vectorized_equals_loop", _batch_case())
 def check_batch(T_tr, N, B, F, method):
-    """return_map_batch vectorised == looped == return_map_point per point (T, slip, D, kappa, dT)"""
+    """return_map_batch vectorised == looped == return_map_point per point (T, slip, D, dT)"""
     rv = return_map_batch(T_tr, N, B, F, method, vectorize=True)
     rl = return_map_batch(T_tr, N, B, F, method, vectorize=False)
     for k in range(len(N)):
         rp = return_map_point(T_tr[k], N[k], B[k], F[k], method)
-        for res in (rv, rl):
-            assert res.state[k] == rp.state
-            tol = _round_off(method, B[k], F[k])
-            scale_T = np.linalg.norm(rp.T) + 1e-300
-            np.testing.assert_allclose(res.T[k], rp.T, rtol=0, atol=tol * scale_T)
-            c_inv = np.linalg.norm(np.linalg.inv(-_mat(B[k])), 2)
-            np.testing.assert_allclose(res.slip[k], rp.slip, rtol=0,
-                                       atol=tol * c_inv * (scale_T + np.linalg.norm(T_tr[k])) + 1e-300)
-            np.testing.assert_allclose(res.dissipation[k], rp.dissipation, rtol=0,
-                                       atol=tol * c_inv * scale_T * (scale_T + np.linalg.norm(T_tr[k])) + 1e-300)
-            np.testing.assert_allclose(res.dT[k], rp.dT, rtol=0, atol=1e-9 * (np.abs(rp.dT).max() + 1e-300))
-    np.testing.assert_array_equal(rl.T, np.array([return_map_point(T_tr[k], N[k], B[k], F[k], method).T
-                                                  for k in range(len(N))]))
+        assert rl.state[k] == rp.state and np.array_equal(rl.T[k], rp.T)   # the loop is the point kernel
+        np.testing.assert_array_equal(rl.dT[k], rp.dT)
+        assert rv.state[k] == rp.state
+        tol = _round_off(method, B[k], F[k])
+        scale_T = np.linalg.norm(rp.T) + 1e-300
+        np.testing.assert_allclose(rv.T[k], rp.T, rtol=0, atol=tol * scale_T)
+        c_inv = 1.0 / np.linalg.eigvalsh(-_mat(B[k]))[0]
+        slip_scale = c_inv * (scale_T + np.linalg.norm(T_tr[k]))
+        np.testing.assert_allclose(rv.slip[k], rp.slip, rtol=0, atol=tol * slip_scale + 1e-300)
+        np.testing.assert_allclose(rv.dissipation[k], rp.dissipation, rtol=0, atol=tol * scale_T * slip_scale + 1e-300)
+        np.testing.assert_allclose(rv.dT[k], rp.dT, rtol=0, atol=1e-9 * (np.abs(rp.dT).max() + 1e-300))
 
 
 @prop("map_tangent_equals_differences", st.tuples(law_inputs(), st.sampled_from(RETURN_MAPS)))
