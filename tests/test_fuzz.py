@@ -112,7 +112,7 @@ def law_inputs(draw, factor=None, N=None):
     mu2 = mu1 * draw(log_uniform(-2, 2))
     F = sym_components(1.0 / mu1 ** 2, 1.0 / mu2 ** 2, draw(angles))
     if N is None:
-        N = draw(st.one_of(st.sampled_from([1e-12, 1e-9, 1.0]), log_uniform(-12, 6)))
+        N = draw(st.one_of(st.sampled_from([0.0, 1e-12, 1e-9, 1.0]), log_uniform(-12, 6)))
     if factor is None:
         factor = draw(st.one_of(log_uniform(-3, 6), unit(0.5, 2.0), st.sampled_from([1e6, 1.0 + 1e-9, 0.0])))
     psi = draw(angles)
@@ -498,11 +498,13 @@ def check_map_tangent(inputs, method):
     assume(abs(ratio - 1.0) > 1e-3)
     assume(np.linalg.norm(T_tr) > 0.0)
     p = np.concatenate([T_tr, [N], B, F])
-    # steps: 1e-6 of |N|, 1e-5 of the smallest eigenvalue of C and F, and for T_tr 1e-6 |T_tr| shrunk by
-    # the anisotropy (the map turns within |T_tr| / sqrt(cond C cond F) across the stiff direction)
+    # steps: 1e-6 of |N|; 1e-6 |T_tr| and 1e-5 of the smallest eigenvalues of C and F, shrunk by the
+    # anisotropy (the seed map turns within |T_tr| / sqrt(cond C cond F) across the stiff direction)
     (cB, CB), (cF, CF) = np.linalg.eigvalsh(-_mat(B)), np.linalg.eigvalsh(_mat(F))
-    hT = max(1e-10, 1e-6 / math.sqrt(CB / cB * CF / cF)) * np.linalg.norm(T_tr)
-    steps = np.array([hT] * 2 + [1e-6 * N] + [1e-5 * cB] * 3 + [1e-5 * cF] * 3)
+    shrink = 1.0 / math.sqrt(CB / cB * CF / cF)
+    hT = max(1e-10, 1e-6 * shrink) * np.linalg.norm(T_tr)
+    steps = np.array([hT] * 2 + [1e-6 * N] + [max(1e-10 * CB, 1e-5 * shrink * cB)] * 3
+                     + [max(1e-10 * CF, 1e-5 * shrink * cF)] * 3)
     natural = np.linalg.norm(r.T) / np.array([np.linalg.norm(T_tr)] * 2 + [N] + [cB] * 3 + [cF] * 3)
     for j in range(9):
         e = np.zeros(9)
