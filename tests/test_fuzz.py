@@ -153,18 +153,20 @@ def prop(name, strategy):
 
 
 def run_property(name, max_examples):
-    """Run one property with hypothesis; returns the number of cases checked (not rejected)."""
+    """Run one property with hypothesis; returns (cases checked, cases generated): a generated case
+    is skipped (hypothesis.assume) where the oracle does not apply, e.g. within the margin of Phi = 0."""
     strategy, check, _ = PROPERTIES[name]
-    count = [0]
+    count = [0, 0]
 
     @settings(settings.get_profile("exu_aniso-fuzz"), max_examples=max_examples)
     @given(strategy)
     def run(case):
+        count[1] += 1
         check(*case)
         count[0] += 1
 
     run()
-    return count[0]
+    return tuple(count)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -566,6 +568,8 @@ def check_contact_tangent(law, x, v, H):
     loaded = [k for k in range(x.shape[0]) if np.any(st0.force[k] != 0.0)]
     ell = [np.abs(st0.force[k]).max() / (np.abs(st0.stiffness[k]).max() + 1e-300) for k in loaded]
     hx = max(1e-4 * min(ell + [1e-3 * R]), 1e-11 * np.abs(x).max())
+    # a force that turns within ~1e-7 |x| cannot be differenced in double precision: skip those states
+    assume(1e-4 * min(ell + [1e-3 * R]) >= 1e-11 * np.abs(x).max())
     ell_v = [np.abs(st0.force[k]).max() / (np.abs(st0.damping[k]).max() + 1e-300) for k in loaded]
     hv = max(1e-4 * min(ell_v + [1.0]), 1e-8)
     for j in range(3):
@@ -629,8 +633,8 @@ def check_chart_vs_transport(law, x0, x1, v):
 
 @pytest.mark.parametrize("name", list(PROPERTIES))
 def test_property(name):
-    n = run_property(name, FUZZ_EXAMPLES)
-    assert n >= FUZZ_EXAMPLES // 4, f"{name}: only {n} of {FUZZ_EXAMPLES} generated cases were usable"
+    n, generated = run_property(name, FUZZ_EXAMPLES)
+    assert n >= FUZZ_EXAMPLES // 4, f"{name}: only {n} of {generated} generated cases were usable"
 
 
 @pytest.mark.slow
@@ -638,8 +642,9 @@ def test_properties_many_cases():
     """>= 10^4 generated cases in all; run with -s to see the count per property."""
     total = 0
     for name, (_, _, what) in PROPERTIES.items():
-        n = run_property(name, SLOW_EXAMPLES)
+        n, generated = run_property(name, SLOW_EXAMPLES)
         total += n
-        print(f"fuzz {name:40s} {n:6d} cases: {what}")
-    print(f"fuzz total {total} cases over {len(PROPERTIES)} properties")
+        print(f"fuzz {name:36s} {n:5d} checked of {generated:5d} generated: {what}")
+        assert n >= SLOW_EXAMPLES // 4
+    print(f"fuzz total {total} checked cases over {len(PROPERTIES)} properties")
     assert total >= 10_000
