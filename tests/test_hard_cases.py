@@ -122,7 +122,9 @@ def test_cli_failure_writes_partial_results_and_exits_1(tmp_path, capsys):
 def test_cli_failure_subprocess_has_no_traceback(tmp_path):
     sets = [x for k, v in DIVERGING.items() for x in ("--set", f"{k}={v}")]
     r = subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "block", "--out", str(tmp_path)] + sets,
-                       capture_output=True, text=True, timeout=120)
+                       capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    # cwd outside the source tree: 'python -m' would otherwise import the source exu_aniso, which
+    # lacks exu_aniso.models (installed from models/)
     assert r.returncode == 1
     assert "Traceback" not in r.stderr and "did not complete" in r.stderr
     assert "DYNAMIC SOLVER FAILED" not in r.stdout      # Exudyn's banner is captured, the message says it all
