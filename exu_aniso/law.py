@@ -180,11 +180,13 @@ def _exact_solve(t1, t2, N, c11, c12, c22, f11, f12, f22, ops):
     a21, a22 = c12 * f11 + c22 * f12, c12 * f12 + c22 * f22
     sqrt, where = ops.sqrt, ops.where
     tr, det = a11 + a22, a11 * a22 - a12 * a21
-    g_max = 0.5 * (tr + sqrt(abs(tr * tr - 4.0 * det)))
+    # tr^2 - 4 det written as (a11 - a22)^2 + 4 a12 a21: no cancellation when the eigenvalues of C F
+    # nearly coincide (the naive form loses ~1e-12 in g_min there, which capped kappa below the root)
+    g_max = 0.5 * (tr + sqrt(abs((a11 - a22) * (a11 - a22) + 4.0 * a12 * a21)))
     g_min = det / g_max
     s_tr = sqrt(_quad(f11, f12, f22, t1, t2))
     lo = 0.0 * s_tr
-    hi = (s_tr / N - 1.0) / g_min
+    hi = (s_tr / N - 1.0) / g_min * (1.0 + 1e-13)   # bracket with a margin over round-off
     kappa = lo
     for _ in range(_KAPPA_MAXIT):
         m11, m12, m21, m22 = 1.0 + kappa * a11, kappa * a12, kappa * a21, 1.0 + kappa * a22
