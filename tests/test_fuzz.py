@@ -429,8 +429,9 @@ def check_yield(inputs, method):
 def check_stick(inputs, method, fraction):
     """Phi_trial <= 0 returns T_tr bit for bit, zero slip and dissipation, identity tangent"""
     T_tr, N, B, F = inputs
-    T_tr = T_tr * fraction * N / max(math.sqrt(_quad(F, T_tr)), 1e-300) if np.any(T_tr) else T_tr
-    assume(math.sqrt(_quad(F, T_tr)) - N <= 0.0)
+    T_tr = T_tr * fraction * N / max(math.sqrt(max(_quad(F, T_tr), 0.0)), 1e-300) if np.any(T_tr) else T_tr
+    # max(., 0): a subnormal trial (fraction ~1e-150) can round T.F T to a tiny negative number
+    assume(math.sqrt(max(_quad(F, T_tr), 0.0)) - N <= 0.0)
     r = return_map_point(T_tr, N, B, F, method)
     assert r.state == STICK and np.array_equal(r.T, T_tr)
     assert r.dissipation == 0.0 and np.all(r.slip == 0.0) and r.kappa == 0.0
