@@ -182,7 +182,7 @@ def Unwrap(angle):
 # the block scene
 
 def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10, implementation="auto"):
+               newtonTolerance=1e-10, implementation="auto", contactBuilder=None):
     """Build the block scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nBlock, oBlock, contact (dict of CreateAnisotropicContact), sensors (dict) and oDrive (or None).
 
@@ -191,7 +191,10 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     below ~1.5e-8 rad in its composition, see tests/test_exudyn_scenes.py) for the full model;
     implementation: contact kernel "auto" | "compiled" | "numpy" (CreateAnisotropicContact);
     solverType: an exu.DynamicSolverType overriding p.solver; rhoInf: spectral radius of
-    generalized-alpha; newtonTolerance: Newton relative and absolute tolerance."""
+    generalized-alpha; newtonTolerance: Newton relative and absolute tolerance;
+    contactBuilder: None (the anisotropic contact) or a function (mbs, bodyNumber, localPoints) ->
+    dict that puts another contact model at the same points (studies/baseline.py: C++ springs);
+    everything else of the scene (body, loads, drive, sensors, settings) stays the same."""
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
     check_instance("p", p, BlockParams)
@@ -244,9 +247,12 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
 
         oDrive = AddNodeDrive(mbs, nBlock, nq, DriveForce, lambda t, q: Kdrive)
 
-    contact = CreateAnisotropicContact(mbs, bodyNumber=oBlock, localPoints=localPoints,
-                                       contactLaw=block_contact_law(p), jacobian=jacobian, initializeHistory=True,
-                                       implementation=implementation)
+    if contactBuilder is None:
+        contact = CreateAnisotropicContact(mbs, bodyNumber=oBlock, localPoints=localPoints,
+                                           contactLaw=block_contact_law(p), jacobian=jacobian,
+                                           initializeHistory=True, implementation=implementation)
+    else:
+        contact = contactBuilder(mbs, oBlock, localPoints)
     mbs.Assemble()
     ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nBlock=nBlock, oBlock=oBlock,

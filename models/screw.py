@@ -61,10 +61,10 @@ def _axial_force(p, z, t):
 
 
 def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10, implementation="auto", symmetry=True):
+               newtonTolerance=1e-10, implementation="auto", symmetry=True, contactBuilder=None):
     """Build the screw scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nScrew, oScrew, contact (dict of CreateAnisotropicContact), sensors (dict), oDrive (or None).
-    Options as for exu_aniso.models.block.BuildBlock, and
+    Options as for exu_aniso.models.block.BuildBlock (contactBuilder gets the evaluated points), and
     symmetry (reduced model only): True -> one representative contact point carrying the totals
     eps_n, eps_1, eps_2. Under the screw joint (rotation about and translation along the hole
     axis) every point of the layout sits at the same radius in the same rotation- and
@@ -166,9 +166,12 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
                                                      outputVariableType=getattr(exu.OutputVariableType, ovt)))
 
     pc = p.with_overrides(rings=1, points_per_ring=1) if (symmetry and p.model == "reduced") else p
-    contact = CreateAnisotropicContact(mbs, bodyNumber=oScrew, localPoints=screw_points(pc),
-                                       contactLaw=screw_contact_law(pc), jacobian=jacobian, initializeHistory=True,
-                                       implementation=implementation)
+    if contactBuilder is None:
+        contact = CreateAnisotropicContact(mbs, bodyNumber=oScrew, localPoints=screw_points(pc),
+                                           contactLaw=screw_contact_law(pc), jacobian=jacobian,
+                                           initializeHistory=True, implementation=implementation)
+    else:
+        contact = contactBuilder(mbs, oScrew, screw_points(pc))
     mbs.Assemble()
     ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nScrew=nScrew, oScrew=oScrew,

@@ -29,196 +29,102 @@ baseline is *our law in pure stick with isotropic adhesion*, which is a linear s
   (exact for points on the x and y axes, off-diagonal coupling dropped elsewhere: the cheapest C++
   spring per point; it starts with the interference preload like our normal penalty).
 
-Drives and loads are built as in ``exu_aniso.models`` (C++ loads for "force"/"torque", the same
-Python ``AddNodeDrive`` for the spring drives), so with "force"/"torque" drives the contact is the
-only Python user function in our model and the ratio isolates its cost.
+The scenes themselves are built by ``BuildBlock`` / ``BuildScrew`` (their ``contactBuilder`` hook
+puts the springs where the anisotropic contact would go), so bodies, loads, drives, sensors and
+settings are the same items: C++ loads for "force"/"torque", the same Python ``AddNodeDrive`` for
+the spring drives. With "force"/"torque" drives the contact is the only Python user function in
+our model and the ratio isolates its cost.
 """
 from __future__ import annotations
 
-import math
 import os
 import sys
 import time
 
-import exudyn as exu
 import numpy as np
-from exu_aniso.models.block import NODE_TYPES, AddNodeDrive, SimulationSettingsFor, SolveTimed
+from exu_aniso.models.block import SolveTimed
 from exudyn.itemInterface import (
-    LoadCoordinate,
     MarkerBodyPosition,
     MarkerNodeCoordinate,
-    NodeGenericODE2,
     NodePointGround,
-    NodeRigidBody2D,
     ObjectConnectorCartesianSpringDamper,
     ObjectConnectorCoordinateSpringDamper,
-    ObjectGenericODE2,
     ObjectGround,
-    ObjectRigidBody2D,
-    SensorNode,
 )
-from exudyn.rigidBodyUtilities import RigidBodyInertia
-from exudyn.utilities import InertiaCuboid
 
-from exu_aniso.scenes import BlockParams, ScrewParams, block_points, screw_points
+from exu_aniso.scenes import BlockParams, ScrewParams
 
 
-def _ground(mbs):
-    return mbs.AddObject(ObjectGround())
+def _cartesian_springs(mbs, bodyNumber, localPoints, anchors, stiffness):
+    """One C++ Cartesian spring-damper per point between the body point and its ground anchor."""
+    oGround = mbs.AddObject(ObjectGround())
+    springs = []
+    for b, g, k in zip(localPoints, anchors, stiffness):
+        mBody = mbs.AddMarker(MarkerBodyPosition(bodyNumber=bodyNumber, localPosition=list(map(float, b))))
+        mGround = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oGround, localPosition=list(map(float, g))))
+        springs.append(mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mGround, mBody],
+                                                                          stiffness=list(k), damping=[0.0] * 3)))
+    return dict(springs=springs, points=np.asarray(localPoints))
 
 
 def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.8, newtonTolerance=1e-10):
-    """The block scene with C++ Cartesian spring-dampers at the contact points (see module doc).
-    Returns dict(SC, mbs, simulationSettings, solverType, params, nBlock, oBlock, springs, sensors)."""
-    if nodeType not in NODE_TYPES:
-        raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
-    m, a = p.mass, p.size
-    K = len(block_points(p))
-    gap = -p.normal_load / p.eps_n
-    ang = math.radians(p.drive_angle)
-    d = np.array([math.cos(ang), math.sin(ang)])
-    kt, kn = p.eps_1 / K, p.eps_n / K
-    sensors = {}
-    local = block_points(p)
-    if p.model == "planar":
-        nBlock = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[p.x0, p.y0, 0.0]))
-        oBlock = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nBlock, mass=m, inertia=m * a * a / 6.0))
-        nq = 3
-        local[:, 2] = gap
-        anchors = np.column_stack([local[:, 0] + p.x0, local[:, 1] + p.y0, local[:, 2]])
-        stiffness = [kt, kt, 0.0]
-        if p.drive == "force":
-            for i in range(2):
-                mC = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nBlock, coordinate=i))
-                mbs.AddLoad(LoadCoordinate(markerNumber=mC, load=p.force * d[i]))
-        sensors["sCoordinates"] = mbs.AddSensor(SensorNode(nodeNumber=nBlock, storeInternal=True,
-                                                           outputVariableType=exu.OutputVariableType.Coordinates))
-        sensors["sVelocities"] = mbs.AddSensor(SensorNode(nodeNumber=nBlock, storeInternal=True,
-                                                          outputVariableType=exu.OutputVariableType.Coordinates_t))
-    else:
-        oBlock = mbs.CreateRigidBody(inertia=InertiaCuboid(density=m / a ** 3, sideLengths=[a, a, a]),
-                                     referencePosition=[p.x0, p.y0, 0.5 * a + gap], nodeType=NODE_TYPES[nodeType])
-        nBlock = mbs.GetObject(oBlock)["nodeNumber"]
-        nq = 6 if nodeType == "RotVecLG" else 7
-        anchors = np.column_stack([local[:, 0] + p.x0, local[:, 1] + p.y0, np.zeros(K)])
-        stiffness = [kt, kt, kn]
-        load = np.array([0.0, 0.0, -p.normal_load])
-        if p.drive == "force":
-            load[:2] += p.force * d
-        mbs.CreateForce(itemNumber=oBlock, loadVector=load.tolist())
-        for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"),
-                          ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")):
-            sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nBlock, storeInternal=True,
-                                                     outputVariableType=getattr(exu.OutputVariableType, ovt)))
-    if p.drive == "displacement":
-        k, s = p.drive_stiffness, p.drive_speed
-        dd = np.zeros(nq)
-        dd[0:2] = d
-        Kdrive = k * np.outer(dd, dd)
-        AddNodeDrive(mbs, nBlock, nq, lambda t, q: k * (s * t - d @ q[0:2]) * dd, lambda t, q: Kdrive)
-    oGround = _ground(mbs)
-    springs = []
-    for b, g in zip(local, anchors):
-        mBody = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oBlock, localPosition=b.tolist()))
-        mGround = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oGround, localPosition=g.tolist()))
-        springs.append(mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mGround, mBody],
-                                                                          stiffness=stiffness, damping=[0.0] * 3)))
-    mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
-    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nBlock=nBlock, oBlock=oBlock,
-                springs=springs, sensors=sensors, nodeType=nodeType)
+    """The block scene of ``BuildBlock`` (same body, loads, drive, sensors, settings) with C++
+    Cartesian spring-dampers at the contact points (see module doc). Returns BuildBlock's dict
+    plus 'springs'."""
+    from exu_aniso.models.block import BuildBlock
+
+    def springs(mbs, oBlock, local):
+        K = len(local)
+        kt, kn = p.eps_1 / K, p.eps_n / K
+        if p.model == "planar":   # local z is the held height: anchor at the initial point, no normal spring
+            anchors = np.column_stack([local[:, 0] + p.x0, local[:, 1] + p.y0, local[:, 2]])
+            k = [kt, kt, 0.0]
+        else:                     # anchor on the plane: the normal spring starts with the static penetration
+            anchors = np.column_stack([local[:, 0] + p.x0, local[:, 1] + p.y0, np.zeros(K)])
+            k = [kt, kt, kn]
+        return _cartesian_springs(mbs, oBlock, local, anchors, [k] * K)
+
+    model = BuildBlock(p, nodeType=nodeType, solverType=solverType, rhoInf=rhoInf, newtonTolerance=newtonTolerance,
+                       contactBuilder=springs)
+    model["springs"] = model["contact"]["springs"]
+    return model
 
 
 def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
                        symmetry=True):
-    """The screw scene with C++ spring-dampers per contact point (see module doc; symmetry as in
-    BuildScrew, reduced model only). Returns dict(SC, mbs, simulationSettings, solverType, params,
-    nScrew, oScrew, springs, sensors)."""
-    if nodeType not in NODE_TYPES:
-        raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
-    m, r, L = p.mass, p.radius, p.length
-    Ja, Jt = 0.5 * m * r * r, m * (3.0 * r * r + L * L) / 12.0
-    local = screw_points(p)
-    K = len(local)
-    kt, kn = p.eps_1 / K, p.eps_n / K
+    """The screw scene of ``BuildScrew`` with C++ spring-dampers per evaluated contact point (see
+    module doc; symmetry as in BuildScrew, reduced model only). Returns BuildScrew's dict plus
+    'springs'."""
+    from exu_aniso.models.screw import BuildScrew
+    if p.model == "full" and p.drive == "rotation":
+        raise ValueError("BuildScrewBaseline: drive 'rotation' of the full model has no spring equivalent (the "
+                         "screw slides all around the hole while ground-anchored springs wind up); use drive='torque' "
+                         "or 'axial'")
     rho = p.radius + p.interference
-    sensors, springs = {}, []
-    if p.model == "reduced":
-        nScrew = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
-                                             initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))
-        oScrew = mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nScrew], massMatrix=np.diag([Ja, m])))
-        mPsi = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=0))
-        mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=1))
-        if p.drive == "torque":
-            mbs.AddLoad(LoadCoordinate(markerNumber=mPsi, load=p.torque))
-        mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=p.axial_load))
-        if p.drive in ("rotation", "axial"):
-            i, rate = (0, p.rotation_speed) if p.drive == "rotation" else (1, p.axial_speed)
-            k = p.drive_stiffness
-            Kdrive = np.zeros((2, 2))
-            Kdrive[i, i] = k
 
-            def DriveForce(t, q):
-                Q = np.zeros(2)
-                Q[i] = k * (rate * t - q[i])
-                return Q
+    def springs(mbs, oScrew, local):
+        K = len(local)
+        kt, kn = p.eps_1 / K, p.eps_n / K
+        if p.model == "reduced":  # coordinate springs on (psi, z), one pair per evaluated point
+            node = mbs.GetObject(oScrew)["nodeNumbers"][0]
+            mPsi, mZ = (mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=node, coordinate=i)) for i in (0, 1))
+            mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0))
+            out = []
+            for _ in range(K):
+                for mC, kc in ((mPsi, kt * p.radius * rho), (mZ, kt)):
+                    out.append(mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mGround, mC],
+                                                                                  stiffness=kc, damping=0.0)))
+            return dict(springs=out, points=np.asarray(local))
+        phi = np.arctan2(local[:, 1], local[:, 0])   # diagonal of diag(kn, kt, kt) in (e_r, e_phi, e_z), global
+        c2, s2 = np.cos(phi) ** 2, np.sin(phi) ** 2
+        anchors = np.column_stack([p.radius * np.cos(phi), p.radius * np.sin(phi), local[:, 2]])
+        return _cartesian_springs(mbs, oScrew, local, anchors,
+                                  np.column_stack([kn * c2 + kt * s2, kn * s2 + kt * c2, np.full(K, kt)]))
 
-            AddNodeDrive(mbs, nScrew, 2, DriveForce, lambda t, q: Kdrive)
-        nGround = mbs.AddNode(NodePointGround())
-        mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
-        pairs = 1 if symmetry else K
-        for _ in range(pairs):
-            for mC, kc in ((mPsi, p.eps_1 / pairs * p.radius * rho), (mZ, p.eps_1 / pairs)):
-                springs.append(mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mGround, mC],
-                                                                                   stiffness=kc, damping=0.0)))
-        sensors["sCoordinates"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
-                                                           outputVariableType=exu.OutputVariableType.Coordinates))
-        sensors["sVelocities"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
-                                                          outputVariableType=exu.OutputVariableType.Coordinates_t))
-    else:
-        if p.drive == "rotation":
-            raise ValueError("BuildScrewBaseline: drive 'rotation' of the full model is not built here; "
-                             "use drive='torque' or 'axial'")
-        oScrew = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=m, inertiaTensor=np.diag([Jt, Jt, Ja])),
-                                     referencePosition=[0.0, 0.0, 0.0], nodeType=NODE_TYPES[nodeType])
-        nScrew = mbs.GetObject(oScrew)["nodeNumber"]
-        if p.drive == "torque":
-            mbs.CreateTorque(itemNumber=oScrew, loadVector=[0.0, 0.0, p.torque])
-        mbs.CreateForce(itemNumber=oScrew, loadVector=[0.0, 0.0, p.axial_load])
-        if p.drive == "axial":
-            nq = 7 if nodeType == "EP" else 6
-            k = p.drive_stiffness
-            Kdrive = np.zeros((nq, nq))
-            Kdrive[2, 2] = k
-
-            def DriveForce(t, q):
-                Q = np.zeros(nq)
-                Q[2] = k * (p.axial_speed * t - q[2])
-                return Q
-
-            AddNodeDrive(mbs, nScrew, nq, DriveForce, lambda t, q: Kdrive)
-        oGround = _ground(mbs)
-        for b in local:
-            phi = math.atan2(b[1], b[0])
-            c2, s2 = math.cos(phi) ** 2, math.sin(phi) ** 2
-            stiffness = [kn * c2 + kt * s2, kn * s2 + kt * c2, kt]
-            g = [p.radius * math.cos(phi), p.radius * math.sin(phi), b[2]]
-            mBody = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oScrew, localPosition=b.tolist()))
-            mG = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oGround, localPosition=g))
-            springs.append(mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mG, mBody],
-                                                                              stiffness=stiffness, damping=[0.0] * 3)))
-        for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"),
-                          ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")):
-            sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
-                                                     outputVariableType=getattr(exu.OutputVariableType, ovt)))
-    mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
-    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nScrew=nScrew, oScrew=oScrew,
-                springs=springs, sensors=sensors, nodeType=nodeType)
+    model = BuildScrew(p, nodeType=nodeType, solverType=solverType, rhoInf=rhoInf, newtonTolerance=newtonTolerance,
+                       symmetry=symmetry, contactBuilder=springs)
+    model["springs"] = model["contact"]["springs"]
+    return model
 
 
 def RunBaseline(scene, p, **options):
