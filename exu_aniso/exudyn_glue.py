@@ -196,18 +196,21 @@ class _ContactSet:
             b, fb = self.points, F @ A
             Kq[3:6, 3:6] += np.einsum("ki,kj->ij", fb, b) - np.eye(3) * np.sum(b * fb)
 
-    def commit_candidate(self, mbs):
-        """Evaluate at the converged state and write the history candidate to Current."""
+    def commit_candidate(self, mbs, t):
+        """Evaluate at the converged state (time t) and write the history candidate to Current."""
         nodes = [self.slave] + ([self.master] if self.master is not None else [])
         q = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates,
                                                          configuration=_CUR)) for nd in nodes])
         q_t = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates_t,
                                                            configuration=_CUR)) for nd in nodes])
-        st = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)[0]
+        self._write_candidate(mbs, self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)[0].history)
+
+    def _write_candidate(self, mbs, H):
+        """Write the history candidate H (K, 9) to the Current data coordinates of the history node."""
         if self.ltg is None:
             self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
         data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
-        data[self.ltg] = st.history.ravel()
+        data[self.ltg] = H.ravel()
         mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
 
 
@@ -229,31 +232,27 @@ class _CompiledSet(_ContactSet):
             self.pk.H[:] = self.history(mbs, _SOS)
             self._H_time = t
 
+    def _eval(self, mode, q, q_t, fq=0.0, fv=0.0):
+        pk = self.pk
+        self._kernel(mode, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fq, fv, pk.W, pk.P, pk.S, pk.I)
+
     def force(self, mbs, t, itemNumber, q, q_t):
         self._load_history(mbs, t)
-        pk = self.pk
-        self._kernel(0, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), 0.0, 0.0, pk.W, pk.P, pk.S, pk.I)
-        return pk.Q
+        self._eval(0, q, q_t)
+        return self.pk.Q
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         self._load_history(mbs, t)
-        self._kernel(1, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fODE2, fODE2_t,
-                     self.pk.W, self.pk.P, self.pk.S, self.pk.I)
+        self._eval(1, q, q_t, fODE2, fODE2_t)
         return self.pk.J
 
-    def commit_candidate(self, mbs):
+    def commit_candidate(self, mbs, t):
         node = self.slave.node
-        q = mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates, configuration=_CUR)
-        q_t = mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates_t, configuration=_CUR)
-        self.pk.H[:] = self.history(mbs, _SOS)
+        self._load_history(mbs, t)            # usually loaded already by this Newton solve's residuals
+        self._eval(2, mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates, configuration=_CUR),
+                   mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates_t, configuration=_CUR))
         self._H_time = None                   # the next Newton solve reads the history afresh
-        pk = self.pk
-        self._kernel(2, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), 0.0, 0.0, pk.W, pk.P, pk.S, pk.I)
-        if self.ltg is None:
-            self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
-        data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
-        data[self.ltg] = self.pk.Hn.ravel()
-        mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+        self._write_candidate(mbs, self.pk.Hn)
 
 
 def _body_node(mbs, bodyNumber):
@@ -270,7 +269,7 @@ def _body_node(mbs, bodyNumber):
 
 def _post_newton(mbs, t):
     for cs in mbs.variables[_SETS_KEY]:
-        cs.commit_candidate(mbs)
+        cs.commit_candidate(mbs, t)
     return [0.0, -1.0]
 
 
