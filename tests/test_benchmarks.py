@@ -6,7 +6,6 @@ our contact where our law is a linear spring (pure stick, isotropic adhesion). N
 from __future__ import annotations
 
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -20,22 +19,17 @@ sys.path.insert(0, os.path.join(ROOT, "studies"))
 from exu_aniso.output import read_table  # noqa: E402
 
 
-def _run_study(name, out):
-    subprocess.run([sys.executable, f"studies/{name}.py", "--quick", "--serial", "--out", str(out)], cwd=ROOT,
-                   check=True, timeout=300, stdout=subprocess.DEVNULL)
-
-
 @pytest.fixture(scope="module")
-def bench_out(tmp_path_factory):
+def bench_out(tmp_path_factory, quick_study):
     out = tmp_path_factory.mktemp("benchmarks")
-    _run_study("benchmarks", out)
+    quick_study("benchmarks", out)
     return out
 
 
 @pytest.fixture(scope="module")
-def wp_out(tmp_path_factory):
+def wp_out(tmp_path_factory, quick_study):
     out = tmp_path_factory.mktemp("work_precision")
-    _run_study("work_precision", out)
+    quick_study("work_precision", out)
     return out
 
 

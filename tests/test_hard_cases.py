@@ -185,9 +185,8 @@ def test_energy_balance_is_exact_in_stick_with_constant_adhesion():
     assert abs(b["relative_residual"]) < 1e-9, b
 
 
-def test_quick_study_runs_and_every_row_has_a_verdict(tmp_path):
-    r = subprocess.run([sys.executable, "studies/hard_cases.py", "--quick", "--serial", "--out", str(tmp_path)],
-                       cwd=ROOT, check=True, timeout=300, capture_output=True, text=True)
+def test_quick_study_runs_and_every_row_has_a_verdict(tmp_path, quick_study):
+    r = quick_study("hard_cases", tmp_path, capture_output=True, text=True)
     with open(tmp_path / "hard_cases.csv") as f:
         rows = list(csv.DictReader(f))
     assert [row["case [-]"] for row in rows] == list(STUDY.CASES)

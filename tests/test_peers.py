@@ -67,7 +67,7 @@ def test_heading_rejects_sticking_and_bad_input():
 # ----------------------------------------------------------------------------------------------
 # the quick study (needs mujoco)
 
-def test_peers_quick_study(tmp_path):
+def test_peers_quick_study(tmp_path, quick_study):
     """Quick run of studies/peers.py. Tolerances: ours within 0.05 deg of the analytic heading at
     its chosen step; MuJoCo's elliptic cone within 3 deg (measured 1.6 deg at dt 0.002 s with
     MuJoCo 4.0.0, `python studies/peers.py --quick`; its sliding box hops, see the report) and
@@ -75,8 +75,7 @@ def test_peers_quick_study(tmp_path):
     stick along y; the MuJoCo nut, spun at -1 rev/s, moves down (-z) by its pitch per revolution
     within 5 %."""
     pytest.importorskip("mujoco")
-    subprocess.run([sys.executable, "studies/peers.py", "--quick", "--serial", "--out", str(tmp_path)],
-                   cwd=ROOT, check=True, timeout=300)
+    quick_study("peers", tmp_path, stdout=None)
     ref = math.degrees(orthotropic_heading(math.radians(45.0), 10.0, 9.81, 0.2, 0.6))
     S = read_table(tmp_path / "slide.csv")
     rows = list(zip(S["engine [-]"], S["cone [-]"], S["dt [s]"], S["heading [deg]"], S["heading_error [deg]"]))

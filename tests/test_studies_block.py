@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import os
-import subprocess
 import sys
 
 import pytest
@@ -16,12 +15,6 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "studies"))
 from studylib import read_table  # noqa: E402
-
-
-def _run(name, out):
-    subprocess.run([sys.executable, f"studies/{name}.py", "--quick", "--serial", "--out", str(out)], cwd=ROOT,
-                   check=True, timeout=300, stdout=subprocess.DEVNULL)
-    return out
 
 
 def _row(tab, **match):
@@ -32,13 +25,17 @@ def _row(tab, **match):
 
 
 @pytest.fixture(scope="module")
-def block_paths(tmp_path_factory):
-    return _run("block_paths", tmp_path_factory.mktemp("block_paths"))
+def block_paths(tmp_path_factory, quick_study):
+    out = tmp_path_factory.mktemp("block_paths")
+    quick_study("block_paths", out)
+    return out
 
 
 @pytest.fixture(scope="module")
-def return_maps(tmp_path_factory):
-    return _run("return_maps", tmp_path_factory.mktemp("return_maps"))
+def return_maps(tmp_path_factory, quick_study):
+    out = tmp_path_factory.mktemp("return_maps")
+    quick_study("return_maps", out)
+    return out
 
 
 def test_block_paths_near_circle_and_ratio_trend(block_paths):

@@ -2,26 +2,18 @@
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 from exu_aniso.output import read_table
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
-
-def _run(name, out):
-    subprocess.run([sys.executable, f"studies/{name}.py", "--quick", "--serial", "--out", str(out)], cwd=ROOT,
-                   check=True, timeout=240, stdout=subprocess.DEVNULL)
 
 
 @pytest.fixture(scope="module")
-def screw_out(tmp_path_factory):
+def screw_out(tmp_path_factory, quick_study):
     out = tmp_path_factory.mktemp("screw_driving")
-    _run("screw_driving", out)
+    quick_study("screw_driving", out, timeout=240)
     return out
 
 
@@ -56,8 +48,8 @@ def test_screw_driving_helix_and_torque_drive(screw_out):
     assert np.ptp(C["advance/pitch [-]"]) < 1e-7 and np.ptp(C["torque_mean [N m]"]) < 1e-8   # Exudyn = reference
 
 
-def test_calibration_study_hits_targets(tmp_path):
-    _run("calibration", tmp_path)
+def test_calibration_study_hits_targets(tmp_path, quick_study):
+    quick_study("calibration", tmp_path, timeout=240)
     T = read_table(os.path.join(tmp_path, "calibration.csv"))
     assert len(T["map [-]"]) >= 2 and set(T["verify engine [-]"]) == {"exudyn"}
     # independent Exudyn runs reach the targets (optimizer tolerance 1e-4 on the reference engine)
