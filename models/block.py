@@ -83,7 +83,7 @@ def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
     n = int(nCoordinates)
 
     def UFforce(mbs, t, itemNumber, q, q_t):
-        return list(force(t, np.asarray(q)))
+        return force(t, np.asarray(q))
 
     def UFjacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         return fODE2 * jacobian(t, np.asarray(q))

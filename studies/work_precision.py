@@ -38,6 +38,7 @@ import studylib  # noqa: E402
 from benchmarks import IMPLEMENTATIONS  # noqa: E402
 from studylib import finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
+from exu_aniso.oracles import orthotropic_heading  # noqa: E402
 from exu_aniso.scenes import BlockParams, ScrewParams, pitch  # noqa: E402
 
 # ----------------------------------------------------------------------------------------------
@@ -158,19 +159,6 @@ def error_to_fine(scene, coarse, fine, p):
     return err, err / scale if scale > 0 else float("nan")
 
 
-def steady_angle(P, drive_angle, mu1, mu2, N):
-    """Steady sliding direction beta with P d + f(v) parallel to v (exact map, constant F)."""
-    from scipy.optimize import brentq
-    d = np.array([math.cos(drive_angle), math.sin(drive_angle)])
-    Finv = np.diag([mu1 ** 2, mu2 ** 2])
-
-    def cross(beta):
-        v = np.array([math.cos(beta), math.sin(beta)])
-        net = P * d - N * Finv @ v / math.sqrt(v @ Finv @ v)
-        return net[0] * v[1] - net[1] * v[0]
-    return brentq(cross, 1e-6, math.pi / 2 - 1e-6)
-
-
 def oracle_error(name, res, p):
     """Relative error against the analytic oracle (NaN without one)."""
     tr = res["traj"]
@@ -188,7 +176,7 @@ def oracle_error(name, res, p):
     if name == "heading":
         i = int(np.argmax(late))
         dvx, dvy = tr["vx"][-1] - tr["vx"][i], tr["vy"][-1] - tr["vy"][i]
-        beta = steady_angle(p.force, math.radians(p.drive_angle), p.mu_1, p.mu_2, p.normal_load)
+        beta = orthotropic_heading(math.radians(p.drive_angle), p.force, p.normal_load, p.mu_1, p.mu_2)
         return float(abs(math.atan2(dvy, dvx) - beta) / beta)
     if name == "pitch":
         return float(abs(res["advance_per_rev"] / pitch(p) - 1.0))

@@ -41,6 +41,7 @@ exudyn = pytest.importorskip("exudyn")
 
 from exu_aniso.models.block import BuildBlock, RunBlock, SolveTimed  # noqa: E402
 from exu_aniso.models.screw import RunScrew  # noqa: E402
+from exu_aniso.oracles import orthotropic_heading  # noqa: E402
 from exu_aniso.reference import simulate_block, simulate_screw  # noqa: E402
 from exu_aniso.scenes import BlockParams, ScrewParams, pitch  # noqa: E402
 
@@ -154,19 +155,6 @@ def test_isotropic_coulomb_block_accelerates_and_sticks():
     assert mean == pytest.approx(P / 1e5, rel=0.1)
 
 
-def _steady_sliding_angle(P, drive_angle, mu1, mu2, N):
-    """Sliding direction beta where P d + f(v) is parallel to v, f = -|N| F^-1 v / sqrt(v.F^-1 v)."""
-    from scipy.optimize import brentq
-    d = np.array([math.cos(drive_angle), math.sin(drive_angle)])
-    Finv = np.diag([mu1 ** 2, mu2 ** 2])
-
-    def cross(beta):
-        v = np.array([math.cos(beta), math.sin(beta)])
-        net = P * d - N * Finv @ v / math.sqrt(v @ Finv @ v)
-        return net[0] * v[1] - net[1] * v[0]
-    return brentq(cross, 1e-6, math.pi / 2 - 1e-6)
-
-
 def test_orthotropic_sliding_direction_exact_map():
     """Cartesian friction mu 0.2 (x) / 0.6 (y), isotropic adhesion, pull at 45 deg, exact map: the
     acceleration (and so the velocity after the transient) points along the direction where pull
@@ -176,7 +164,7 @@ def test_orthotropic_sliding_direction_exact_map():
                     return_map="exact", drive="force", force=P, drive_angle=45.0, points="center", normal_load=N,
                     t_end=1.0, dt=1e-3)
     r = RunBlock(p).trajectory
-    beta = math.degrees(_steady_sliding_angle(P, math.radians(45.0), 0.2, 0.6, N))
+    beta = math.degrees(orthotropic_heading(math.radians(45.0), P, N, 0.2, 0.6))
     half = np.searchsorted(r["t"], 0.5)
     dvx, dvy = r["vx"][-1] - r["vx"][half], r["vy"][-1] - r["vy"][half]
     heading_late = math.degrees(math.atan2(dvy, dvx))

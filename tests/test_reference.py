@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from exu_aniso.oracles import orthotropic_heading
 from exu_aniso.reference import jacobian_check, simulate_block, simulate_screw
 from exu_aniso.scenes import BlockParams, ScrewParams, block_points, pitch, screw_points
 
@@ -145,6 +146,7 @@ def test_orthotropic_exact_steady_direction():
         return net[0] * math.sin(phi) - net[1] * math.cos(phi)
 
     phi = brentq(cross, 1e-6, math.pi / 2 - 1e-6)
+    assert phi == pytest.approx(orthotropic_heading(math.pi / 4, P, N, mu1, mu2), abs=1e-9)   # shared oracle
     v = np.array([math.cos(phi), math.sin(phi)])
     a_exact = (pull + friction(phi)) @ v / m
 
