@@ -9,8 +9,9 @@ Steady sliding in closed form (``steady_sliding``)
 In the reduced model the screw stays on the hole axis, so every point carries the same normal force;
 the total is ``N = eps_n * interference``. In steady sliding (rotation speed and axial speed
 constant, inertia forces zero) the total tangential traction the hole exerts on the screw is
-``T = -(tau e_phi + axial_load e_z)``: ``tau`` balances the drive torque (torque = rho * tau,
-arm rho = radius + interference) and the axial part balances the axial load. Write
+``T = -(tau e_phi + axial_load e_z)``: ``tau`` balances the drive torque (torque = R * tau with
+the hole radius R: the traction acts where the slip is measured, see surfaces.Frame) and the axial
+part balances the axial load. Write
 ``S = -T = tau e_phi + axial_load e_z`` in the helix frame (e1 = cos a e_phi + sin a e_z,
 e2 = -sin a e_phi + cos a e_z). Sliding puts it on the friction ellipse
 
@@ -129,7 +130,7 @@ def steady_sliding(p: ScrewParams) -> SteadySliding:
     pt = pitch(p)
     norm = math.hypot(v_phi, v_z)
     return SteadySliding(advance_per_rev=adv, advance_ratio=adv / pt if pt != 0.0 else float("nan"),
-                         torque=(p.radius + p.interference) * tau, circumferential_traction=tau, normal_force=N,
+                         torque=p.radius * tau, circumferential_traction=tau, normal_force=N,
                          slip_direction=(v_phi / norm, v_z / norm))
 
 

@@ -26,13 +26,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .law import N_PARAMS, _return_map_batch, check_return_map, return_map_point
+from .law import N_PARAMS, _return_map_batch, check_return_map, elastic_energy_batch, return_map_point
 from .validation import check_array, check_choice, check_nonnegative, check_points, check_positive
 
 HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
                   "dissipated_energy", "slip_distance", "status", "normal")
 N_HISTORY = len(HISTORY_FIELDS)
-OPEN, STICK, SLIP = 0, 1, 2
+OPEN, STICK, SLIP, UNRESOLVED = 0, 1, 2, 3
+STATUS_NAMES = ("open", "stick", "slip", "unresolved")
 
 
 @dataclass
@@ -72,7 +73,7 @@ class ContactLaw:
     """
 
     def __init__(self, surface, adhesion, friction, normal_stiffness, normal_damping=0.0, return_map="exact",
-                 formulation="transport"):
+                 formulation="transport", tangential_damping=0.0):
         if getattr(adhesion, "kind", None) != "adhesion":
             raise TypeError(f"adhesion must be an Adhesion field (exu_aniso.Adhesion.*); got {adhesion!r}")
         if getattr(friction, "kind", None) != "friction":
@@ -86,21 +87,39 @@ class ContactLaw:
         self.friction = friction
         self.eps_N = check_positive("normal_stiffness", normal_stiffness)
         self.d_N = check_nonnegative("normal_damping", normal_damping)
+        self.d_T = check_nonnegative("tangential_damping", tangential_damping)
         self.return_map = check_return_map(return_map)
         check_choice("formulation", formulation, ("transport", "chart"))
         self.formulation = formulation
 
     def __repr__(self):
         return (f"ContactLaw({self.surface!r}, {self.adhesion!r}, {self.friction!r}, "
-                f"normal_stiffness={self.eps_N}, normal_damping={self.d_N}, return_map={self.return_map!r})")
+                f"normal_stiffness={self.eps_N}, normal_damping={self.d_N}, tangential_damping={self.d_T}, "
+                f"return_map={self.return_map!r})")
 
     @staticmethod
     def initial_history(n_points):
         return np.zeros((int(n_points), N_HISTORY))
 
-    def evaluate(self, x, v=None, history=None, tangent=True):
+    def released_energy(self, H):
+        """Tangential elastic energy T . C^-1 T / 2 [J] (K,) of history rows H (K, 9), C = -B at the
+        stored anchor; zero for inactive rows. Losing contact resets T, so this energy leaves the
+        adhesion spring: the law books it as dissipated."""
+        H = np.asarray(H, dtype=float)
+        E = np.zeros(H.shape[0])
+        act = H[:, 4] > 0.5
+        if np.any(act):
+            Bp, _ = self.adhesion.physical(H[act, 2:4], derivatives=False)
+            E[act] = elastic_energy_batch(H[act, 0:2], Bp)
+        return E
+
+    def evaluate(self, x, v=None, history=None, tangent=True, dt=None):
         """Contact forces of K slave points. x, v: (K, 3) position and velocity relative to the
-        master, master frame; history: (K, 9) last converged history (zeros if None)."""
+        master, master frame; history: (K, 9) last converged history (zeros if None); dt: time
+        since the converged history [s] (engines pass it): it predicts the increment of periodic
+        surface coordinates (cylinder phi) as du_dx v dt, so a point may turn more than half a
+        revolution per step; a step whose motion the prediction cannot resolve gets the status
+        UNRESOLVED and must be rejected by the engine."""
         x = check_points("x", x)
         K = x.shape[0]
         v = np.zeros((K, 3)) if v is None else check_array("v", np.reshape(v, (K, 3)) if np.size(v) == 3 * K else v,
@@ -124,35 +143,48 @@ class ContactLaw:
         newH[:, 7:] = 0.0
         surf = self.surface
         gap = x[:, 2].copy() if surf.kind == "plane" else surf.gap(x)
-        idx = np.nonzero(gap < 0.0)[0]
+        inside = gap < 0.0
+        released = ~inside & (H[:, 4] > 0.5)        # contact lost: the adhesion spring lets go
+        if np.any(released):
+            diss[released] = self.released_energy(H[released])
+            newH[released, 5] += diss[released]
+        idx = np.nonzero(inside)[0]
         if idx.size == 0:
             return ContactState(force, stiff, damp, traction, normal, gap, status, slip, diss, newH, cpoint)
 
         fr = surf.frame(x[idx], derivatives=tangent)
         vi = v[idx]
         n = fr.n
+        vn = np.einsum("ki,ki->k", n, vi)
         N = self.eps_N * fr.gap
         if self.d_N > 0.0:
-            N = N + self.d_N * np.einsum("ki,ki->k", n, vi)
+            N = N + self.d_N * vn
         loaded = N < 0.0
         N = np.where(loaded, N, 0.0)
         Hi = H[idx]
         active = Hi[:, 4] > 0.5
         t_n = np.where(active[:, None], Hi[:, 0:2], 0.0)
-        du = np.where(active[:, None], surf.increment(fr.u, Hi[:, 2:4]), 0.0)
+        predicted = None if dt is None else np.einsum("kaj,kj->ka", fr.du_dx, vi) * dt
+        du, anchor, unresolved = surf.resolve(fr.u, Hi[:, 2:4], predicted)
+        du = np.where(active[:, None], du, 0.0)
         Bp, dB = self.adhesion.physical(fr.u, tangent)
         Fp, dF = self.friction.physical(fr.u, tangent)
         T_tr = np.stack([t_n[:, 0] + Bp[:, 0] * du[:, 0] + Bp[:, 1] * du[:, 1],
                          t_n[:, 1] + Bp[:, 1] * du[:, 0] + Bp[:, 2] * du[:, 1]], axis=-1)
         law = _return_map_batch(T_tr, -N, Bp, Fp, self.return_map, tangent)
         T = law.T
-        f = np.einsum("kia,ka->ki", fr.E, T) - N[:, None] * n
+        # the force conjugate to the slip of C: du_dx^T T (see surfaces.Frame), normal -N n
+        f = np.einsum("kaj,ka->kj", fr.du_dx, T) - N[:, None] * n
+        # tangential dashpot parallel to the friction element: -d_T (v - n (n.v)) while loaded
+        d_T = np.where(loaded, self.d_T, 0.0)
+        f -= d_T[:, None] * (vi - n * vn[:, None])
 
         if tangent:
             # d N / d x and d N / d v (zero where N is clipped)
+            vdn = np.einsum("ki,kij->kj", vi, fr.dn_dx)                  # v . dn/dx
             dN_dx = self.eps_N * n
             if self.d_N > 0.0:
-                dN_dx = dN_dx + self.d_N * np.einsum("ki,kij->kj", vi, fr.dn_dx)
+                dN_dx = dN_dx + self.d_N * vdn
             dN_dx = np.where(loaded[:, None], dN_dx, 0.0)
             dN_dv = np.where(loaded[:, None], self.d_N * n, 0.0)
             # derivatives of the nine law inputs p with respect to x
@@ -167,24 +199,31 @@ class ContactLaw:
             dp = np.concatenate([dTtr, -dN_dx[:, None, :], dB_dx, dF_dx], axis=1)  # (k, 9, 3)
             assert dp.shape[1] == N_PARAMS
             dT_dx = np.einsum("kap,kpj->kaj", law.dT, dp)
-            K_i = np.einsum("kia,kaj->kij", fr.E, dT_dx) - n[:, :, None] * dN_dx[:, None, :]
-            K_i += np.einsum("kiaj,ka->kij", fr.dE_dx, T) - N[:, None, None] * fr.dn_dx
+            K_i = np.einsum("kai,kaj->kij", fr.du_dx, dT_dx) - n[:, :, None] * dN_dx[:, None, :]
+            K_i += np.einsum("kaij,ka->kij", fr.d2u_dx2, T) - N[:, None, None] * fr.dn_dx
+            # dashpot: d/dx [-d_T (v - n (n.v))] = d_T (dn (n.v) + n (v . dn))
+            K_i += d_T[:, None, None] * (fr.dn_dx * vn[:, None, None] + n[:, :, None] * vdn[:, None, :])
             stiff[idx] = K_i
             dT_dv = -law.dT[:, :, 2, None] * dN_dv[:, None, :]
-            damp[idx] = np.einsum("kia,kaj->kij", fr.E, dT_dv) - n[:, :, None] * dN_dv[:, None, :]
+            D_i = np.einsum("kai,kaj->kij", fr.du_dx, dT_dv) - n[:, :, None] * dN_dv[:, None, :]
+            D_i -= d_T[:, None, None] * (np.eye(3) - n[:, :, None] * n[:, None, :])
+            damp[idx] = D_i
 
+        # energy the return map removes in the step, with the integrator's (trapezoidal) quadrature:
+        # the work (T_n + T)/2 . du of the traction minus the change of T.C^-1 T / 2 (constant C);
+        # equal to -(T_n + T)/2 . dxi_sl
+        D = -0.5 * np.einsum("ka,ka->k", t_n + T, law.slip)
         force[idx] = f
         traction[idx] = T
         normal[idx] = N
-        status[idx] = np.where(law.state > 0, SLIP, STICK)
+        status[idx] = np.where(unresolved & active, UNRESOLVED, np.where(law.state > 0, SLIP, STICK))
         slip[idx] = law.slip
-        diss[idx] = law.dissipation
+        diss[idx] = D
         cpoint[idx] = fr.u
-        anchor = np.where(active[:, None], surf.continue_coordinates(fr.u, Hi[:, 2:4]), fr.u)
         newH[idx, 0:2] = T
-        newH[idx, 2:4] = anchor
+        newH[idx, 2:4] = np.where(active[:, None], anchor, fr.u)
         newH[idx, 4] = 1.0
-        newH[idx, 5] = Hi[:, 5] + law.dissipation
+        newH[idx, 5] = Hi[:, 5] + D
         newH[idx, 6] = Hi[:, 6] + np.hypot(law.slip[:, 0], law.slip[:, 1])
         newH[idx, 7] = status[idx]
         newH[idx, 8] = N
@@ -193,15 +232,22 @@ class ContactLaw:
     # ------------------------------------------------------------------------------------------
     # the papers' covariant route, one point at a time (reference formulation)
     def _chart_point(self, x, v, h):
-        """Force, traction (covariant), N, status, slip (contravariant), D, history row, xi."""
+        """Force, traction (covariant), N, status, slip (contravariant), D, history row, xi.
+        (No branch prediction: the chart route takes the shortest branch of periodic coordinates.)"""
         surf = self.surface
         row = np.zeros(N_HISTORY)
         row[5:7] = h[5:7]
         xi3 = x[2] if surf.kind == "plane" else float(surf.gap(x[None, :])[0])
         if not xi3 < 0.0:
-            return np.zeros(3), np.zeros(2), 0.0, OPEN, np.zeros(2), 0.0, row, np.full(2, np.nan)
+            D = 0.0
+            if h[4] > 0.5:                        # contact lost: T.C^-1 T / 2 at the anchor is released
+                C_inv = np.linalg.inv(-self.adhesion.components(surf, h[2:4]))
+                D = 0.5 * float(h[0:2] @ C_inv @ h[0:2])
+            row[5] += D
+            return np.zeros(3), np.zeros(2), 0.0, OPEN, np.zeros(2), D, row, np.full(2, np.nan)
         p = surf.project(x)
         N = self.eps_N * p.xi3 + self.d_N * float(p.n @ v)
+        loaded = N < 0.0
         N = min(N, 0.0)
         rho_c = p.rho_contra
         if h[4] > 0.5:
@@ -217,16 +263,20 @@ class ContactLaw:
         T_tr = T_bar + b @ dxi
         r = return_map_point(T_tr, -N, (b[0, 0], b[0, 1], b[1, 1]), (f[0, 0], f[0, 1], f[1, 1]),
                              self.return_map, tangent=False)
-        force = r.T @ rho_c - N * p.n
+        # force conjugate to the slip of C: T_i (A^-1)^ij rho_j, A_ij = m_ij - xi3 h_ij (SPEC section 7)
+        force = r.T @ np.linalg.inv(p.m - p.xi3 * p.h) @ p.rho - N * p.n
+        if loaded and self.d_T > 0.0:
+            force -= self.d_T * (v - p.n * float(p.n @ v))
+        D = -0.5 * float((T_bar + r.T) @ r.slip)          # trapezoidal quadrature, as in evaluate
         row[0:2] = r.T
         row[2:4] = p.xi
         row[4] = 1.0
-        row[5] += r.dissipation
+        row[5] += D
         slip_len = float(np.sqrt(r.slip @ p.m @ r.slip))
         row[6] += slip_len
         row[7] = SLIP if r.state else STICK
         row[8] = N
-        return force, r.T, N, int(row[7]), r.slip, r.dissipation, row, p.xi
+        return force, r.T, N, int(row[7]), r.slip, D, row, p.xi
 
     def _evaluate_chart(self, x, v, H, tangent):
         K = x.shape[0]

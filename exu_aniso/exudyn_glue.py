@@ -28,11 +28,13 @@ import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode, SensorUserFunction
 
-from .contact import HISTORY_FIELDS, N_HISTORY, ContactLaw
+from .contact import HISTORY_FIELDS, N_HISTORY, UNRESOLVED, ContactLaw
 from .validation import check_bool, check_index, check_instance, check_points
 
 _SETS_KEY = "exu_aniso_contact_sets"
+_UNRESOLVED_KEY = "exu_aniso_unresolved_time"   # time of the last step rejected as unresolved
 _SOS = exu.ConfigurationType.StartOfStep
+_STATUS = HISTORY_FIELDS.index("status")
 _CUR = exu.ConfigurationType.Current
 
 
@@ -149,19 +151,19 @@ class _ContactSet:
         ns = self.slave.n
         return q[:ns], q_t[:ns], q[ns:], q_t[ns:]
 
-    def state(self, mbs, q, q_t, history, tangent):
-        """Evaluate the law; returns (ContactState, slave Jp, F_global, master Jp or None, slave
-        rotation matrix or None)."""
+    def state(self, mbs, q, q_t, history, tangent, dt=None):
+        """Evaluate the law (dt: time since the converged history, see ContactLaw.evaluate); returns
+        (ContactState, slave Jp, F_global, master Jp or None, slave rotation matrix or None)."""
         qs, vs, qm, vm = self._split(q, q_t)
         x, v, Jp, A_s = self.slave.points(qs, vs, self.points)
         if self.master is None:
-            st = self.law.evaluate(x, v, history, tangent)
+            st = self.law.evaluate(x, v, history, tangent, dt)
             return st, Jp, st.force, None, A_s
         p, A, w, vp = self.master.frame(qm, vm)
         d = x - p
         x_rel = d @ A
         v_rel = (v - vp - np.cross(w, d)) @ A
-        st = self.law.evaluate(x_rel, v_rel, history, tangent)
+        st = self.law.evaluate(x_rel, v_rel, history, tangent, dt)
         F = st.force @ A.T
         b_master = x_rel                       # reaction at the master's material point at S
         Jm = self.master.points(qm, vm, b_master)[2]
@@ -171,15 +173,20 @@ class _ContactSet:
         h = mbs.GetNodeOutput(self.nData, exu.OutputVariableType.Coordinates, configuration=configuration)
         return np.asarray(h, dtype=float).reshape(self.K, N_HISTORY)
 
+    @staticmethod
+    def step_time(mbs, t):
+        """Time since the start of the step [s] (the age of the converged history)."""
+        return t - mbs.systemData.GetTime(_SOS)
+
     def force(self, mbs, t, itemNumber, q, q_t):
-        st, Jp, F, Jm, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)
+        st, Jp, F, Jm, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))
         Q = np.einsum("kij,ki->j", Jp, F)
         if Jm is not None:
             Q = np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
         return Q.tolist()
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
-        st, Jp, F, _, A = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True)
+        st, Jp, F, _, A = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True, dt=self.step_time(mbs, t))
         Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, Jp)
         Dq = np.einsum("kia,kij,kjb->ab", Jp, st.damping, Jp)
         self._add_geometric(Kq, Jp, F, A)
@@ -197,21 +204,27 @@ class _ContactSet:
             Kq[3:6, 3:6] += np.einsum("ki,kj->ij", fb, b) - np.eye(3) * np.sum(b * fb)
 
     def commit_candidate(self, mbs, t):
-        """Evaluate at the converged state (time t) and write the history candidate to Current."""
+        """Evaluate at the converged state (time t) and write the history candidate to Current.
+        Returns False (nothing written) when a contact point's motion in the step is unresolved."""
         nodes = [self.slave] + ([self.master] if self.master is not None else [])
         q = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates,
                                                          configuration=_CUR)) for nd in nodes])
         q_t = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates_t,
                                                            configuration=_CUR)) for nd in nodes])
-        self._write_candidate(mbs, self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False)[0].history)
+        H = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))[0].history
+        return self._write_candidate(mbs, H)
 
     def _write_candidate(self, mbs, H):
-        """Write the history candidate H (K, 9) to the Current data coordinates of the history node."""
+        """Write the history candidate H (K, 9) to the Current data coordinates of the history node;
+        returns False and writes nothing if a point's status is UNRESOLVED."""
+        if np.any(H[:, _STATUS] == UNRESOLVED):
+            return False
         if self.ltg is None:
             self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
         data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
         data[self.ltg] = H.ravel()
         mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+        return True
 
 
 class _CompiledSet(_ContactSet):
@@ -226,15 +239,18 @@ class _CompiledSet(_ContactSet):
         self._kernel = fastpath.evaluate_packed
         self.pk = fastpath.PackedSet(law, slave.kind, slave.ref, points)
         self._H_time = None
+        self._dt = 0.0
 
     def _load_history(self, mbs, t):
         if t != self._H_time:
             self.pk.H[:] = self.history(mbs, _SOS)
             self._H_time = t
+            self._dt = self.step_time(mbs, t)
 
     def _eval(self, mode, q, q_t, fq=0.0, fv=0.0):
         pk = self.pk
-        self._kernel(mode, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fq, fv, pk.W, pk.P, pk.S, pk.I)
+        self._kernel(mode, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fq, fv, self._dt, pk.W, pk.P,
+                     pk.S, pk.I)
 
     def force(self, mbs, t, itemNumber, q, q_t):
         self._load_history(mbs, t)
@@ -252,7 +268,7 @@ class _CompiledSet(_ContactSet):
         self._eval(2, mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates, configuration=_CUR),
                    mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates_t, configuration=_CUR))
         self._H_time = None                   # the next Newton solve reads the history afresh
-        self._write_candidate(mbs, self.pk.Hn)
+        return self._write_candidate(mbs, self.pk.Hn)
 
 
 def _body_node(mbs, bodyNumber):
@@ -267,9 +283,20 @@ def _body_node(mbs, bodyNumber):
     return nodes[0]
 
 
+# Step reduction asked for when a contact point's motion in a step is unresolved (see
+# ContactLaw.evaluate): the step is repeated with this fraction of its size.
+UNRESOLVED_STEP_FACTOR = 0.25
+
+
 def _post_newton(mbs, t):
+    """Commit every contact set's history candidate; if any set saw an unresolved step, reject the
+    step and ask Exudyn to repeat it with a quarter of the step size (Exudyn restores Current
+    from StartOfStep, so sets already written leave no trace)."""
     for cs in mbs.variables[_SETS_KEY]:
-        cs.commit_candidate(mbs, t)
+        if not cs.commit_candidate(mbs, t):
+            h = t - mbs.systemData.GetTime(_SOS)
+            mbs.variables[_UNRESOLVED_KEY] = t
+            return [1.0, UNRESOLVED_STEP_FACTOR * h]
     return [0.0, -1.0]
 
 

@@ -17,7 +17,7 @@ friction, dT = dT/dp with p = (T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22).
 Packed parameters (``pack_law``): surface ``sp`` = [kind (0 plane, 1 cylinder), R, sign,
 axis_point(3), e1(3), e2(3), a(3)]; fields ``bp``/``fp`` = [polar flag, c11, c12, c22 (constant
 physical components of the positive tensor), l1, l2, r_c^2, sign]; law ``lp`` = [eps_N, d_N,
-map (0 seed, 1 exact, 2 radial)]. Node kinds: 0 ``NodeRigidBody2D``, 1 screw joint
+map (0 seed, 1 exact, 2 radial), d_T]. Node kinds: 0 ``NodeRigidBody2D``, 1 screw joint
 (``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``.
 This module needs no Exudyn.
 """
@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 from .law import _KAPPA_MAXIT, _KAPPA_RTOL, RETURN_MAPS
+from .surfaces import Cylinder
 
 MAP_CODES = {"seed": 0, "exact": 1, "radial": 2}
 NODE_KINDS = {"RigidBody2D": 0, "GenericODE2": 1, "RigidBodyRotVecLG": 2, "RigidBodyEP": 3}
@@ -60,7 +61,7 @@ def pack_law(law):
         p[7] = f.sign
         return p
 
-    lp = np.array([law.eps_N, law.d_N, float(MAP_CODES[law.return_map])])
+    lp = np.array([law.eps_N, law.d_N, float(MAP_CODES[law.return_map]), law.d_T])
     return sp, field(law.adhesion), field(law.friction), lp
 
 
@@ -260,14 +261,32 @@ def _wrap(a):
     return math.pi - (math.pi - a) % (2.0 * math.pi)
 
 
+BRANCH_TOLERANCE = Cylinder.BRANCH_TOLERANCE
+
+
+@njit(cache=True)
+def _release(h, bp, hn, S):
+    """Contact lost (``ContactLaw.released_energy``): T . C^-1 T / 2 at the anchor of an active
+    history row h is booked as dissipated in hn[5]."""
+    if not h[4] > 0.5:
+        return
+    Bp, dB = S[8, 5, :3], S[4, :3, :2]
+    _field(bp, h[2], h[3], Bp, dB)
+    c11, c12, c22 = -Bp[0], -Bp[1], -Bp[2]
+    det = c11 * c22 - c12 * c12
+    hn[5] += 0.5 * _quad(c22 / det, -c12 / det, c11 / det, h[0], h[1])
+
+
 # ----------------------------------------------------------------------------------------------
 # one contact point: ContactLaw.evaluate (transport formulation) for a single row
 
 @njit(cache=True)
-def contact_point(x, v, h, sp, bp, fp, lp, tangent, f, Kx, Dv, hn, S):
+def contact_point(x, v, h, sp, bp, fp, lp, tangent, dt, f, Kx, Dv, hn, S):
     """Force f (3) on the slave point, df/dx Kx (3, 3), df/dv Dv (3, 3) (when tangent) and the
-    history candidate hn (9) from position x, velocity v and converged history h (9).
-    S: scratch array of shape (>= 9, 9, 9). Returns the status (0 open, 1 stick, 2 slip)."""
+    history candidate hn (9) from position x, velocity v and converged history h (9); dt > 0 is
+    the time since h and predicts the branch of the cylinder angle (``Cylinder.resolve``).
+    S: scratch array of shape (>= 9, 9, 9). Returns the status (0 open, 1 stick, 2 slip,
+    3 unresolved)."""
     for i in range(9):
         hn[i] = h[i]
     for i in (0, 1, 2, 3, 4, 7, 8):
@@ -299,6 +318,7 @@ def contact_point(x, v, h, sp, bp, fp, lp, tangent, f, Kx, Dv, hn, S):
     if not cyl:
         gap = x[2]
         if not gap < 0.0:
+            _release(h, bp, hn, S)
             return 0
         n[2] = 1.0
         E[0, 0] = 1.0
@@ -317,6 +337,7 @@ def contact_point(x, v, h, sp, bp, fp, lp, tangent, f, Kx, Dv, hn, S):
         dist = math.hypot(l0, l1)
         gap = sg * (dist - R)
         if not gap < 0.0:
+            _release(h, bp, hn, S)
             return 0
         if dist <= 1e-14 * R:
             raise ValueError("Cylinder: slave point on the cylinder axis; the closest point projection is not unique")
@@ -336,19 +357,27 @@ def contact_point(x, v, h, sp, bp, fp, lp, tangent, f, Kx, Dv, hn, S):
                 dE0[i, j] = -er_i * dphi_j
                 dn[i, j] = sg * E[i, 0] * dphi_j
         u0, u1 = math.atan2(s, c), l2
-    eps_N, d_N, method = lp[0], lp[1], int(lp[2])
+    eps_N, d_N, method, d_T = lp[0], lp[1], int(lp[2]), lp[3]
+    vn = n[0] * v[0] + n[1] * v[1] + n[2] * v[2]
     N = eps_N * gap
     if d_N > 0.0:
-        N += d_N * (n[0] * v[0] + n[1] * v[1] + n[2] * v[2])
+        N += d_N * vn
     loaded = N < 0.0
     if not loaded:
         N = 0.0
+        d_T = 0.0
     active = h[4] > 0.5
-    tn1, tn2, du1, du2 = 0.0, 0.0, 0.0, 0.0
+    unresolved = False
+    tn1, tn2, du1, du2, dphi = 0.0, 0.0, 0.0, 0.0, 0.0
     if active:
         tn1, tn2 = h[0], h[1]
         if cyl:
-            du1, du2 = sp[1] * _wrap(u0 - h[2]), u1 - h[3]
+            dphi = _wrap(u0 - h[2])
+            if dt > 0.0:                  # branch of dphi from the predicted increment du_dx v dt / R
+                pred = (dudx[0, 0] * v[0] + dudx[0, 1] * v[1] + dudx[0, 2] * v[2]) * dt / sp[1]
+                dphi += 2.0 * math.pi * round((pred - dphi) / (2.0 * math.pi))
+                unresolved = abs(dphi - pred) > BRANCH_TOLERANCE
+            du1, du2 = sp[1] * dphi, u1 - h[3]
         else:
             du1, du2 = u0 - h[2], u1 - h[3]
     _field(bp, u0, u1, Bp, dB)
@@ -356,8 +385,9 @@ def contact_point(x, v, h, sp, bp, fp, lp, tangent, f, Kx, Dv, hn, S):
     t1 = tn1 + Bp[0] * du1 + Bp[1] * du2
     t2 = tn2 + Bp[1] * du1 + Bp[2] * du2
     T1, T2, sliding, s1, s2, D = _return_map(method, t1, t2, -N, Bp, Fp, dT)
+    # force conjugate to the slip of C (du_dx^T T), normal -N n, tangential dashpot -d_T (v - n vn)
     for i in range(3):
-        f[i] = E[i, 0] * T1 + E[i, 1] * T2 - N * n[i]
+        f[i] = dudx[0, i] * T1 + dudx[1, i] * T2 - N * n[i] - d_T * (v[i] - n[i] * vn)
     if tangent:
         for j in range(3):
             dNdx[j] = 0.0
@@ -385,16 +415,28 @@ def contact_point(x, v, h, sp, bp, fp, lp, tangent, f, Kx, Dv, hn, S):
                 g2 += dT[1, k] * dp[k, j]
             w1 = -dT[0, 2] * dNdv[j]
             w2 = -dT[1, 2] * dNdv[j]
+            vdn = v[0] * dn[0, j] + v[1] * dn[1, j] + v[2] * dn[2, j]
             for i in range(3):
-                Kx[i, j] = E[i, 0] * g1 + E[i, 1] * g2 - n[i] * dNdx[j] + dE0[i, j] * T1 - N * dn[i, j]
-                Dv[i, j] = E[i, 0] * w1 + E[i, 1] * w2 - n[i] * dNdv[j]
+                # d(du_dx[0])/dx = -R (e_r e_phi^T + e_phi e_r^T) / d^2 on the cylinder, 0 on the plane
+                d2u = 0.0
+                if cyl:
+                    er_i, er_j = sp[2] * n[i], sp[2] * n[j]          # e_r = sign n
+                    d2u = -sp[1] * (er_i * E[j, 0] + E[i, 0] * er_j) / (dist * dist)
+                Kx[i, j] = (dudx[0, i] * g1 + dudx[1, i] * g2 - n[i] * dNdx[j] + d2u * T1 - N * dn[i, j]
+                            + d_T * (dn[i, j] * vn + n[i] * vdn))
+                Dv[i, j] = (dudx[0, i] * w1 + dudx[1, i] * w2 - n[i] * dNdv[j]
+                            - d_T * ((1.0 if i == j else 0.0) - n[i] * n[j]))
     a0, a1 = u0, u1
     if active and cyl:
-        a0 = h[2] + _wrap(u0 - h[2])
+        a0 = h[2] + dphi
+    # dissipation with the integrator's trapezoidal quadrature: -(T_n + T)/2 . dxi_sl
+    D = -0.5 * ((tn1 + T1) * s1 + (tn2 + T2) * s2)
     hn[0], hn[1], hn[2], hn[3], hn[4] = T1, T2, a0, a1, 1.0
     hn[5] = h[5] + D
     hn[6] = h[6] + math.hypot(s1, s2)
     status = 2 if sliding else 1
+    if unresolved:
+        status = 3
     hn[7] = float(status)
     hn[8] = N
     return status
@@ -430,10 +472,10 @@ def _rotation(kind, qt, A, G):
 
 
 @njit(cache=True)
-def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, Q, J, Hn, S):
+def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J, Hn, S):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
-    reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, S: scratch
-    of shape (SCRATCH_SLOTS, 9, 9).
+    reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
+    H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9).
     mode 0: Q (n,) = generalized force sum Jp^T f;
     mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), with the
             geometric lever-arm term for the 2D, screw-joint and rotation-vector nodes;
@@ -507,7 +549,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, Q, J, Hn
             for i in range(3):
                 for j in range(3):
                     Jp[i, j] = 1.0 if i == j else 0.0
-        st = contact_point(x, v, H[k], sp, bp, fp, lp, tangent, f, Kx, Dv, hn, S)
+        st = contact_point(x, v, H[k], sp, bp, fp, lp, tangent, dt, f, Kx, Dv, hn, S)
         if st > 0:
             ncontact += 1
         if mode == 2:
@@ -568,7 +610,7 @@ _I_KIND, _I_NQ, _I_SP, _I_BP, _I_FP, _I_LP, _I_REF, _I_END = range(8)
 
 class PackedSet:
     """Parameters, points, history, outputs and scratch of one contact set packed for one kernel
-    call with nine arguments: ``evaluate_packed(mode, q, q_t, fq, fv, W, P, S, I)``. Views: ``H``
+    call with ten arguments: ``evaluate_packed(mode, q, q_t, fq, fv, dt, W, P, S, I)``. Views: ``H``
     (converged history, written by the caller), ``Q``, ``J``, ``Hn`` (outputs)."""
 
     def __init__(self, law, node_kind, ref, points):
@@ -577,7 +619,7 @@ class PackedSet:
         kind = NODE_KINDS[node_kind]
         nq = NODE_COORDINATES[kind]
         K = b.shape[0]
-        offs = np.concatenate([[0], np.cumsum([16, 8, 8, 3, nq])]).astype(np.int64)
+        offs = np.concatenate([[0], np.cumsum([16, 8, 8, 4, nq])]).astype(np.int64)
         self.I = np.array([kind, nq, *offs], dtype=np.int64)
         self.W = np.concatenate([sp, bp, fp, lp, np.asarray(ref, dtype=float)])
         self.P = np.zeros((3, K, 9))
@@ -589,9 +631,9 @@ class PackedSet:
 
 
 @njit(cache=True)
-def evaluate_packed(mode, q, q_t, fq, fv, W, P, S, I):
+def evaluate_packed(mode, q, q_t, fq, fv, dt, W, P, S, I):
     """evaluate_set on the arrays packed by PackedSet."""
     nq = I[_I_NQ]
     return evaluate_set(I[_I_KIND], q, q_t, W[I[_I_REF]:I[_I_END]], P[0, :, :3], P[1], W[I[_I_SP]:I[_I_BP]],
-                        W[I[_I_BP]:I[_I_FP]], W[I[_I_FP]:I[_I_LP]], W[I[_I_LP]:I[_I_REF]], mode, fq, fv,
+                        W[I[_I_BP]:I[_I_FP]], W[I[_I_FP]:I[_I_LP]], W[I[_I_LP]:I[_I_REF]], mode, fq, fv, dt,
                         S[17, 6, :nq], S[18, :nq, :nq], P[2], S)

@@ -72,7 +72,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .contact import ContactLaw
+from .contact import UNRESOLVED, ContactLaw
 from .scenes import (BlockParams, ScrewParams, block_contact_law, block_points, block_summary,
                      screw_contact_law, screw_points, screw_summary)
 from .validation import check_bool, check_in_range, check_instance, check_integer, check_keywords, check_positive
@@ -158,9 +158,9 @@ class _BlockPlanar(_Model):
         V = np.column_stack([v[0] - v[2] * P[:, 1], v[1] + v[2] * P[:, 0], np.zeros(self.K)])
         return X, V, P
 
-    def evaluate(self, q, v, t, H, tangent=True):
+    def evaluate(self, q, v, t, H, tangent=True, dt=None):
         X, V, P = self.points(q, v)
-        st = self.law.evaluate(X, V, H, tangent)
+        st = self.law.evaluate(X, V, H, tangent, dt)
         f = st.force
         Fd, dFd = self.drive(q, t)
         g = np.array([f[:, 0].sum() + Fd[0], f[:, 1].sum() + Fd[1],
@@ -211,13 +211,13 @@ class _Rigid6(_Model):
         """F_world (3), M_world (3), dF/dr (3,3), dM_world/dyaw (3)."""
         raise NotImplementedError
 
-    def evaluate(self, q, v, t, H, tangent=True):
+    def evaluate(self, q, v, t, H, tangent=True, dt=None):
         r, R, yaw = q
         Om = v[3:]
         RS = self.s @ R.T                                         # R s_k, rows
         X = r + RS
         V = v[:3] + np.cross(Om, self.s) @ R.T
-        st = self.law.evaluate(X, V, H, tangent)
+        st = self.law.evaluate(X, V, H, tangent, dt)
         f = st.force
         fb = f @ R                                                # R^T f_k, rows
         Fe, Me, dFe, dMe = self.external(q, t)
@@ -296,14 +296,14 @@ class _ScrewReduced(_Model):
         self.q0 = np.zeros(2)
         self.v0 = np.zeros(2)
 
-    def evaluate(self, q, v, t, H, tangent=True):
+    def evaluate(self, q, v, t, H, tangent=True, dt=None):
         c, s = math.cos(q[0]), math.sin(q[0])
         P = self.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
         X = P + np.array([0.0, 0.0, q[1]])
         ez_x_P = np.column_stack([-P[:, 1], P[:, 0], np.zeros(self.K)])
         V = v[0] * ez_x_P
         V[:, 2] += v[1]
-        st = self.law.evaluate(X, V, H, tangent)
+        st = self.law.evaluate(X, V, H, tangent, dt)
         f = st.force
         tau, dtau, Fz, dFz = _screw_drive(self.p, q[0], q[1], t)
         g = np.array([np.sum(ez_x_P * f) + tau, f[:, 2].sum() + Fz])
@@ -393,6 +393,7 @@ class _Stepper:
         self.floor = float(floor)
         self.n_iter = 0
         self.n_rejected = 0
+        self.n_unresolved = 0     # converged steps rejected because a contact point's motion was unresolved
         self.forced = []          # (t, scaled residual) of steps accepted without convergence
 
     def initial(self, t0):
@@ -422,7 +423,7 @@ class _Stepper:
         v1 = S["v"] + h * (1.0 - self.gamma) * S["a"] + h * self.gamma * a1
         vdot1 = ((1.0 - self.am) * a1 + self.am * S["a"] - self.af * S["vdot"]) / (1.0 - self.af)
         q1, T = m.retract(S["q"], d)
-        g, Gq, Gv, st = m.evaluate(q1, v1, t1, S["H"], tangent)
+        g, Gq, Gv, st = m.evaluate(q1, v1, t1, S["H"], tangent, h)
         r = m.mass * vdot1 - g
         return r, (q1, v1, a1, vdot1, st), (T, Gq, Gv)
 
@@ -450,6 +451,9 @@ class _Stepper:
             fref = max(fref, m.force_level(sol[4]))
             err = np.max(np.abs(r) / scale) / fref
             if err <= self.tol:
+                if np.any(sol[4].status == UNRESOLVED):   # a point turned more than the step resolves
+                    self.n_unresolved += 1
+                    return None
                 return pack(sol, it)
             if best is None or err < best[0]:
                 best = (err, sol, it)
@@ -568,6 +572,10 @@ def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_ne
                 return new
             stepper.n_rejected += 1
         if depth >= stepper.max_halvings:
+            if stepper.n_unresolved:
+                raise RuntimeError(f"contact point motion unresolved at t = {t:.6g} s even with step {h:.3g} s "
+                                   f"({depth} halvings): a point turns too far about the cylinder axis per step "
+                                   f"for its angle increment to be known; use a smaller dt")
             raise RuntimeError(f"Newton did not converge at t = {t:.6g} s even with step {h:.3g} s "
                                f"({depth} halvings); try a smaller dt or the numerical Jacobian")
         S = advance(S, t, 0.5 * h, depth + 1, False, False)
@@ -578,7 +586,8 @@ def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_ne
     wall = time.perf_counter() - wall0
     traj = {k: np.array([row[k] for row in rows]) for k in rows[0]}
     info = dict(solver=p.solver, jacobian=jacobian, rho_inf=rho_inf if p.solver == "generalized_alpha" else None,
-                rejected_steps=stepper.n_rejected, newton_tol=newton_tol, K=model.K,
+                rejected_steps=stepper.n_rejected, unresolved_steps=stepper.n_unresolved, newton_tol=newton_tol,
+                K=model.K,
                 forced_accepts=len(stepper.forced),
                 max_forced_residual=max((e for _, e in stepper.forced), default=0.0))
     return traj, wall, stepper.n_iter, len(rows) - 1, info

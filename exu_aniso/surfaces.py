@@ -59,7 +59,15 @@ class Frame:
 
     gap (K,) = xi3; n (K, 3); E (K, 3, 2) columns a_1, a_2; u (K, 2) chart-free coordinates of
     C (plane: x, y; cylinder: phi, z); du_dx (K, 2, 3) derivative of the arc-length increment of C
-    with respect to the slave position; dE_dx (K, 3, 2, 3); dn_dx (K, 3, 3).
+    with respect to the slave position; dE_dx (K, 3, 2, 3); dn_dx (K, 3, 3); d2u_dx2 (K, 2, 3, 3)
+    second derivative of the arc-length coordinates (the tangent of the conjugate force du_dx^T T).
+
+    Why du_dx and not E carries the traction: slip is measured at the contact point C (papers'
+    ``v_s - v = xi_dot^i rho_i``), and ``du_dx = (A^-1)^ij rho_j`` in frame components, with
+    ``A_ij = m_ij - xi3 h_ij`` (SPEC section 7). The force on the slave point that is work
+    conjugate to that slip is ``du_dx^T T``: its work is exactly ``T . du``. On a plane
+    ``du_dx = E^T``; in a hole of radius R a slave point at distance d > R from the axis gets the
+    tangential force (R / d) T_phi, so the friction torque about the axis is R T_phi.
     """
 
     gap: np.ndarray
@@ -69,6 +77,7 @@ class Frame:
     du_dx: np.ndarray
     dE_dx: np.ndarray | None
     dn_dx: np.ndarray | None
+    d2u_dx2: np.ndarray | None = None
 
 
 class Plane:
@@ -137,21 +146,28 @@ class Plane:
         n[:, 2] = 1.0
         du_dx = np.zeros((K, 2, 3))
         du_dx[:, 0, 0] = du_dx[:, 1, 1] = 1.0
-        dE = dn = None
+        dE = dn = d2u = None
         if derivatives:
             dE = np.zeros((K, 3, 2, 3))
             dn = np.zeros((K, 3, 3))
-        return Frame(x[:, 2].copy(), n, E, x[:, :2].copy(), du_dx, dE, dn)
+            d2u = np.zeros((K, 2, 3, 3))
+        return Frame(x[:, 2].copy(), n, E, x[:, :2].copy(), du_dx, dE, dn, d2u)
 
     @staticmethod
-    def increment(u, u_old):
+    def resolve(u, u_old, predicted=None):
+        """Arc-length increment du (K, 2), coordinates to store and the unresolved flag (K,) of a
+        step from u_old to u. The plane has no periodic coordinate: never unresolved."""
+        return u - u_old, np.array(u, dtype=float), np.zeros(np.shape(u)[:-1], dtype=bool)
+
+    @classmethod
+    def increment(cls, u, u_old):
         """Arc-length increment of C in the transport frame (K, 2)."""
-        return u - u_old
+        return cls.resolve(u, u_old)[0]
 
-    @staticmethod
-    def continue_coordinates(u, u_old):
+    @classmethod
+    def continue_coordinates(cls, u, u_old):
         """Coordinates to store for the next step (no wrap on a plane)."""
-        return u
+        return cls.resolve(u, u_old)[1]
 
     def transport_matrix(self, xi):
         """Lambda = E^T [rho_1, rho_2] at chart coordinates xi: maps chart to frame components."""
@@ -260,25 +276,48 @@ class Cylinder:
         du_dx = np.empty((K, 2, 3))
         du_dx[:, 0, :] = self.radius * ep / dist[:, None]
         du_dx[:, 1, :] = a
-        dE = dn = None
+        dE = dn = d2u = None
         if derivatives:
             dphi = ep / dist[:, None]                          # d phi / dx
             dE = np.zeros((K, 3, 2, 3))
             dE[:, :, 0, :] = -er[:, :, None] * dphi[:, None, :]  # d e_phi = -e_rho dphi
             dn = self.sign * ep[:, :, None] * dphi[:, None, :]   # d e_rho = e_phi dphi
-        return Frame(self.sign * (dist - self.radius), n, E, u, du_dx, dE, dn)
+            d2u = np.zeros((K, 2, 3, 3))                         # d(R e_phi / d)/dx = -R (e_r e_phi + e_phi e_r) / d^2
+            d2u[:, 0] = -(self.radius / (dist * dist))[:, None, None] * (
+                er[:, :, None] * ep[:, None, :] + ep[:, :, None] * er[:, None, :])
+        return Frame(self.sign * (dist - self.radius), n, E, u, du_dx, dE, dn, d2u)
+
+    # Largest distance between the branch of dphi that the predicted increment selects and the
+    # predicted increment itself [rad]; farther than this the step did not resolve the rotation.
+    BRANCH_TOLERANCE = 0.5 * math.pi
+
+    def resolve(self, u, u_old, predicted=None):
+        """Arc-length increment du = (R dphi, dz) (K, 2), coordinates to store (phi unwrapped, so it
+        counts revolutions) and the unresolved flag (K,) of a step from u_old to u.
+
+        phi is periodic, so the positions alone give dphi only modulo 2 pi. Without a prediction
+        the shortest branch is taken (|dphi| <= pi). With ``predicted`` (K, 2), the arc-length
+        increment expected from the velocity (engines pass du_dx v dt), the branch closest to
+        predicted[:, 0] / R is taken, so a point may turn many times per step; the step is flagged
+        unresolved when that branch still lies more than BRANCH_TOLERANCE from the prediction."""
+        d = np.asarray(u, dtype=float) - u_old
+        dphi = wrap_angle(d[..., 0])
+        unresolved = np.zeros(dphi.shape, dtype=bool)
+        if predicted is not None:
+            p = np.asarray(predicted, dtype=float)[..., 0] / self.radius
+            dphi = dphi + 2.0 * np.pi * np.round((p - dphi) / (2.0 * np.pi))
+            unresolved = np.abs(dphi - p) > self.BRANCH_TOLERANCE
+        out = np.array(u, dtype=float)
+        out[..., 0] = u_old[..., 0] + dphi
+        return np.stack([self.radius * dphi, d[..., 1]], axis=-1), out, unresolved
 
     def increment(self, u, u_old):
         """Arc-length increment (R * wrapped dphi, dz): small across phi = +-pi."""
-        d = u - u_old
-        return np.stack([self.radius * wrap_angle(d[..., 0]), d[..., 1]], axis=-1)
+        return self.resolve(u, u_old)[0]
 
-    @staticmethod
-    def continue_coordinates(u, u_old):
+    def continue_coordinates(self, u, u_old):
         """Unwrapped phi to store (counts revolutions), z as is."""
-        out = np.array(u, dtype=float)
-        out[..., 0] = u_old[..., 0] + wrap_angle(u[..., 0] - u_old[..., 0])
-        return out
+        return self.resolve(u, u_old)[1]
 
     def transport_matrix(self, xi):
         """Lambda = E^T [rho_1, rho_2] = diag(R, 1)."""

@@ -36,7 +36,7 @@ def test_closed_form_limits():
     p = ScrewParams()
     a = math.radians(p.helix_angle)
     N = p.eps_n * p.interference
-    rho = p.radius + p.interference
+    rho = p.radius        # the traction acts where the slip is measured, on the hole (surfaces.Frame)
     # no axial load: advance/pitch = (1 - r)/(1 + r tan^2 a); torque on the friction ellipse along e_phi
     for rm, r in (("radial", p.eps_1 / p.eps_2), ("exact", (p.mu_1 / p.mu_2) ** 2)):
         cf = steady_sliding(p.with_overrides(return_map=rm))

@@ -52,7 +52,8 @@ def test_convergence_order_block_planar(solver):
 @pytest.mark.parametrize("model", ["reduced", "full"])
 def test_convergence_order_screw_rotation(model):
     """Screw turned through a torsional spring, isotropic stick: J psi'' = k (w t - psi) - k_c psi
-    with k_c = eps_1 R (R + interference) (traction R dpsi on the hole, lever arm at the slave point).
+    with k_c = eps_1 R^2 (traction eps_1 R dpsi from the slip of the contact point on the hole, acting
+    there: lever arm R, the work-conjugate convention of surfaces.Frame).
     The full model exercises the Lie-group (rotation-vector increment) integrator."""
     dts = [2e-4, 1e-4, 5e-5, 2.5e-5]
     errs = []
@@ -60,7 +61,7 @@ def test_convergence_order_screw_rotation(model):
         p = ScrewParams(adhesion="isotropic", eps_1=1e4, friction="isotropic", mu_1=10.0, drive="rotation",
                         t_end=0.01, dt=dt, model=model)
         tr = simulate_screw(p).trajectory
-        kc = p.eps_1 * p.radius * (p.radius + p.interference)
+        kc = p.eps_1 * p.radius ** 2
         exact = _forced_oscillator(tr["t"], p.drive_stiffness, kc, 0.5 * p.mass * p.radius ** 2, p.rotation_speed)
         errs.append(np.max(np.abs(tr["angle"] - exact)))
         assert np.max(np.abs(tr["z"])) < 1e-12
