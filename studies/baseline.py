@@ -17,9 +17,9 @@ baseline is *our law in pure stick with isotropic adhesion*, which is a linear s
   as our normal penalty does.
 * screw, reduced model (``NodeGenericODE2`` with psi, z): there are no position markers on a
   generic node, so the only C++ items acting on it are coordinate items: per evaluated contact
-  point two ``ObjectConnectorCoordinateSpringDamper`` (psi with k = eps_1/K * R * (R + interference),
+  point two ``ObjectConnectorCoordinateSpringDamper`` (psi with k = eps_1/K * R**2: slip and force at the contact point C on the hole surface,
   z with k = eps_1/K) between a ``MarkerNodeCoordinate`` of the screw node and one of a ground node.
-  This is exactly our law in stick with isotropic adhesion (torque -eps R rho psi, force -eps z per
+  This is exactly our law in stick with isotropic adhesion (torque -eps R^2 psi, force -eps z per
   point). ``symmetry`` mirrors ``BuildScrew``: True (its default) -> ours evaluates ONE
   representative point carrying the totals, so the fair baseline is ONE pair with the total
   stiffnesses; False -> one pair per point of the layout (cost grows with K on both sides).
@@ -100,7 +100,6 @@ def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rho
         raise ValueError("BuildScrewBaseline: drive 'rotation' of the full model has no spring equivalent (the "
                          "screw slides all around the hole while ground-anchored springs wind up); use drive='torque' "
                          "or 'axial'")
-    rho = p.radius + p.interference
 
     def springs(mbs, oScrew, local):
         K = len(local)
@@ -111,7 +110,7 @@ def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rho
             mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0))
             out = []
             for _ in range(K):
-                for mC, kc in ((mPsi, kt * p.radius * rho), (mZ, kt)):
+                for mC, kc in ((mPsi, kt * p.radius ** 2), (mZ, kt)):
                     out.append(mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mGround, mC],
                                                                                   stiffness=kc, damping=0.0)))
             return dict(springs=out, points=np.asarray(local))

@@ -35,8 +35,7 @@ from exu_aniso.scenes import BlockParams, ScrewParams  # noqa: E402
 
 NAME = "hard_cases"
 SEED_KNOWN = ("seed map: its sliding direction depends on the step (power iteration towards the dominant "
-              "eigen-direction of C F, SPEC section 2) and its traction jumps every step, so the dissipation "
-              "it reports misses part of the work")
+              "eigen-direction of C F, SPEC section 2), so its path differs from the exact map's")
 OBLIQUE = dict(adhesion="cartesian", eps_1=1e5, eps_2=1e3, friction="cartesian", mu_1=0.2, mu_2=0.6,
                drive_angle=45.0, adhesion_angle=30.0, friction_angle=0.0)
 
@@ -104,8 +103,9 @@ for m in ("exact", "radial"):
              t_quick=1.0, err_tol=0.5, energy_tol=0.05,
              note=f"default polar scene at dt = {f} x 1e-3 s")
 case("large_step_50x_seed", scene="block", map="seed", params=dict(dt=5e-2, return_map="seed"), t_end=2.0,
-     t_quick=1.0, err_tol=0.5, energy_tol=0.15, note="seed map at dt = 5e-2 s",
-     known="seed map at large steps: Exudyn cuts the step ~15x; " + SEED_KNOWN)
+     t_quick=1.0, err_tol=0.5, energy_tol=1e-3,
+     note="seed map at dt = 5e-2 s: Exudyn cuts the step (~300 reductions), the ledger still closes because the "
+          "dissipation is the trapezoid of what the map removes (issue 11.5)")
 for m in ("seed", "exact", "radial"):
     case(f"vanishing_normal_{m}", scene="free", map=m,
          params=dict(normal_load=1e-9, drive="force", force=0.5, return_map=m, adhesion="cartesian",

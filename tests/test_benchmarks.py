@@ -157,7 +157,7 @@ def test_baseline_block_equals_contact_in_stick(model):
 
 @pytest.mark.parametrize("symmetry", [True, False])
 def test_baseline_reduced_screw_equals_contact_in_stick(symmetry):
-    """Reduced screw turned by the rotation drive, isotropic stick: torque -eps/K R (R + i) psi per
+    """Reduced screw turned by the rotation drive, isotropic stick: torque -eps/K R^2 psi per
     point is exactly linear in psi, so the coordinate springs reproduce our run (0.5 rad turned),
     with one representative point (lumped spring pair) or all 24 points (a pair per point)."""
     import baseline

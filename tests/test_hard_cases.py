@@ -165,13 +165,14 @@ def test_hard_case_converges_within_tolerance_or_fails_clearly(name):
         assert row["converged"] == "no" and spec["expect"][1] in row["message"]
 
 
-def test_seed_large_step_deficiency_is_detected_not_silent():
-    """The seed map at 50x the default step: Exudyn cuts the step many times and the energy the
-    history reports as dissipated misses most of the drive work; the balance check must see it
-    (if this starts passing, the seed map or the bookkeeping changed: update the case)."""
+def test_seed_large_step_dissipation_closes_the_balance():
+    """Issue 11.5: the seed map at 50x the default step jumps its traction every step and Exudyn cuts
+    the step many times; the dissipation (trapezoid of T over the slip the map removes) still closes
+    work = kinetic + stored + dissipated. Before the fix it missed 50-90 % of the drive work
+    (residual > 0.5 on e71b2f3); measured 2.4e-5 after it."""
     row = STUDY.run_case("large_step_50x_seed", quick=True)
-    assert row["verdict"].startswith("known deficiency") and row["step_reductions"] > 100
-    assert abs(row["energy_residual"]) > 0.5
+    assert row["verdict"] == "ok" and row["step_reductions"] > 100
+    assert abs(row["energy_residual"]) < 1e-3
 
 
 def test_energy_balance_is_exact_in_stick_with_constant_adhesion():
