@@ -6,7 +6,8 @@ Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
   node when the surface moves), with a ``forceUserFunction`` returning the generalized contact
   forces ``Q = sum_k Jp_k^T f_k`` and, for a master fixed to ground, a ``jacobianUserFunction``
   with the consistent tangent of ``exu_aniso.contact`` mapped through the point Jacobians
-  ``Jp_k`` (geometric terms of the rotation neglected: they change Newton's rate, not the result);
+  ``Jp_k``, completed by the terms of ``Jp_k`` depending on the node coordinates (lever arms and
+  point velocities turning with the body; ``_ContactSet._add_geometric``) for every node type;
 * the history lives in a ``NodeGenericData`` (9 numbers per point, ``HISTORY_FIELDS``). During
   Newton the law is evaluated from the last *converged* history (``ConfigurationType.StartOfStep``);
   one post-Newton function per mbs evaluates every set at the converged state and writes the
@@ -23,6 +24,7 @@ The law itself is never changed here: every force comes from ``ContactLaw.evalua
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import exudyn as exu
 import numpy as np
@@ -53,6 +55,18 @@ def _ep_matrix(e):
                   [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3]])
     G = 2.0 * np.array([[-e1, e0, e3, -e2], [-e2, -e3, e0, e1], [-e3, e2, -e1, e0]])  # omega_local = G de/dt
     return A, G
+
+
+def _ep_derivatives(e):
+    """dA/de_m (4, 3, 3) and dG/de_m (4, 3, 4) of _ep_matrix: A is quadratic and G linear in the
+    Euler parameters e (not normalised: the force is a smooth function of e in R^4)."""
+    e0, e1, e2, e3 = e
+    dA = 2.0 * np.array([[[e0, -e3, e2], [e3, e0, -e1], [-e2, e1, e0]],
+                         [[e1, e2, e3], [e2, -e1, -e0], [e3, e0, -e1]],
+                         [[-e2, e1, e0], [e1, e2, e3], [-e0, e3, -e2]],
+                         [[-e3, -e0, e1], [e0, -e3, e2], [e1, e2, e3]]])
+    dG = np.stack([_ep_matrix(np.eye(4)[m])[1] for m in range(4)])
+    return dA, dG
 
 
 def _rotate_z(angle, b):
@@ -120,6 +134,47 @@ class _BodyKinematics:
         J[:, :, 3:] = -np.einsum("ij,kjl,lm->kim", A, skew, G)
         return x, v, J, A
 
+    def point_derivatives(self, q, b):
+        """dJp/dq (K, 3, n, n) of local points b: dJp[k, :, :, c] is the derivative of Jp[k] by
+        coordinate c at fixed q_t. Since v = Jp q_t for every node type, dv/dq = dJp q_t.
+
+        2D / screw joint (rotation coordinate r): d(-a_y, a_x, 0)/dr = (-a_x, -a_y, 0);
+        RotVecLG: by the local rotation increment dtheta (A -> A (I + [dtheta]x), what Exudyn's
+        Lie-group solver linearises in), Jp_rot e_a = -A (b x e_a), so
+        d(Jp_rot e_a)/dtheta_c = -A (e_c x (b x e_a)) = -A (b delta_ac - e_a b_c);
+        EP: Jp_rot = -A(e) [b]x G(e), d/de_m = -(dA/de_m [b]x G + A [b]x dG/de_m)."""
+        q = self.ref + np.asarray(q, dtype=float)
+        K = b.shape[0]
+        dJ = np.zeros((K, 3, self.n, self.n))
+        if self.kind in ("RigidBody2D", "GenericODE2"):
+            r = 2 if self.kind == "RigidBody2D" else 0
+            ax, ay = _rotate_z(q[r], b)
+            dJ[:, 0, r, r] = -ax
+            dJ[:, 1, r, r] = -ay
+            return dJ
+        A, G = self.rotation(q)
+        if self.kind == "RigidBodyRotVecLG":
+            Ab = b @ A.T                                              # (K, 3): A b
+            for a in range(3):
+                dJ[:, :, 3 + a, 3 + a] -= Ab
+                dJ[:, :, 3 + a, 3:6] += np.einsum("i,kc->kic", A[:, a], b)
+            return dJ
+        dA, dG = _ep_derivatives(q[3:7])
+        bxG = np.cross(b[:, None, :], G.T[None, :, :])                    # (K, a, 3): b x G e_a
+        bxdG = np.cross(b[:, None, None, :], dG.transpose(0, 2, 1)[None])  # (K, m, a, 3): b x dG_m e_a
+        dJ[:, :, 3:, 3:] = -(np.einsum("mij,kaj->kiam", dA, bxG) + np.einsum("ij,kmaj->kiam", A, bxdG))
+        return dJ
+
+    def position_jacobian(self, q, b, Jp):
+        """dx/dq (K, 3, n) of local points b, given their virtual-work Jacobian Jp: Jp itself but
+        for Euler parameters, where dx/de_m = dA/de_m b (see _PointTangent)."""
+        if self.kind != "RigidBodyEP":
+            return Jp
+        dA, _ = _ep_derivatives(self.ref[3:7] + np.asarray(q, dtype=float)[3:7])
+        Jx = Jp.copy()
+        Jx[:, :, 3:7] = np.einsum("mij,kj->kim", dA, b)
+        return Jx
+
     def rotation(self, q_total):
         """Rotation matrix A and G (omega_local = G dq_rot/dt) of a 3D node at total coordinates."""
         if self.kind == "RigidBodyRotVecLG":
@@ -133,6 +188,18 @@ class _BodyKinematics:
         q_t = np.asarray(q_t, dtype=float)
         A, G = self.rotation(q)
         return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
+
+
+class _PointTangent(NamedTuple):
+    """q-derivatives of the slave point kinematics for the Jacobian: dx (K, 3, n) = dx/dq,
+    dJp (K, 3, n, n) = dJp/dq (_BodyKinematics.point_derivatives), dv (K, 3, n) = dv/dq at fixed
+    q_t = dJp q_t, and the law's damping Dv = df/dv (K, 3, 3). dx equals Jp except for Euler
+    parameters: x = p + A(e) b with A quadratic in e, so along e itself dx/de e = 2 A b while the
+    virtual-work Jacobian -A [b]x G(e) e = 0 (the unit norm is Exudyn's separate constraint)."""
+    dx: np.ndarray
+    dJp: np.ndarray
+    dv: np.ndarray
+    damping: np.ndarray
 
 
 class _ContactSet:
@@ -153,12 +220,17 @@ class _ContactSet:
 
     def state(self, mbs, q, q_t, history, tangent, dt=None):
         """Evaluate the law (dt: time since the converged history, see ContactLaw.evaluate); returns
-        (ContactState, slave Jp, F_global, master Jp or None, slave rotation matrix or None)."""
+        (ContactState, slave Jp, F_global, master Jp or None, tangent data of the slave points for
+        _add_geometric: _PointTangent when tangent and the master is ground, else None)."""
         qs, vs, qm, vm = self._split(q, q_t)
-        x, v, Jp, A_s = self.slave.points(qs, vs, self.points)
+        x, v, Jp, _ = self.slave.points(qs, vs, self.points)
         if self.master is None:
             st = self.law.evaluate(x, v, history, tangent, dt)
-            return st, Jp, st.force, None, A_s
+            tg = None
+            if tangent:
+                dJ = self.slave.point_derivatives(qs, self.points)
+                tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), dJ, np.einsum("kiac,a->kic", dJ, np.asarray(vs, dtype=float)), st.damping)
+            return st, Jp, st.force, None, tg
         p, A, w, vp = self.master.frame(qm, vm)
         d = x - p
         x_rel = d @ A
@@ -167,7 +239,7 @@ class _ContactSet:
         F = st.force @ A.T
         b_master = x_rel                       # reaction at the master's material point at S
         Jm = self.master.points(qm, vm, b_master)[2]
-        return st, Jp, F, Jm, A_s
+        return st, Jp, F, Jm, None
 
     def history(self, mbs, configuration):
         h = mbs.GetNodeOutput(self.nData, exu.OutputVariableType.Coordinates, configuration=configuration)
@@ -186,22 +258,25 @@ class _ContactSet:
         return Q.tolist()
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
-        st, Jp, F, _, A = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True, dt=self.step_time(mbs, t))
-        Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, Jp)
+        """-(fODE2 dQ/dq + fODE2_t dQ/dq_t) of Q = sum_k Jp_k^T f_k(x_k, v_k) (ground master)."""
+        st, Jp, F, _, tg = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True, dt=self.step_time(mbs, t))
+        Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, tg.dx)
         Dq = np.einsum("kia,kij,kjb->ab", Jp, st.damping, Jp)
-        self._add_geometric(Kq, Jp, F, A)
+        self._add_geometric(Kq, Jp, F, tg)
         return -(fODE2 * Kq + fODE2_t * Dq)
 
-    def _add_geometric(self, Kq, Jp, F, A):
-        """Add dQ/dq of the lever arms turning at fixed point forces (the reference's geometric
-        terms) for 2D, screw-joint and RotVecLG slaves; EP nodes keep the approximation."""
-        sl = self.slave
-        if sl.kind in ("RigidBody2D", "GenericODE2"):   # dQ_rot/drot = -sum(arm . f), arm_xy = (J[1,r], -J[0,r])
-            r = 2 if sl.kind == "RigidBody2D" else 0
-            Kq[r, r] -= np.sum(Jp[:, 1, r] * F[:, 0] - Jp[:, 0, r] * F[:, 1])
-        elif sl.kind == "RigidBodyRotVecLG":              # d(b x A^T f)/d(local rotation) = [b]x [A^T f]x
-            b, fb = self.points, F @ A
-            Kq[3:6, 3:6] += np.einsum("ki,kj->ij", fb, b) - np.eye(3) * np.sum(b * fb)
+    def _add_geometric(self, Kq, Jp, F, tg):
+        """Add the terms of dQ/dq that come from Jp depending on q (every node type; tg: the
+        _PointTangent of state()). With v = Jp q_t and f = f(x, v):
+
+            dQ/dq = sum_k Jp^T Kx Jp + sum_k f . dJp/dq + sum_k Jp^T Dv (dJp/dq q_t),
+
+        the first (law stiffness) is in Kq already; the second is the lever arms turning at fixed
+        point forces (the reference's geometric term), the third the point velocities turning
+        with the body (nonzero only with normal damping: Dv = df/dv)."""
+        Kq += np.einsum("kiac,ki->ac", tg.dJp, F)
+        if np.any(tg.damping):
+            Kq += np.einsum("kia,kij,kjc->ac", Jp, tg.damping, tg.dv)
 
     def commit_candidate(self, mbs, t):
         """Evaluate at the converged state (time t) and write the history candidate to Current.

@@ -472,13 +472,35 @@ def _rotation(kind, qt, A, G):
 
 
 @njit(cache=True)
+def _ep_derivatives(qt, q_t, dA, Gt):
+    """Derivatives of the Euler-parameter kinematics of _rotation at total coordinates qt (e =
+    qt[3:7], not normalised): dA[m, 3 i + j] = dA_ij/de_m (A is quadratic in e) and Gt (3, 4) =
+    G(de/dt). G is linear in e with G(e) e_t = -G(e_t) e, so d(omega_local)/de = -G(e_t)."""
+    e0, e1, e2, e3 = qt[3], qt[4], qt[5], qt[6]
+    rows = ((e0, -e3, e2, e3, e0, -e1, -e2, e1, e0),
+            (e1, e2, e3, e2, -e1, -e0, e3, e0, -e1),
+            (-e2, e1, e0, e1, e2, e3, -e0, e3, -e2),
+            (-e3, -e0, e1, e0, -e3, e2, e1, e2, e3))
+    for m in range(4):
+        for c in range(9):
+            dA[m, c] = 2.0 * rows[m][c]
+    d0, d1, d2, d3 = q_t[3], q_t[4], q_t[5], q_t[6]
+    Gt[0, 0], Gt[0, 1], Gt[0, 2], Gt[0, 3] = -2 * d1, 2 * d0, 2 * d3, -2 * d2
+    Gt[1, 0], Gt[1, 1], Gt[1, 2], Gt[1, 3] = -2 * d2, -2 * d3, 2 * d0, 2 * d1
+    Gt[2, 0], Gt[2, 1], Gt[2, 2], Gt[2, 3] = -2 * d3, 2 * d2, -2 * d1, 2 * d0
+
+
+@njit(cache=True)
 def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J, Hn, S):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
     reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
     H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9).
     mode 0: Q (n,) = generalized force sum Jp^T f;
-    mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), with the
-            geometric lever-arm term for the 2D, screw-joint and rotation-vector nodes;
+    mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), complete
+            for every node kind: with v = Jp q_t,
+            dQ/dq = sum Jp^T Kx Jp + sum f . dJp/dq + sum Jp^T Dv (dJp/dq q_t), dQ/dq_t = sum Jp^T Dv Jp
+            (lever arms and point velocities turning with the body; see exudyn_glue
+            _BodyKinematics.point_derivatives; rotation-vector nodes by the local increment);
     mode 2: Hn (K, 9) = history candidate. Returns the number of points in contact."""
     nq = q.shape[0]
     K = b.shape[0]
@@ -501,6 +523,12 @@ def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J
         _rotation(kind, qt, A, G)
     nr = nq - 3
     tangent = mode == 1
+    # EP derivatives (mode 1): dA/de_m in rows 3-6 of slot 14, G(e_t) in rows 3-5 of slot 10
+    dA, Gt = S[14, 3:7, :9], S[10, 3:6, :4]
+    if tangent and kind == 3:
+        _ep_derivatives(qt, q_t, dA, Gt)
+    # dx/dq: Jp except for Euler parameters (rows 6-8 of slot 17; see exudyn_glue._PointTangent)
+    Jx = S[17, 6:9, :nq] if kind == 3 else Jp
     if mode == 0:
         for i in range(nq):
             Q[i] = 0.0
@@ -549,6 +577,12 @@ def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J
             for i in range(3):
                 for j in range(3):
                     Jp[i, j] = 1.0 if i == j else 0.0
+            if tangent and kind == 3:          # dx/de_m = dA/de_m b (Euler parameters: not Jp along e)
+                for i in range(3):
+                    for j in range(3):
+                        Jx[i, j] = Jp[i, j]
+                    for m in range(4):
+                        Jx[i, 3 + m] = dA[m, 3 * i] * bx + dA[m, 3 * i + 1] * by + dA[m, 3 * i + 2] * bz
         st = contact_point(x, v, H[k], sp, bp, fp, lp, tangent, dt, f, Kx, Dv, hn, S)
         if st > 0:
             ncontact += 1
@@ -571,8 +605,44 @@ def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J
                     ka = Jp[i, a] * Kx[i, j]
                     da = Jp[i, a] * Dv[i, j]
                     for c2 in range(nq):
-                        Kq[a, c2] += ka * Jp[j, c2]
+                        Kq[a, c2] += ka * Jx[j, c2]
                         Dq[a, c2] += da * Jp[j, c2]
+        # velocity of the points turning with the body: Kq[:, c] += Jp^T Dv dv/dq_c (Dv = 0 without damping)
+        damped = False
+        for i in range(3):
+            for j in range(3):
+                if Dv[i, j] != 0.0:
+                    damped = True
+        if damped:
+            u0 = u1 = u2 = 0.0
+            if kind >= 2:                      # u = omega_local x b
+                u0, u1, u2 = wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx
+            c0 = 2 if kind == 0 else (0 if kind == 1 else 3)
+            nc = 1 if kind <= 1 else nr
+            for c in range(c0, c0 + nc):
+                if kind <= 1:                  # d(w (-a_y, a_x))/drot = w (-a_x, -a_y), a_x = Jp[1, r], a_y = -Jp[0, r]
+                    w = q_t[c0]
+                    d0, d1, d2 = -w * Jp[1, c0], w * Jp[0, c0], 0.0
+                elif kind == 2:                # -A (u x e_c)
+                    m = c - 3
+                    x0 = 0.0 if m == 0 else (-u2 if m == 1 else u1)
+                    x1 = u2 if m == 0 else (0.0 if m == 1 else -u0)
+                    x2 = -u1 if m == 0 else (u0 if m == 1 else 0.0)
+                    d0 = -(A[0, 0] * x0 + A[0, 1] * x1 + A[0, 2] * x2)
+                    d1 = -(A[1, 0] * x0 + A[1, 1] * x1 + A[1, 2] * x2)
+                    d2 = -(A[2, 0] * x0 + A[2, 1] * x1 + A[2, 2] * x2)
+                else:                          # dA/de_m u + A (b x G(e_t) e_m)
+                    m = c - 3
+                    g0, g1, g2 = Gt[0, m], Gt[1, m], Gt[2, m]
+                    y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
+                    d0 = dA[m, 0] * u0 + dA[m, 1] * u1 + dA[m, 2] * u2 + A[0, 0] * y0 + A[0, 1] * y1 + A[0, 2] * y2
+                    d1 = dA[m, 3] * u0 + dA[m, 4] * u1 + dA[m, 5] * u2 + A[1, 0] * y0 + A[1, 1] * y1 + A[1, 2] * y2
+                    d2 = dA[m, 6] * u0 + dA[m, 7] * u1 + dA[m, 8] * u2 + A[2, 0] * y0 + A[2, 1] * y1 + A[2, 2] * y2
+                e0 = Dv[0, 0] * d0 + Dv[0, 1] * d1 + Dv[0, 2] * d2
+                e1 = Dv[1, 0] * d0 + Dv[1, 1] * d1 + Dv[1, 2] * d2
+                e2 = Dv[2, 0] * d0 + Dv[2, 1] * d1 + Dv[2, 2] * d2
+                for a in range(nq):
+                    Kq[a, c] += Jp[0, a] * e0 + Jp[1, a] * e1 + Jp[2, a] * e2
         if kind == 0:
             geo -= Jp[1, 2] * f[0] - Jp[0, 2] * f[1]
         elif kind == 1:
@@ -587,6 +657,21 @@ def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J
             for i in range(3):
                 for j in range(3):
                     Mg[i, j] += fbv[i] * bv[j] - (bf if i == j else 0.0)
+        else:
+            # EP: Q_rot = G^T (b x A^T f); d/de_m at fixed f = dG/de_m^T c + G^T (b x dA/de_m^T f),
+            # c = b x A^T f; G is linear in e, G(e)^T c = 2 Mc e with Mc = [[0, -c^T], [c, -[c]x]]
+            fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]
+            fb1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
+            fb2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
+            cc0, cc1, cc2 = by * fb2 - bz * fb1, bz * fb0 - bx * fb2, bx * fb1 - by * fb0
+            Mc = ((0.0, -cc0, -cc1, -cc2), (cc0, 0.0, cc2, -cc1), (cc1, -cc2, 0.0, cc0), (cc2, cc1, -cc0, 0.0))
+            for m in range(4):
+                g0 = dA[m, 0] * f[0] + dA[m, 3] * f[1] + dA[m, 6] * f[2]     # dA_m^T f
+                g1 = dA[m, 1] * f[0] + dA[m, 4] * f[1] + dA[m, 7] * f[2]
+                g2 = dA[m, 2] * f[0] + dA[m, 5] * f[1] + dA[m, 8] * f[2]
+                y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
+                for a in range(4):
+                    Kq[3 + a, 3 + m] += 2.0 * Mc[a][m] + G[0, a] * y0 + G[1, a] * y1 + G[2, a] * y2
     if mode == 1:
         if kind == 0:
             Kq[2, 2] += geo
