@@ -22,18 +22,20 @@ import sys
 
 from .failure import SimulationFailure
 from .output import atomic_write as _atomic_write
-from .scenes import BlockParams, ScrewParams
+from .scenes import ENERGY_COLUMNS, BlockParams, ScrewParams
 
 SCENES = {"block": BlockParams, "screw": ScrewParams}
 ENGINES = ("exudyn", "reference")
 
 # trajectory columns written to CSV, in this order, with their SI units (plain names are the public
 # interface: block t,x,y,theta,...; screw t,angle,z,...; the units go to summary.json "units")
+# energy_*: the run's energy ledger (exu_aniso.energy; changes from t = 0, residual = imbalance)
+_LEDGER = {k: "J" for k in ENERGY_COLUMNS}
 COLUMNS = {
     "block": {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
-              "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N"},
+              "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N", **_LEDGER},
     "screw": {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
-              "axial_force": "N", "dissipated_energy": "J"},
+              "axial_force": "N", "dissipated_energy": "J", **_LEDGER},
 }
 
 
@@ -81,7 +83,7 @@ def write_csv(path, scene, traj):
     _atomic_write(path, lambda f: f.write(buf.getvalue().encode()))
 
 
-def plot_trajectory(path, scene, traj, title, incomplete=False):
+def plot_trajectory(path, scene, traj, title, incomplete=False, warning=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -102,8 +104,10 @@ def plot_trajectory(path, scene, traj, title, incomplete=False):
         a2.plot(traj["t"], [1e3 * z for z in traj["z"]])
         a2.set_ylabel("axial position z [mm]")
         a2.set_xlabel("t [s]")
-    fig.suptitle(title, fontsize=9, color="red" if incomplete else "black")
+    fig.suptitle(title, fontsize=9, color="red" if incomplete or warning else "black")
     fig.tight_layout()
+    if warning:      # the energy ledger does not close: say so on the figure itself
+        fig.text(0.5, 0.01, warning, transform=fig.transFigure, ha="center", va="bottom", fontsize=8, color="red")
     if incomplete:   # a partial run must not pass for a finished one
         fig.text(0.5, 0.5, "INCOMPLETE", transform=fig.transFigure, ha="center", va="center", fontsize=40,
                  color="red", alpha=0.25, rotation=30)
@@ -156,8 +160,12 @@ def write_outputs(scene, params, engine, out, res, failure=None):
     if failure is not None:
         title = (f"INCOMPLETE: stopped at t = {failure['time_reached']:.4g} s of {failure['end_time']:.4g} s\n"
                  + title)
+    warning = None
+    if summary.get("energy_ok") is False:
+        warning = (f"WARNING: energy ledger open, residual {summary['energy']['residual']:.3g} > "
+                   f"{summary['energy_tolerance']:.3g}")
     plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, title,
-                    incomplete=failure is not None)
+                    incomplete=failure is not None, warning=warning)
     write_summary(out, summary)
     return summary
 

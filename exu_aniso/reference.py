@@ -73,8 +73,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .contact import UNRESOLVED, ContactLaw
-from .scenes import (BlockParams, ScrewParams, block_contact_law, block_points, block_summary,
-                     screw_contact_law, screw_points, screw_summary)
+from . import energy
+from .scenes import (BlockParams, ScrewParams, block_contact_law, block_energy, block_inertia, block_points,
+                     block_summary, screw_contact_law, screw_energy, screw_inertia, screw_points, screw_summary)
 from .validation import check_bool, check_in_range, check_instance, check_integer, check_keywords, check_positive
 
 # ----------------------------------------------------------------------------------------------
@@ -137,7 +138,8 @@ class _BlockPlanar(_Model):
         self.s = block_points(p)[:, :2]
         self.K = len(self.s)
         self.gap = -p.normal_load / p.eps_n
-        self.mass = np.array([p.mass, p.mass, p.mass * p.size ** 2 / 6.0])
+        m, J = block_inertia(p)
+        self.mass = np.array([m, m, J[2, 2]])
         self.row_scale = np.array([1.0, 1.0, p.size])
         self.dof_scale = np.array([p.size, p.size, 1.0])
         self.q0 = np.array([p.x0, p.y0, 0.0])
@@ -175,6 +177,12 @@ class _BlockPlanar(_Model):
             Gq[:2, :2] += dFd
             Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
         return g, Gq, Gv, st
+
+    def motion(self, q, v):
+        """(COM position, rotation matrix, velocity, angular velocity) in the world frame."""
+        c, s = math.cos(q[2]), math.sin(q[2])
+        return (np.array([q[0], q[1], self.p.size / 2 + self.gap]), np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
+                np.array([v[0], v[1], 0.0]), np.array([0.0, 0.0, v[2]]))
 
     def record(self, q, v, t, st):
         Fd, _ = self.drive(q, t)
@@ -242,12 +250,15 @@ class _Rigid6(_Model):
     def world_omega(self, q, v):
         return q[1] @ v[3:]
 
+    def motion(self, q, v):
+        return q[0], q[1], v[:3], self.world_omega(q, v)
+
 
 class _BlockFull(_Rigid6):
     def __init__(self, p, law):
         self.p = p
         gap = -p.normal_load / p.eps_n
-        super().__init__(law, block_points(p), p.mass, [p.mass * p.size ** 2 / 6.0] * 3,
+        super().__init__(law, block_points(p), p.mass, np.diag(block_inertia(p)[1]),
                          [p.x0, p.y0, 0.5 * p.size + gap], p.size)
         a = math.radians(p.drive_angle)
         self.d = np.array([math.cos(a), math.sin(a), 0.0])
@@ -290,7 +301,8 @@ class _ScrewReduced(_Model):
         self.p, self.law = p, law
         self.s = screw_points(p)
         self.K = len(self.s)
-        self.mass = np.array([0.5 * p.mass * p.radius ** 2, p.mass])
+        m, J = screw_inertia(p)
+        self.mass = np.array([J[2, 2], m])
         self.row_scale = np.array([p.radius, 1.0])
         self.dof_scale = np.array([1.0, p.radius])
         self.q0 = np.zeros(2)
@@ -318,6 +330,11 @@ class _ScrewReduced(_Model):
             Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
         return g, Gq, Gv, st
 
+    def motion(self, q, v):
+        c, s = math.cos(q[0]), math.sin(q[0])
+        return (np.array([0.0, 0.0, q[1]]), np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
+                np.array([0.0, 0.0, v[1]]), np.array([0.0, 0.0, v[0]]))
+
     def record(self, q, v, t, st):
         tau, _, Fz, _ = _screw_drive(self.p, q[0], q[1], t)
         c, s = math.cos(q[0]), math.sin(q[0])
@@ -331,9 +348,8 @@ class _ScrewReduced(_Model):
 class _ScrewFull(_Rigid6):
     def __init__(self, p, law):
         self.p = p
-        m, r, L = p.mass, p.radius, p.length
-        Jt = m * (3 * r * r + L * L) / 12.0
-        super().__init__(law, screw_points(p), m, [Jt, Jt, 0.5 * m * r * r], [0.0, 0.0, 0.0], r)
+        m, J = screw_inertia(p)
+        super().__init__(law, screw_points(p), m, np.diag(J), [0.0, 0.0, 0.0], p.radius)
 
     def external(self, q, t):
         r, R, yaw = q
@@ -551,9 +567,10 @@ def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_ne
         "split_steps", split_steps, (list, tuple, set, range, np.ndarray), "sequence of step indices")}
     wall0 = time.perf_counter()
     S = stepper.initial(0.0)
-    rows = []
+    rows, states = [], []
 
     def rec(t, S, iters, h):
+        states.append((model.motion(S["q"], S["v"]), S["H"].copy()))
         row = model.record(S["q"], S["v"], t, S["st"])
         row.update(t=t, h=h, newton_iterations=iters, dissipated_energy=float(S["H"][:, 5].sum()),
                    slip_distance=float(S["H"][:, 6].mean()))
@@ -585,12 +602,13 @@ def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_ne
         S = advance(S, grid[i], grid[i + 1] - grid[i], 0, i in reject_steps, i in split_steps)
     wall = time.perf_counter() - wall0
     traj = {k: np.array([row[k] for row in rows]) for k in rows[0]}
+    motion = energy.RigidMotion(*(np.array([m[i] for m, _ in states]) for i in range(4)))
     info = dict(solver=p.solver, jacobian=jacobian, rho_inf=rho_inf if p.solver == "generalized_alpha" else None,
                 rejected_steps=stepper.n_rejected, unresolved_steps=stepper.n_unresolved, newton_tol=newton_tol,
                 K=model.K,
                 forced_accepts=len(stepper.forced),
                 max_forced_residual=max((e for _, e in stepper.forced), default=0.0))
-    return traj, wall, stepper.n_iter, len(rows) - 1, info
+    return traj, wall, stepper.n_iter, len(rows) - 1, info, motion, np.array([H for _, H in states])
 
 
 def simulate_block(params=None, **options):
@@ -608,8 +626,9 @@ def simulate_block(params=None, **options):
         raise TypeError(f"params must be BlockParams; got {type(p).__name__}")
     check_keywords("simulate_block", options, _RUN_OPTIONS + ("law",))
     model, floor = _model_for(p, options.pop("law", None))
-    traj, wall, iters, steps, info = _run(model, p, floor=floor, **options)
+    traj, wall, iters, steps, info, motion, H = _run(model, p, floor=floor, **options)
     summary = block_summary(traj, wall, steps, iters)
+    summary.update(block_energy(p, traj, motion, model.law, H))
     return Result(traj, summary, p, info)
 
 
@@ -623,6 +642,7 @@ def simulate_screw(params=None, **options):
         raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
     check_keywords("simulate_screw", options, _RUN_OPTIONS)
     model, floor = _model_for(p)
-    traj, wall, iters, steps, info = _run(model, p, floor=floor, **options)
+    traj, wall, iters, steps, info, motion, H = _run(model, p, floor=floor, **options)
     summary = screw_summary(traj, wall, steps, iters)
+    summary.update(screw_energy(p, traj, motion, model.s, model.law, H))
     return Result(traj, summary, p, info)

@@ -49,6 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import energy
 from .contact import ContactLaw
 from .fields import Adhesion, Friction
 from .law import RETURN_MAPS
@@ -409,6 +410,19 @@ def screw_contact_law(p):
     return ContactLaw(hole, B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map)
 
 
+def block_inertia(p):
+    """Mass [kg] and body-frame inertia tensor (3, 3) [kg m^2] of the cube (about its COM)."""
+    return p.mass, np.eye(3) * (p.mass * p.size ** 2 / 6.0)
+
+
+def screw_inertia(p):
+    """Mass [kg] and body-frame inertia tensor (3, 3) [kg m^2] of the screw: a solid cylinder of
+    radius ``radius`` and length ``length`` about its COM, axis z."""
+    m, r, L = p.mass, p.radius, p.length
+    Jt = m * (3.0 * r * r + L * L) / 12.0
+    return m, np.diag([Jt, Jt, 0.5 * m * r * r])
+
+
 def pitch(p):
     """Thread pitch 2 pi R tan(alpha) of the spiral net [m per revolution]."""
     return 2.0 * math.pi * p.radius * math.tan(math.radians(p.helix_angle))
@@ -421,6 +435,47 @@ BLOCK_SUMMARY_KEYS = ("x_end", "y_end", "theta_end", "vx_end", "vy_end", "headin
                       "slip_distance", "dissipated_energy", "wall_s", "steps", "newton_iterations")
 SCREW_SUMMARY_KEYS = ("angle_end", "z_end", "advance_per_rev", "torque_mean", "axial_force_mean",
                       "dissipated_energy", "wall_s", "steps", "newton_iterations")
+
+
+ENERGY_COLUMNS = tuple("energy_" + k for k in energy.LEDGER_KEYS)
+
+
+def _energy(terms, traj, what):
+    cols, summary = energy.ledger(**terms)
+    traj.update({"energy_" + k: v for k, v in cols.items()})
+    energy.warn_if_open(summary, what)
+    return summary
+
+
+def block_energy(p, traj, motion, law, H):
+    """Energy ledger of a block run (any engine): adds the ENERGY_COLUMNS to traj and returns the
+    summary entries (energy, energy_ok, energy_tolerance; see exu_aniso.energy.ledger).
+
+    motion: energy.RigidMotion of the cube's COM (world = master frame); law: the contact law as
+    evaluated at block_points(p); H (n, K, 9): converged history per sample. Work in: the drive
+    force along the drive direction; potential: normal_load (z - z0) (the load stands in for the
+    weight; constant in the planar model)."""
+    d = np.array([math.cos(math.radians(p.drive_angle)), math.sin(math.radians(p.drive_angle))])
+    s = d[0] * traj["x"] + d[1] * traj["y"]
+    mass, J = block_inertia(p)
+    X, V = energy.point_motion(motion, block_points(p))
+    stored, diss = energy.contact_energy(law, X, V, H)
+    return _energy(dict(work_in=energy.work_trapezoid(traj["drive_force"], s),
+                        kinetic=energy.rigid_kinetic(motion, mass, J),
+                        potential=p.normal_load * (traj["z"] - traj["z"][0]), stored=stored, dissipated=diss),
+                   traj, "block run")
+
+
+def screw_energy(p, traj, motion, points, law, H):
+    """Energy ledger of a screw run (any engine), as block_energy; points: the body-local points
+    the engine evaluates with law (one representative point carrying the totals under symmetry).
+    Work in: drive torque over the angle plus axial force (drive and axial_load) over z."""
+    mass, J = screw_inertia(p)
+    X, V = energy.point_motion(motion, points)
+    stored, diss = energy.contact_energy(law, X, V, H)
+    work = energy.work_trapezoid(traj["torque"], traj["angle"]) + energy.work_trapezoid(traj["axial_force"], traj["z"])
+    return _energy(dict(work_in=work, kinetic=energy.rigid_kinetic(motion, mass, J),
+                        potential=np.zeros(len(traj["t"])), stored=stored, dissipated=diss), traj, "screw run")
 
 
 def block_summary(traj, wall_s, steps, newton_iterations):

@@ -37,7 +37,8 @@ from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
 from exu_aniso.exudyn_glue import CreateAnisotropicContact
 from exu_aniso.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.reference import Result
-from exu_aniso.scenes import BlockParams, block_contact_law, block_points, block_summary
+from exu_aniso.energy import RigidMotion, motion_about_z
+from exu_aniso.scenes import BlockParams, block_contact_law, block_energy, block_points, block_summary
 from exu_aniso.validation import check_in_range, check_instance, check_positive
 
 SOLVER_TYPES = {"trapezoidal": exu.DynamicSolverType.TrapezoidalIndex2,
@@ -288,6 +289,19 @@ def BlockTrajectory(model):
     return traj
 
 
+def BodyMotion(model, traj):
+    """energy.RigidMotion of the model's body from its stored sensors (full: position, rotation
+    matrix, velocity, angular velocity; planar or reduced: from the trajectory's coordinates)."""
+    mbs, p, S = model["mbs"], model["params"], model["sensors"]
+    if p.model == "full":
+        P, A, V, W = (mbs.GetSensorStoredData(S[k])[:, 1:] for k in ("sPosition", "sRotation", "sVelocity", "sOmega"))
+        return RigidMotion(P, A.reshape(-1, 3, 3), V, W)
+    if "theta" in traj:
+        return motion_about_z(traj["x"], traj["y"], traj["z"], traj["theta"], traj["vx"], traj["vy"], 0.0,
+                              traj["omega"])
+    return motion_about_z(0.0, 0.0, traj["z"], traj["angle"], 0.0, 0.0, traj["vz"], traj["omega"])
+
+
 def RunBlock(p: BlockParams = None, **options):
     """Build and solve the block scene; returns exu_aniso.reference.Result (trajectory with the
     reference's keys, summary = scenes.block_summary, params, info). options: see BuildBlock."""
@@ -302,11 +316,14 @@ def RunBlock(p: BlockParams = None, **options):
                                  p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
         raise
     traj = BlockTrajectory(model)
+    summary = block_summary(traj, wall, steps, iters)
+    summary.update(block_energy(p, traj, BodyMotion(model, traj), model["contact"]["law"],
+                                HistoryOutputs(model["mbs"], model["contact"])[2]))
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
                 K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
                 implementation=model["contact"]["implementation"])
-    return Result(traj, block_summary(traj, wall, steps, iters), p, info)
+    return Result(traj, summary, p, info)
 
 
 if __name__ == "__main__":

@@ -32,9 +32,10 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
 
 from exu_aniso.exudyn_glue import CreateAnisotropicContact
 from exu_aniso.failure import SimulationFailure
-from exu_aniso.models.block import NODE_TYPES, AddNodeDrive, HistoryOutputs, SimulationSettingsFor, SolveTimed, Unwrap
+from exu_aniso.models.block import (NODE_TYPES, AddNodeDrive, BodyMotion, HistoryOutputs, SimulationSettingsFor,
+                                   SolveTimed, Unwrap)
 from exu_aniso.reference import Result
-from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_points, screw_summary
+from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.validation import check_bool, check_instance
 
 
@@ -240,11 +241,14 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, **options):
                                  p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
         raise
     traj = ScrewTrajectory(model, contactOutputs)
+    summary = screw_summary(traj, wall, steps, iters)
+    summary.update(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]),
+                                model["contact"]["law"], HistoryOutputs(model["mbs"], model["contact"])[2]))
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
                 K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
                 implementation=model["contact"]["implementation"])
-    return Result(traj, screw_summary(traj, wall, steps, iters), p, info)
+    return Result(traj, summary, p, info)
 
 
 if __name__ == "__main__":
