@@ -447,20 +447,22 @@ def _energy(terms, traj, what):
     return summary
 
 
-def block_energy(p, traj, motion, law, H):
+def block_energy(p, traj, motion, law, H, extra_work=None):
     """Energy ledger of a block run (any engine): adds the ENERGY_COLUMNS to traj and returns the
     summary entries (energy, energy_ok, energy_tolerance; see exu_aniso.energy.ledger).
 
     motion: energy.RigidMotion of the cube's COM (world = master frame); law: the contact law as
     evaluated at block_points(p); H (n, K, 9): converged history per sample. Work in: the drive
     force along the drive direction; potential: normal_load (z - z0) (the load stands in for the
-    weight; constant in the planar model)."""
+    weight; constant in the planar model); extra_work: cumulative work [J] of loads the scene does
+    not know (e.g. a lift pulse of a study), added to the work in."""
     d = np.array([math.cos(math.radians(p.drive_angle)), math.sin(math.radians(p.drive_angle))])
     s = d[0] * traj["x"] + d[1] * traj["y"]
     mass, J = block_inertia(p)
     X, V = energy.point_motion(motion, block_points(p))
     stored, diss = energy.contact_energy(law, X, V, H)
-    return _energy(dict(work_in=energy.work_trapezoid(traj["drive_force"], s),
+    work = energy.work_trapezoid(traj["drive_force"], s)
+    return _energy(dict(work_in=work if extra_work is None else work + extra_work,
                         kinetic=energy.rigid_kinetic(motion, mass, J),
                         potential=p.normal_load * (traj["z"] - traj["z"][0]), stored=stored, dissipated=diss),
                    traj, "block run")
