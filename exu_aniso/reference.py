@@ -51,6 +51,10 @@ c_a = (1 - alpha_m) / ((1 - alpha_f) beta h^2), c_v = gamma / (beta h); dg/dq co
 contact stiffness/damping mapped through the point Jacobians plus the geometric terms of the
 moments and the drive springs; T is the tangent of the retraction (identity or the right Jacobian
 J_r(theta) of SO(3)). ``jacobian="numerical"`` uses forward differences of the residual instead.
+Line search (``line_search=True``, default): the full Newton step is kept whenever it decreases
+|r / row_scale|_2 (or meets the convergence test), so monotonically converging solves keep their
+iterates; otherwise the step is halved (Armijo, up to 2^-10) -- this breaks the two-cycles of plain
+Newton at the kinks of the return maps (torque drive, axial load; counted in ``info["backtracks"]``).
 Convergence: every scaled residual row below ``newton_tol`` (rows scaled by a force level of the
 step, moment rows also by the body size). If Newton fails (``max_newton`` iterations, non-finite
 values) the step is rejected -- the history stays untouched -- and done as two half steps,
