@@ -202,6 +202,9 @@ def _simulate(p, engine):
 def run_for_targets(p, engine):
     """(advance_per_rev [m], torque_mean [N m]) of one simulation of p with engine."""
     s = _simulate(p, engine)
+    if s["advance_per_rev"] is None:
+        raise ValueError(f"advance_per_rev undefined for this parameter set ({engine}): "
+                         f"{s['undefined']['advance_per_rev']}")
     return float(s["advance_per_rev"]), float(s["torque_mean"])
 
 

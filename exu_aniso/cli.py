@@ -15,13 +15,13 @@ from __future__ import annotations
 import argparse
 import csv
 import io
-import json
 import math
 import os
 import sys
 
 from .failure import SimulationFailure
 from .output import atomic_write as _atomic_write
+from .output import json_safe, write_json
 from .scenes import ENERGY_COLUMNS, BlockParams, ScrewParams
 
 SCENES = {"block": BlockParams, "screw": ScrewParams}
@@ -140,8 +140,12 @@ def run_scene(scene, params, engine, out):
 
 
 def write_summary(out, summary):
-    _atomic_write(os.path.join(out, "summary.json"),
-                  lambda f: f.write(json.dumps(summary, indent=1, allow_nan=True).encode()))
+    """summary.json as strict JSON: undefined values are null (never NaN, which JSON does not
+    have), each named with its reason under "undefined" (non-finite numbers: "not finite")."""
+    undefined = dict(summary.get("undefined") or {})
+    clean = json_safe({k: v for k, v in summary.items() if k != "undefined"}, undefined)
+    clean["undefined"] = undefined
+    write_json(os.path.join(out, "summary.json"), clean)
 
 
 def write_outputs(scene, params, engine, out, res, failure=None):
@@ -156,7 +160,7 @@ def write_outputs(scene, params, engine, out, res, failure=None):
     write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory)
     keys = ("heading_deg", "r_mean") if scene == "block" else ("advance_per_rev", "torque_mean")
     title = f"{scene} ({engine}, {params.return_map} map, {params.model}): " + ", ".join(
-        f"{k} = {summary[k]:.4g}" for k in keys)
+        f"{k} = {summary[k]:.4g}" if summary.get(k) is not None else f"{k} undefined" for k in keys)
     if failure is not None:
         title = (f"INCOMPLETE: stopped at t = {failure['time_reached']:.4g} s of {failure['end_time']:.4g} s\n"
                  + title)

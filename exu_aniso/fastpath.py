@@ -79,6 +79,8 @@ def _field(p, u0, u1, P, dP):
         return
     x, y, rc2 = u0, u1, p[6]
     d = x * x + y * y + rc2
+    if not d < np.inf:
+        raise ValueError("point coordinates too large or not finite for the polar field: x^2 + y^2 overflows")
     if not d > 0.0:
         raise ValueError("polar orthotropy is undefined at the polar origin (x = y = 0); set core_radius > 0")
     M0, M1, M2 = (x * x + 0.5 * rc2) / d, x * y / d, (y * y + 0.5 * rc2) / d

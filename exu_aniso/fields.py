@@ -81,6 +81,9 @@ class TensorField:
         x, y = u[:, 0], u[:, 1]
         rc2 = self.core_radius ** 2
         d = x * x + y * y + rc2
+        if not np.all(np.isfinite(d)):
+            raise ValueError(f"{self!r}: point coordinates too large or not finite for the polar field: "
+                             f"x^2 + y^2 overflows (max |x|, |y| = {np.max(np.abs(u[:, :2])):.3g} m)")
         if np.any(d <= 0.0):
             raise ValueError(f"{self!r}: polar orthotropy is undefined at the polar origin (x = y = 0); "
                              "set core_radius > 0 to regularise it there")

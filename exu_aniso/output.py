@@ -29,8 +29,35 @@ def write_text(path, text):
     atomic_write(path, lambda f: f.write(text.encode()))
 
 
+def json_safe(obj, undefined=None, _key=None):
+    """A copy of ``obj`` (dicts, lists, tuples, numpy scalars and arrays) valid as strict JSON:
+    every non-finite float (NaN, +-inf; invalid in JSON) becomes None (null). With ``undefined`` (a
+    dict) each top-level key whose value was replaced is recorded there with the reason "not
+    finite (nan)" unless it already has a reason."""
+    import math
+
+    import numpy as np
+
+    if isinstance(obj, dict):
+        return {k: json_safe(v, undefined, k if _key is None else _key) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [json_safe(v, undefined, _key) for v in (obj.tolist() if isinstance(obj, np.ndarray) else obj)]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        if undefined is not None and _key is not None:
+            undefined.setdefault(_key, f"not finite ({obj!r})")
+        return None
+    return obj
+
+
+def dumps_json(obj):
+    """Strict JSON text (no NaN/Infinity tokens) of ``obj``; see ``json_safe``."""
+    return json.dumps(json_safe(obj), indent=1, allow_nan=False)
+
+
 def write_json(path, obj):
-    write_text(path, json.dumps(obj, indent=1, allow_nan=True) + "\n")
+    write_text(path, dumps_json(obj) + "\n")
 
 
 def write_table(path, columns, rows):

@@ -51,6 +51,10 @@ c_a = (1 - alpha_m) / ((1 - alpha_f) beta h^2), c_v = gamma / (beta h); dg/dq co
 contact stiffness/damping mapped through the point Jacobians plus the geometric terms of the
 moments and the drive springs; T is the tangent of the retraction (identity or the right Jacobian
 J_r(theta) of SO(3)). ``jacobian="numerical"`` uses forward differences of the residual instead.
+Line search (``line_search=True``, default): the full Newton step is kept whenever it decreases
+|r / row_scale|_2 (or meets the convergence test), so monotonically converging solves keep their
+iterates; otherwise the step is halved (Armijo, up to 2^-10) -- this breaks the two-cycles of plain
+Newton at the kinks of the return maps (torque drive, axial load; counted in ``info["backtracks"]``).
 Convergence: every scaled residual row below ``newton_tol`` (rows scaled by a force level of the
 step, moment rows also by the body size). If Newton fails (``max_newton`` iterations, non-finite
 values) the step is rejected -- the history stays untouched -- and done as two half steps,
@@ -397,6 +401,8 @@ class Result:
 
 
 class _Stepper:
+    LS_HALVINGS = 10          # backtracking halvings of the Newton step (lam down to 2^-10)
+
     def __init__(self, model, solver, rho_inf, jacobian, newton_tol, max_newton, max_halvings, floor):
         if jacobian not in ("analytic", "numerical"):
             raise ValueError(f"jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
@@ -411,6 +417,8 @@ class _Stepper:
         self.n_rejected = 0
         self.n_unresolved = 0     # converged steps rejected because a contact point's motion was unresolved
         self.forced = []          # (t, scaled residual) of steps accepted without convergence
+        self.line_search = True
+        self.n_backtracks = 0     # residual evaluations of the line search beyond the full Newton step
 
     def initial(self, t0):
         m = self.m
@@ -460,8 +468,8 @@ class _Stepper:
             return dict(q=q1, v=v1, a=a1, vdot=vdot1, H=st.history, st=st, iters=it, forced=forced,
                         fref=max(m.force_level(st), self.floor))
 
+        r, sol, (T, Gq, Gv) = self._residual(S, d, h, t + h, analytic)
         for it in range(self.max_newton + 1):
-            r, sol, (T, Gq, Gv) = self._residual(S, d, h, t + h, analytic)
             if not np.all(np.isfinite(r)):
                 break
             fref = max(fref, m.force_level(sol[4]))
@@ -484,12 +492,39 @@ class _Stepper:
                 delta = np.linalg.solve(Jac, r)
             except np.linalg.LinAlgError:
                 break
-            d = d - delta
             self.n_iter += 1
+            d, r, sol, (T, Gq, Gv) = self._line_search(S, d, delta, r, h, t + h, analytic, fref)
         if accept_best and best is not None:
             self.forced.append((t + h, best[0]))
             return pack(best[1], best[2], forced=True)
         return None
+
+    def _line_search(self, S, d, delta, r, h, t1, tangent, fref):
+        """Next Newton iterate d - lam delta. The full step (lam = 1) is taken whenever it decreases
+        the merit |r / row_scale|_2 or already meets the convergence test -- so a Newton solve that converges monotonically keeps exactly
+        its iterates (and its parity with Exudyn's plain Newton). Otherwise (two-cycles at the
+        kinks of the return maps, overshoot of the first step from the predictor) lam is halved
+        until the Armijo condition |r(lam)| <= (1 - 1e-4 lam) |r| holds, at most ``LS_HALVINGS``
+        times; if none holds the trial with the smallest merit is taken (and the outer loop goes
+        on, or the step is cut as before). Counted in ``n_backtracks`` (residual evaluations)."""
+        scale = self.m.row_scale
+        phi0 = np.linalg.norm(r / scale)
+        lam, best = 1.0, None
+        for k in range(self.LS_HALVINGS + 1 if self.line_search else 1):
+            dk = d - lam * delta
+            rk, sol, tang = self._residual(S, dk, h, t1, tangent)
+            phi = np.linalg.norm(rk / scale) if np.all(np.isfinite(rk)) else math.inf
+            if k > 0:
+                self.n_backtracks += 1
+            elif not self.line_search or phi < phi0 or (math.isfinite(phi) and np.max(np.abs(rk) / scale)
+                                                         <= self.tol * max(fref, self.m.force_level(sol[4]))):
+                return dk, rk, sol, tang
+            if phi <= (1.0 - 1e-4 * lam) * phi0:
+                return dk, rk, sol, tang
+            if best is None or phi < best[0]:
+                best = (phi, dk, rk, sol, tang)
+            lam *= 0.5
+        return best[1:]
 
     def _numerical_jacobian(self, S, d, h, t1, r0):
         n = self.m.n
@@ -553,13 +588,14 @@ def jacobian_check(params, steps=50, rho_inf=0.8):
     return A, Nm, float(np.max(np.abs(A - Nm)) / np.max(np.abs(Nm - Mi)))
 
 
-_RUN_OPTIONS = ("jacobian", "rho_inf", "newton_tol", "max_newton", "max_halvings", "nonsmooth_accept",
+_RUN_OPTIONS = ("jacobian", "rho_inf", "newton_tol", "max_newton", "max_halvings", "nonsmooth_accept", "line_search",
                 "reject_steps", "split_steps")
 
 
 def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_newton=25, max_halvings=6,
-         nonsmooth_accept=True, reject_steps=(), split_steps=(), floor):
+         nonsmooth_accept=True, line_search=True, reject_steps=(), split_steps=(), floor):
     stepper = _Stepper(model, p.solver, rho_inf, jacobian, newton_tol, max_newton, max_halvings, floor)
+    stepper.line_search = check_bool("line_search", line_search)
     nonsmooth_accept = check_bool("nonsmooth_accept", nonsmooth_accept)
     reject_steps = {check_integer("reject_steps entry", i, 0) for i in check_instance(
         "reject_steps", reject_steps, (list, tuple, set, range, np.ndarray), "sequence of step indices")}
@@ -606,7 +642,7 @@ def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_ne
     info = dict(solver=p.solver, jacobian=jacobian, rho_inf=rho_inf if p.solver == "generalized_alpha" else None,
                 rejected_steps=stepper.n_rejected, unresolved_steps=stepper.n_unresolved, newton_tol=newton_tol,
                 K=model.K,
-                forced_accepts=len(stepper.forced),
+                forced_accepts=len(stepper.forced), line_search=stepper.line_search, backtracks=stepper.n_backtracks,
                 max_forced_residual=max((e for _, e in stepper.forced), default=0.0))
     return traj, wall, stepper.n_iter, len(rows) - 1, info, motion, np.array([H for _, H in states])
 

@@ -56,6 +56,7 @@ from .law import RETURN_MAPS
 from .surfaces import Cylinder, Plane
 
 SOLVERS = ("trapezoidal", "generalized_alpha")
+POSITION_LIMIT = 1e6     # block: |x0|, |y0| <= POSITION_LIMIT * size
 
 # rules: "real", "> 0", ">= 0", "int >= 1", "(-90, 90)", "points" or a tuple of choices
 _POINTS_RULE = "'center' | 'corners' | 'grid:N' (N >= 2)"
@@ -63,8 +64,8 @@ _POINTS_RULE = "'center' | 'corners' | 'grid:N' (N >= 2)"
 BLOCK_PARAMS = {
     "mass": (1.0, "kg", "mass of the block", "> 0"),
     "size": (0.1, "m", "edge length of the cube", "> 0"),
-    "x0": (0.5, "m", "initial x of the centre (polar origin at x = y = 0)", "real"),
-    "y0": (0.0, "m", "initial y of the centre", "real"),
+    "x0": (0.5, "m", "initial x of the centre (polar origin at x = y = 0); |x0| <= 1e6 size", "real"),
+    "y0": (0.0, "m", "initial y of the centre; |y0| <= 1e6 size", "real"),
     "points": ("corners", "-", "contact points on the bottom face: one centre point, 4 corners or an "
                "N x N grid including the edges", _POINTS_RULE),
     "normal_load": (9.81, "N", "total downward load (planar: carried by the held penetration; full: "
@@ -215,9 +216,13 @@ class _ParamsMixin:
             object.__setattr__(self, name, _check(name, getattr(self, name), rule))
         if not self.dt <= self.t_end:
             raise ValueError(f"dt must be <= t_end; got dt={self.dt!r} > t_end={self.t_end!r}")
+        self._check_scene()
         if getattr(self, "model", None) == "full" and getattr(self, "points_per_ring", 3) < 3:
             raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); "
                              f"got {self.points_per_ring}")
+
+    def _check_scene(self):
+        """Rules that tie several parameters together (scene-specific)."""
 
     @classmethod
     def _unknown(cls, names):
@@ -295,6 +300,17 @@ class BlockParams(_ParamsMixin):
     model: str = _BD["model"]
     solver: str = _BD["solver"]
     core_radius: float = _BD["core_radius"]
+
+    def _check_scene(self):
+        # positions far beyond the block: a double at |x0| resolves only |x0| * 2.2e-16, and at
+        # 1e6 size that is 2.2e-10 size -- the limit where contact slips (~1e-5 m) still resolve;
+        # beyond ~1e154 m the polar field's x^2 + y^2 overflows. One clear rule instead.
+        for name in ("x0", "y0"):
+            v = getattr(self, name)
+            if not abs(v) <= POSITION_LIMIT * self.size:
+                raise ValueError(f"{name} must satisfy |{name}| <= {POSITION_LIMIT:g} * size = "
+                                 f"{POSITION_LIMIT * self.size:g} m (double precision must resolve the contact "
+                                 f"slip at that distance from the origin); got {name}={v!r}")
 
 
 @dataclass(frozen=True)
@@ -432,9 +448,34 @@ def pitch(p):
 # summaries shared by every engine (keys are a public interface: CLI summary.json)
 
 BLOCK_SUMMARY_KEYS = ("x_end", "y_end", "theta_end", "vx_end", "vy_end", "heading_deg", "r_min", "r_max", "r_mean",
-                      "slip_distance", "dissipated_energy", "wall_s", "steps", "newton_iterations")
+                      "slip_distance", "dissipated_energy", "wall_s", "steps", "newton_iterations", "undefined")
 SCREW_SUMMARY_KEYS = ("angle_end", "z_end", "advance_per_rev", "torque_mean", "axial_force_mean",
-                      "dissipated_energy", "wall_s", "steps", "newton_iterations")
+                      "dissipated_energy", "wall_s", "steps", "newton_iterations", "undefined")
+
+
+# thresholds below which a summary value is undefined (null in summary.json, reason under "undefined")
+HEADING_V_ABS = 1e-9     # m/s: |v_end| at or below this has no direction (round-off of a block at rest)
+HEADING_V_REL = 1e-6     # ... nor below this fraction of the largest speed of the run (a block come to rest)
+TURN_ANGLE_MIN = 1e-6    # rad: a net rotation over the last half at or below this is no turning
+
+
+def summary_float(summary, key):
+    """summary[key] as a float for tables and fits: NaN where the value is undefined (None)."""
+    v = summary[key]
+    return float("nan") if v is None else float(v)
+
+
+def _undefined_heading(vx, vy):
+    """Reason why the heading of the final velocity is undefined, or None. Undefined when
+    |v_end| <= max(HEADING_V_ABS, HEADING_V_REL * max_t |v|): the direction of a velocity at round-off
+    level is noise (atan2 of 1e-14 values)."""
+    speed = np.hypot(vx, vy)
+    limit = max(HEADING_V_ABS, HEADING_V_REL * float(speed.max()))
+    if speed[-1] <= limit:
+        return (f"block at rest at the end: |v_end| = {speed[-1]:.3g} m/s <= {limit:.3g} m/s "
+                f"(max({HEADING_V_ABS:g} m/s, {HEADING_V_REL:g} x the largest speed of the run, "
+                f"{speed.max():.3g} m/s)); its direction is round-off")
+    return None
 
 
 ENERGY_COLUMNS = tuple("energy_" + k for k in energy.LEDGER_KEYS)
@@ -483,31 +524,63 @@ def screw_energy(p, traj, motion, points, law, H):
 def block_summary(traj, wall_s, steps, newton_iterations):
     """Summary of a block trajectory (dict of arrays with t, x, y, theta, vx, vy, slip_distance,
     dissipated_energy): end state, heading of the final velocity [deg], distance of the centre
-    from the origin along the path (min, max, mean) [m], cost figures."""
+    from the origin along the path (min, max, mean) [m], cost figures. ``heading_deg`` is None
+    when the block is at rest at the end (see ``_undefined_heading``); ``undefined`` maps every
+    None value to its reason."""
     x, y = traj["x"], traj["y"]
     r = np.hypot(x, y)
+    vx, vy = np.asarray(traj["vx"], float), np.asarray(traj["vy"], float)
+    undefined = {}
+    why = _undefined_heading(vx, vy)
+    if why is None:
+        heading = float(math.degrees(math.atan2(vy[-1], vx[-1])))
+    else:
+        heading, undefined["heading_deg"] = None, why
     return dict(x_end=float(x[-1]), y_end=float(y[-1]), theta_end=float(traj["theta"][-1]),
-                vx_end=float(traj["vx"][-1]), vy_end=float(traj["vy"][-1]),
-                heading_deg=float(math.degrees(math.atan2(traj["vy"][-1], traj["vx"][-1]))),
+                vx_end=float(vx[-1]), vy_end=float(vy[-1]), heading_deg=heading,
                 r_min=float(r.min()), r_max=float(r.max()), r_mean=float(r.mean()),
                 slip_distance=float(traj["slip_distance"][-1]),
                 dissipated_energy=float(traj["dissipated_energy"][-1]),
-                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations))
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
+                undefined=undefined)
+
+
+def _undefined_advance(t, ang):
+    """Reason why the advance per revolution over the samples (t, ang) of the last half is
+    undefined, or None. The screw turns there when its net rotation exceeds TURN_ANGLE_MIN and
+    the peak-to-peak oscillation of the angle about its mean rate (a linear fit in t): a stuck
+    screw that only vibrates elastically has a z(angle) slope from the elastic coupling of the
+    net, which is no advance."""
+    if len(t) < 2:
+        return f"fewer than two samples in the last half of the run ({len(t)})"
+    net = abs(float(ang[-1] - ang[0]))
+    if net <= TURN_ANGLE_MIN:
+        return (f"screw did not turn over the last half of the run (|d angle| = {net:.3g} rad "
+                f"<= {TURN_ANGLE_MIN:g} rad)")
+    wobble = float(np.ptp(ang - np.polyval(np.polyfit(t, ang, 1), t)))
+    if net <= wobble:
+        return (f"screw sticks and only oscillates over the last half of the run: net rotation "
+                f"{net:.3g} rad <= its oscillation {wobble:.3g} rad (peak to peak about the mean rate)")
+    return None
 
 
 def screw_summary(traj, wall_s, steps, newton_iterations):
     """Summary of a screw trajectory (t, angle, z, torque, axial_force, dissipated_energy):
-    advance per revolution = 2 pi dz/dangle fitted over the last half of the run (signed; NaN
-    when the screw does not turn there), mean drive torque and axial force over the last half."""
-    t = traj["t"]
+    advance per revolution = 2 pi dz/dangle fitted over the last half of the run (signed; None
+    when the screw does not turn there, see ``_undefined_advance``), mean drive torque and axial
+    force over the last half; ``undefined`` maps every None value to its reason."""
+    t = np.asarray(traj["t"], float)
     late = t >= 0.5 * t[-1]
-    ang, z = traj["angle"][late], traj["z"][late]
-    if late.sum() >= 2 and np.ptp(ang) > 1e-9:
+    ang, z = np.asarray(traj["angle"], float)[late], np.asarray(traj["z"], float)[late]
+    undefined = {}
+    why = _undefined_advance(t[late], ang)
+    if why is None:
         adv = float(np.polyfit(ang, z, 1)[0] * 2.0 * math.pi)
     else:
-        adv = float("nan")
+        adv, undefined["advance_per_rev"] = None, why
     return dict(angle_end=float(traj["angle"][-1]), z_end=float(traj["z"][-1]), advance_per_rev=adv,
                 torque_mean=float(traj["torque"][late].mean()),
                 axial_force_mean=float(traj["axial_force"][late].mean()),
                 dissipated_energy=float(traj["dissipated_energy"][-1]),
-                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations))
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
+                undefined=undefined)

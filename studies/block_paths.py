@@ -21,6 +21,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import studylib as sl  # noqa: E402
+from exu_aniso.scenes import summary_float  # noqa: E402
 
 NAME = "block_paths"
 MAPS = ("seed", "exact", "radial")
@@ -117,7 +118,7 @@ def compute(args):
         s_ = math.sqrt(c["ratio"])
         near = int(r["spread"] <= SPREAD_MAX and abs(r["swept"]) >= SWEPT_MIN)
         rows.append([c["ratio"], GEOMETRIC_MEAN * s_, GEOMETRIC_MEAN / s_, c["return_map"], c["drive"], s["r_min"],
-                     s["r_max"], s["r_mean"], r["spread"], r["swept"], s["heading_deg"], math.degrees(s["theta_end"]),
+                     s["r_max"], s["r_mean"], r["spread"], r["swept"], summary_float(s, "heading_deg"), math.degrees(s["theta_end"]),
                      r["r_end"], r["r_qs"], r["escape"], near, s["newton_iterations"] / s["steps"], s["steps"],
                      info["accepted_steps"] - info["nominal_steps"], s["dissipated_energy"], s["wall_s"]])
         prow += [[c["ratio"], c["return_map"], c["drive"], t, x, y] for t, x, y in r["path"]]

@@ -48,6 +48,7 @@ if HERE not in sys.path:
 from studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.oracles import orthotropic_heading  # noqa: E402  (re-exported for tests/test_peers.py)
+from exu_aniso.scenes import summary_float  # noqa: E402
 
 NAME = "peers"
 
@@ -116,7 +117,7 @@ def slide_ours(case):
     tr = r.trajectory
     j = int(np.argmin(np.abs(tr["t"] - 0.5 * SLIDE_T)))
     path = math.degrees(math.atan2(tr["y"][-1] - tr["y"][j], tr["x"][-1] - tr["x"][j]))
-    heading = r.summary["heading_deg"]
+    heading = summary_float(r.summary, "heading_deg")
     wall, cpu, n = _time_runs(lambda: _solve_ours(BuildBlock, p), case["repeats"], case.get("min_time", 0.0))
     ref = analytic_heading_deg()
     return dict(engine="exudyn", setting=f"planar, {p.points}, exact map, trapezoidal", cone="-", dt=p.dt, eps=p.eps_1,

@@ -20,7 +20,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.calibration import steady_sliding  # noqa: E402
-from exu_aniso.scenes import ScrewParams, pitch  # noqa: E402
+from exu_aniso.scenes import ScrewParams, pitch, summary_float  # noqa: E402
 
 MAPS = ("radial", "exact", "seed")
 EPS_1 = 1e4          # N/m, along the helix, fixed; eps_2 = eps_1 / r
@@ -137,7 +137,7 @@ def main(argv=None):
         for c, o in R:
             if c["kind"] == kind:
                 s = o["summary"]
-                rows.append([c[k] for k in keys] + [s["advance_per_rev"] / o["pitch"], o["cf_ratio"],
+                rows.append([c[k] for k in keys] + [summary_float(s, "advance_per_rev") / o["pitch"], o["cf_ratio"],
                                                     s["torque_mean"], o["cf_torque"], o["cf_torque_any"],
                                                     s["wall_s"]])
         return rows
@@ -159,7 +159,7 @@ def main(argv=None):
     for c, o in R:
         if c["kind"] == "check":
             s = o["summary"]
-            rows.append([c["map"], c["r"], c["engine"], c["model"], s["advance_per_rev"] / o["pitch"],
+            rows.append([c["map"], c["r"], c["engine"], c["model"], summary_float(s, "advance_per_rev") / o["pitch"],
                          s["torque_mean"], s["wall_s"]])
     table(os.path.join(out, "crosscheck.csv"), ["map [-]", "r [-]", "engine [-]", "model [-]", "advance/pitch [-]",
                                                 "torque_mean [N m]", "wall [s]"], rows)

@@ -39,7 +39,7 @@ from benchmarks import IMPLEMENTATIONS  # noqa: E402
 from studylib import finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.oracles import orthotropic_heading  # noqa: E402
-from exu_aniso.scenes import BlockParams, ScrewParams, pitch  # noqa: E402
+from exu_aniso.scenes import BlockParams, ScrewParams, pitch, summary_float  # noqa: E402
 
 # ----------------------------------------------------------------------------------------------
 # families
@@ -130,7 +130,7 @@ def wp_case(case):
     out = dict(ok=True, cpu_s=float(np.median(cpu)), steps=int(r.summary["steps"]),
                newton=int(r.summary["newton_iterations"]), traj={k: np.asarray(r.trajectory[k]) for k in keys})
     if case["scene"] == "screw":
-        out["advance_per_rev"] = float(r.summary["advance_per_rev"])
+        out["advance_per_rev"] = summary_float(r.summary, "advance_per_rev")
     return out
 
 
