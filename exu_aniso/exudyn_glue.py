@@ -376,16 +376,18 @@ def _post_newton(mbs, t):
 
 
 def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
-                             normalStiffness=None, normalDamping=0.0, returnMap="exact", contactLaw=None,
+                             normalStiffness=None, normalDamping=None, returnMap="exact", contactLaw=None,
                              masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True,
-                             implementation="auto"):
+                             implementation="auto", tangentialDamping=None):
     """Add anisotropic frictional contact between body-fixed points and an analytical surface.
 
     bodyNumber: slave body (ObjectRigidBody, or ObjectRigidBody2D for a planar model);
     localPoints: (K, 3) body-local contact points [m]; surface: exu_aniso Plane or Cylinder in the
     master frame; adhesion / friction: exu_aniso Adhesion / Friction fields; normalStiffness
-    eps_N [N/m per point]; normalDamping d_N [N s/m per point]; returnMap "seed" | "exact" | "radial";
-    or contactLaw: a ready ContactLaw instead of the five previous arguments.
+    eps_N [N/m per point]; normalDamping d_N [N s/m per point, default 0]; tangentialDamping d_T
+    [N s/m per point, default 0: a dashpot -d_T v_t parallel to friction while loaded];
+    returnMap "seed" | "exact" | "radial"; or contactLaw: a ready ContactLaw instead of these
+    seven arguments (giving both is an error).
     masterBodyNumber: None (surface fixed to ground) or a 3D rigid body carrying the surface
     (equal and opposite force on it at the material point coinciding with each slave point).
     jacobian: "analytic" (consistent tangent; ground master only) or "numerical" (Exudyn's).
@@ -408,13 +410,16 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
             raise ValueError("CreateAnisotropicContact: give normalStiffness (with surface, adhesion, friction) "
                              "or a ready contactLaw")
         try:
-            contactLaw = ContactLaw(surface, adhesion, friction, normalStiffness, normalDamping, returnMap)
+            contactLaw = ContactLaw(surface, adhesion, friction, normalStiffness,
+                                    0.0 if normalDamping is None else normalDamping, returnMap,
+                                    tangential_damping=0.0 if tangentialDamping is None else tangentialDamping)
         except (TypeError, ValueError) as e:   # name the arguments as this function spells them
             raise type(e)("CreateAnisotropicContact: " + str(e).replace("normal_stiffness", "normalStiffness").replace(
-                "normal_damping", "normalDamping").replace("return_map", "returnMap")) from None
-    elif any(a is not None for a in (surface, adhesion, friction, normalStiffness)):
-        raise ValueError("CreateAnisotropicContact: contactLaw replaces surface/adhesion/friction/normalStiffness; "
-                         "give one or the other")
+                "normal_damping", "normalDamping").replace("tangential_damping", "tangentialDamping").replace(
+                "return_map", "returnMap")) from None
+    elif any(a is not None for a in (surface, adhesion, friction, normalStiffness, normalDamping, tangentialDamping)):
+        raise ValueError("CreateAnisotropicContact: contactLaw replaces surface/adhesion/friction/normalStiffness/"
+                         "normalDamping/tangentialDamping; give one or the other")
     check_instance("mbs", mbs, exu.MainSystem, "MainSystem of Exudyn (SC.AddSystem())")
     check_instance("contactLaw", contactLaw, ContactLaw)
     nObjects = mbs.systemData.NumberOfObjects()

@@ -179,6 +179,9 @@ class _BlockPlanar(_Model):
             Gq = np.einsum("kai,kab,kbj->ij", J, st.stiffness, J)
             Gq[2, 2] -= np.sum(P[:, 0] * f[:, 0] + P[:, 1] * f[:, 1])
             Gq[:2, :2] += dFd
+            dV = np.zeros((self.K, 3, 3))                             # dV/dq at fixed v: arms turn
+            dV[:, 0, 2], dV[:, 1, 2] = -v[2] * P[:, 0], -v[2] * P[:, 1]
+            Gq += np.einsum("kai,kab,kbj->ij", J, st.damping, dV)
             Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
         return g, Gq, Gv, st
 
@@ -247,6 +250,9 @@ class _Rigid6(_Model):
             Gq[3:, 3:] += np.einsum("kij,kjl->il", self.S, _skew_batch(fb))
             Gq[3:, 3:] += _skew(R.T @ Me) + np.outer(R.T @ dMe, R[2, :])
             Gq[:3, :3] += dFe
+            dV = np.zeros((self.K, 3, 6))                             # d(R (Om x s))/dphi = -R [Om x s]x
+            dV[:, :, 3:] = -np.einsum("ij,kjl->kil", R, _skew_batch(np.cross(Om, self.s)))
+            Gq += np.einsum("kia,kab,kbj->ij", B, st.damping, dV)
             Gv = np.einsum("kia,kab,kbj->ij", B, st.damping, A)
             Gv[3:, 3:] -= _skew(Om) @ np.diag(self.J) - _skew(JOm)
         return g, Gq, Gv, st
@@ -331,6 +337,9 @@ class _ScrewReduced(_Model):
             Gq = np.einsum("kai,kab,kbj->ij", J, st.stiffness, J)
             Gq[0, 0] += dtau - np.sum(P[:, 0] * f[:, 0] + P[:, 1] * f[:, 1])
             Gq[1, 1] += dFz
+            dV = np.zeros((self.K, 3, 2))                             # d(v0 ez x P)/dpsi = -v0 P_xy
+            dV[:, 0, 0], dV[:, 1, 0] = -v[0] * P[:, 0], -v[0] * P[:, 1]
+            Gq += np.einsum("kai,kab,kbj->ij", J, st.damping, dV)
             Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
         return g, Gq, Gv, st
 

@@ -13,7 +13,8 @@ Conventions (they hold for every engine that uses these parameters)
   ``friction_angle``, ``helix_angle``); rates in rad/s.
 * ``eps_n``, ``eps_1``, ``eps_2`` are TOTAL stiffnesses of the contact set [N/m]: they are split
   equally over the K contact points (``eps / K`` per point), so refining the point layout keeps the
-  overall stiffness of the contact. Friction coefficients are not split.
+  overall stiffness of the contact. ``normal_damping`` and ``tangential_damping`` [N s/m] are
+  TOTAL dashpot constants split the same way. Friction coefficients are not split.
 * Field indices: polar -> 1 = radial (e_r), 2 = circumferential (e_phi); cartesian -> 1 along the
   field angle (``adhesion_angle`` / ``friction_angle`` from e_x towards e_y), 2 across;
   spiral -> 1 along the helix (e1 = cos(alpha) e_phi + sin(alpha) e_z), 2 across it;
@@ -56,6 +57,16 @@ from .law import RETURN_MAPS
 from .surfaces import Cylinder, Plane
 
 SOLVERS = ("trapezoidal", "generalized_alpha")
+
+# Default normal damping of the screw [N s/m, total]. The full screw's lateral contact mode (k_lat
+# = eps_n / 2 = 5e6 N/m for a ring of points, m = 0.01 kg, 3.6 kHz; critical 2 sqrt(k_lat m) = 447
+# N s/m, the dashpots act laterally with d / 2) flutters under friction. Resolved in time (dt <=
+# 1e-4) it grows at 95 1/s with 100 N s/m and not at all with 200; at the default dt = 1e-3 the
+# trapezoidal rule under-resolves it and growth is slower but still ruins a 2 s run without
+# damping (studies/hard_cases.py, stability table). 300 N s/m is 34 % of critical. The reduced
+# screw's points move along the hole wall (n . v = 0), so the damping does not act there, and the
+# centred full screw then equals the reduced one.
+SCREW_NORMAL_DAMPING = 300.0
 POSITION_LIMIT = 1e6     # block: |x0|, |y0| <= POSITION_LIMIT * size
 
 # rules: "real", "> 0", ">= 0", "int >= 1", "(-90, 90)", "points" or a tuple of choices
@@ -93,6 +104,10 @@ BLOCK_PARAMS = {
               ("planar", "full")),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
     "core_radius": (1e-3, "m", "regularisation radius of polar fields at the origin", ">= 0"),
+    "normal_damping": (0.0, "N s/m", "total normal contact damping (dashpot on the gap rate), split equally over "
+                       "the K points", ">= 0"),
+    "tangential_damping": (0.0, "N s/m", "total tangential dashpot parallel to friction while loaded, split equally "
+                           "over the K points", ">= 0"),
 }
 
 SCREW_PARAMS = {
@@ -125,6 +140,10 @@ SCREW_PARAMS = {
     "model": ("reduced", "-", "reduced (rotation angle, axial position) or full 6-DOF rigid body",
               ("reduced", "full")),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
+    "normal_damping": (SCREW_NORMAL_DAMPING, "N s/m", "total normal contact damping (dashpot on the gap rate), split "
+                       "equally over the K points; the default damps the full screw's lateral mode (README)", ">= 0"),
+    "tangential_damping": (0.0, "N s/m", "total tangential dashpot parallel to friction while loaded, split equally "
+                           "over the K points", ">= 0"),
 }
 
 
@@ -300,6 +319,8 @@ class BlockParams(_ParamsMixin):
     model: str = _BD["model"]
     solver: str = _BD["solver"]
     core_radius: float = _BD["core_radius"]
+    normal_damping: float = _BD["normal_damping"]
+    tangential_damping: float = _BD["tangential_damping"]
 
     def _check_scene(self):
         # positions far beyond the block: a double at |x0| resolves only |x0| * 2.2e-16, and at
@@ -344,6 +365,8 @@ class ScrewParams(_ParamsMixin):
     dt: float = _SD["dt"]
     model: str = _SD["model"]
     solver: str = _SD["solver"]
+    normal_damping: float = _SD["normal_damping"]
+    tangential_damping: float = _SD["tangential_damping"]
 
 
 assert [f.name for f in dataclasses.fields(BlockParams)] == list(BLOCK_PARAMS)
@@ -406,7 +429,8 @@ def block_contact_law(p):
     else:
         Fr = Friction.polar(p.mu_1, p.mu_2, core_radius=p.core_radius)
     coords = "polar" if "polar" in (p.adhesion, p.friction) else "cartesian"
-    return ContactLaw(Plane(coordinates=coords), B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map)
+    return ContactLaw(Plane(coordinates=coords), B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map,
+                      normal_damping=p.normal_damping / K, tangential_damping=p.tangential_damping / K)
 
 
 def screw_contact_law(p):
@@ -423,7 +447,8 @@ def screw_contact_law(p):
     else:
         Fr = Friction.spiral(p.mu_1, p.mu_2, alpha)
     hole = Cylinder(p.radius, axis_point=(0.0, 0.0, 0.0), axis_direction=(0.0, 0.0, 1.0), side="inside")
-    return ContactLaw(hole, B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map)
+    return ContactLaw(hole, B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map,
+                      normal_damping=p.normal_damping / K, tangential_damping=p.tangential_damping / K)
 
 
 def block_inertia(p):

@@ -228,8 +228,11 @@ def test_step_rejection_leaves_no_trace():
                 mu_2=0.6),
     BlockParams(return_map="seed"), ScrewParams(), ScrewParams(model="full"),
     ScrewParams(model="full", return_map="exact", drive="axial", drive_stiffness=1e3, solver="generalized_alpha"),
+    BlockParams(normal_damping=3.0, tangential_damping=5.0),
+    BlockParams(model="full", normal_damping=30.0, tangential_damping=5.0),
+    ScrewParams(model="full", tangential_damping=1.0),
 ], ids=["block-planar", "block-full", "block-full-exact", "block-planar-seed", "screw-reduced", "screw-full",
-       "screw-full-axial"])
+       "screw-full-axial", "block-planar-damped", "block-full-damped", "screw-full-damped"])
 def test_analytic_jacobian_matches_differences(params):
     """The analytic Newton Jacobian (contact tangent through the point Jacobians, moment geometry,
     drive springs, SO(3) right Jacobian) equals central differences of the residual mid-run."""
