@@ -444,7 +444,7 @@ lateral offset hypot(x, y) during the exponential phase (offset 1e-15 to 1e-6 m)
 offset never left round-off. The fit starts where growth emerges from round-off, so rates are
 rough (a factor ~2); what counts is growth or none. The time step matters: at dt = 1e-3 the
 trapezoidal rule does not resolve the 3.6 kHz mode (omega dt = 22) and shows no growth within
-0.3 s, yet the undamped 2 s run still ends in a whirl (torque_mean 163 N m instead of 0.10); a
+0.3 s, yet the undamped 2 s run still ends in a whirl (torque_mean of order 100 N m instead of 0.10; the whirl is chaotic, so the figure changes with any perturbation); a
 damping found stable at a coarse step can flutter at a fine one. The same holds for a stiffer
 contact (eps_n 1e8: omega dt = 7 at 1e-4). The default (300 N s/m,
 exu_aniso.scenes.SCREW_NORMAL_DAMPING) is stable at the resolved step (dt 2.5e-5 to 1e-3)."""
