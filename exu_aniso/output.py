@@ -10,14 +10,25 @@ import os
 import tempfile
 
 
+def _umask_mode():
+    """Mode of a new regular file under the process umask (0o666 & ~umask), what open() gives.
+    The umask can only be read by setting it, so it is set and restored at once."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def atomic_write(path, write):
-    """Call ``write(f)`` on a binary temporary file beside ``path``, then move it into place."""
+    """Call ``write(f)`` on a binary temporary file beside ``path``, then move it into place.
+    The file gets the permissions of any file the user writes (0o666 minus the umask), not the
+    0600 that ``mkstemp`` gives its temporary file."""
     d = os.path.dirname(os.path.abspath(path))
     os.makedirs(d, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=os.path.splitext(path)[1])
     try:
         with os.fdopen(fd, "wb") as f:
             write(f)
+            os.fchmod(f.fileno(), _umask_mode())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
