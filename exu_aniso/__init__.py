@@ -1,12 +1,22 @@
 """exu_aniso: anisotropic frictional contact (Konyukhov & Schweizerhof) for Exudyn.
 
 The numpy kernels (surfaces, fields, law, contact, reference) never import exudyn; the glue
-module ``exu_aniso.exudyn_glue`` is the one place that talks to Exudyn.
+modules ``exu_aniso.exudyn_glue`` (the contact set), ``exu_aniso.mainsystem`` (the method
+``mbs.CreateAnisotropicContact``, bound to ``exudyn.MainSystem`` when this package is imported)
+and ``exu_aniso.graphics`` are the places that talk to Exudyn. Without Exudyn installed the
+package still imports, and the reference engine runs.
 """
 from .contact import HISTORY_FIELDS, OPEN, SLIP, STICK, ContactLaw, ContactState
 from .fields import Adhesion, Friction, TensorField
 from .law import RETURN_MAPS, return_map_batch, return_map_point
 from .surfaces import Cylinder, Plane
+
+try:   # Exudyn is a dependency, but the kernels and the reference engine also run without it
+    import exudyn as _exudyn
+except ImportError:
+    _exudyn = None
+if _exudyn is not None:
+    from . import mainsystem as _mainsystem   # binds mbs.CreateAnisotropicContact (extension registry)
 
 __version__ = "0.1.0"
 __all__ = ["Adhesion", "Friction", "TensorField", "Plane", "Cylinder", "ContactLaw", "ContactState",

@@ -24,6 +24,7 @@ This module needs no Exudyn.
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 from numba import njit
@@ -695,12 +696,39 @@ def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J
 _I_KIND, _I_NQ, _I_SP, _I_BP, _I_FP, _I_LP, _I_REF, _I_END = range(8)
 
 
+_announced = False
+
+
+def kernels_cached():
+    """True if numba's on-disk cache (``cache=True``: ``__pycache__`` beside this file, or
+    NUMBA_CACHE_DIR) holds compiled code of the contact kernel for the current source; False if the
+    first call will compile (10-20 s). Reads numba's cache index, a private API: when that fails,
+    it answers True (say nothing rather than something wrong)."""
+    try:
+        return bool(evaluate_packed._cache._cache_file._load_index())
+    except Exception:   # noqa: BLE001 - numba internals changed: no announcement
+        return True
+
+
+def announce_compile(stream=None):
+    """Say once per process, before it happens, that the kernels are being compiled."""
+    global _announced
+    if _announced:
+        return
+    _announced = True
+    if not kernels_cached():
+        where = getattr(getattr(evaluate_packed, "_cache", None), "_cache_path", "numba's cache directory")
+        print("exu_aniso: compiling the contact kernels with numba, once (10-20 s); later runs load them "
+              f"from the cache in {where}", file=stream or sys.stderr, flush=True)
+
+
 class PackedSet:
     """Parameters, points, history, outputs and scratch of one contact set packed for one kernel
     call with ten arguments: ``evaluate_packed(mode, q, q_t, fq, fv, dt, W, P, S, I)``. Views: ``H``
     (converged history, written by the caller), ``Q``, ``J``, ``Hn`` (outputs)."""
 
     def __init__(self, law, node_kind, ref, points):
+        announce_compile()
         sp, bp, fp, lp = pack_law(law)
         b = np.asarray(points, dtype=float)
         kind = NODE_KINDS[node_kind]

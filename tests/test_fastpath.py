@@ -6,6 +6,9 @@ numpy glue (generalized force, Jacobian, history candidate); and whole Exudyn ru
 with implementation="compiled" against implementation="numpy".
 """
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -249,3 +252,31 @@ def test_reduced_screw_symmetry_equals_all_points(over):
             scale = max(scale, float(np.max(np.abs(a.trajectory["energy_work_in"]))))
         err = float(np.max(np.abs(b.trajectory[k] - va))) / scale
         assert err < 1e-8, f"{over}: trajectory '{k}' differs by {err:.2e} (relative)"
+
+
+@pytest.mark.slow
+def test_first_compile_is_announced_once_and_cached(tmp_path):
+    """A fresh numba cache: the first run says it compiles (before the 10-20 s pass), the second
+    run loads the cache from disk and says nothing."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
+    code = ("import numpy as np\nfrom exu_aniso import Adhesion, ContactLaw, Friction, Plane, fastpath\n"
+            "law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)\n"
+            "pk = fastpath.PackedSet(law, 'RigidBody2D', np.zeros(3), [[0.0, 0.0, -1e-3]])\n"
+            "fastpath.evaluate_packed(0, np.zeros(3), np.zeros(3), 0.0, 0.0, 1e-3, pk.W, pk.P, pk.S, pk.I)\n"
+            "assert pk.Q[1] == 0.0 and pk.Q.shape == (3,)\n")
+    first = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    second = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert first.stderr.count("compiling the contact kernels") == 1, first.stderr
+    assert "compiling" not in second.stderr, second.stderr
+    assert any((tmp_path / "numba").rglob("*.nbi"))
+
+
+def test_compile_announcement_only_when_not_cached(monkeypatch, capsys):
+    from exu_aniso import fastpath
+    for cached, expected in ((True, ""), (False, "compiling the contact kernels")):
+        monkeypatch.setattr(fastpath, "_announced", False)
+        monkeypatch.setattr(fastpath, "kernels_cached", lambda: cached)
+        fastpath.announce_compile()
+        fastpath.announce_compile()            # once per process
+        err = capsys.readouterr().err
+        assert (expected in err) and err.count("compiling") == (0 if cached else 1)
