@@ -1,25 +1,37 @@
 """Kernel cost: per-point return map with plain floats versus all points at once with numpy.
 
-    python studies/bench_kernels.py [--repeats 7] [--out studies/results/bench_kernels.json]
+    python studies/bench_kernels.py [--quick] [--repeats 7] [--out DIR]
 
 Prints, per return map and number of points K, the median wall time of one evaluation (with
 tangent) over the repeats for (a) a Python loop calling ``return_map_point`` K times, (b) one
 vectorised ``return_map_batch`` call, their ratio measured in the same run, (c) the automatic
 choice ``return_map_batch(..., vectorize=None)`` the contact set uses; and the cost of one full
 contact-set evaluation ``ContactLaw.evaluate`` (projection + fields + law + tangent) per point.
+
+Writes ``bench_kernels.json`` (meta and rows), ``bench_kernels.csv``, ``report.md`` and
+``timing.json`` into ``--out`` (default ``studies/results/bench_kernels``, which git ignores; the
+figures quoted in README.md come from a full run). Timings are taken in this process, one after
+the other (``--processes`` and ``--mpi`` are refused). ``--quick``: K = 1 and 16 only, 3 repeats,
+a quarter of the calls per repeat (about a second).
 """
 from __future__ import annotations
 
-import argparse
-import json
 import os
 import platform
-import tempfile
+import sys
 import time
 
 import numpy as np
 
-from exu_aniso import Adhesion, ContactLaw, Friction, Plane, RETURN_MAPS, return_map_batch, return_map_point
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
+
+from _lib.studylib import Timer, finish, markdown_table, parse_args, table, write_json  # noqa: E402
+
+from exu_aniso import Adhesion, ContactLaw, Friction, Plane, RETURN_MAPS, return_map_batch, return_map_point  # noqa: E402
+
+NAME = "bench_kernels"
 
 
 def _median_time(fn, repeats, inner):
@@ -39,14 +51,15 @@ def slipping_inputs(K, rng):
     return T_tr, np.ones(K), B, F
 
 
-def run(repeats=7, sizes=(1, 4, 16, 64)):
+def run(repeats=7, sizes=(1, 4, 16, 64), calls=400):
+    """Rows of the table; ``calls``: evaluations per repeat of a single point (K points: calls / K)."""
     rng = np.random.default_rng(0)
     rows = []
     for method in RETURN_MAPS:
         for K in sizes:
             T_tr, N, B, F = slipping_inputs(K, rng)
             pts = [(tuple(T_tr[k]), float(N[k]), tuple(B[k]), tuple(F[k])) for k in range(K)]
-            inner = max(1, 400 // K)
+            inner = max(1, calls // K)
             t_point = _median_time(lambda: [return_map_point(*p, method) for p in pts], repeats, inner)
             t_batch = _median_time(lambda: return_map_batch(T_tr, N, B, F, method, vectorize=True), repeats, inner)
             t_auto = _median_time(lambda: return_map_batch(T_tr, N, B, F, method), repeats, inner)
@@ -58,17 +71,26 @@ def run(repeats=7, sizes=(1, 4, 16, 64)):
         H = law.initial_history(K)
         H[:, 2:4] = x[:, :2] - 1e-3
         H[:, 4] = 1.0
-        t = _median_time(lambda: law.evaluate(x, None, H), repeats, max(1, 200 // K))
+        t = _median_time(lambda: law.evaluate(x, None, H), repeats, max(1, calls // 2 // K))
         rows.append({"kernel": "contact_set", "map": law.return_map, "K": K, "batch_s": t, "per_point_s": t / K})
     return rows
 
 
+CSV_COLUMNS = ["kernel [-]", "map [-]", "K [-]", "point_loop [s]", "numpy [s]", "numpy_over_loop [-]", "auto [s]",
+               "numpy_per_point [s]"]
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=7)
-    ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "results", "bench_kernels.json"))
-    a = ap.parse_args(argv)
-    rows = run(a.repeats)
+    args = parse_args(NAME, __doc__.splitlines()[0], argv,
+                      extra=lambda ap: ap.add_argument("--repeats", type=int, default=None,
+                                                       help="timing repeats (default 7; --quick: 3)"),
+                      parallel=False, results_doc=False)
+    timer = Timer()
+    repeats = args.repeats or (3 if args.quick else 7)
+    if repeats < 1:
+        raise SystemExit(f"{NAME}: --repeats must be >= 1; got {repeats}")
+    sizes, calls = ((1, 16), 100) if args.quick else ((1, 4, 16, 64), 400)
+    rows = run(repeats, sizes, calls)
     print(f"{'kernel':12s} {'map':7s} {'K':>3s} {'point loop [us]':>16s} {'numpy [us]':>11s} "
           f"{'numpy/loop':>11s} {'auto [us]':>10s}")
     for r in rows:
@@ -78,15 +100,25 @@ def main(argv=None):
         else:
             print(f"{r['kernel']:12s} {r['map']:7s} {r['K']:3d} {'':16s} {r['batch_s'] * 1e6:11.1f} "
                   f"   ({r['per_point_s'] * 1e6:.1f} us per point)")
-    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     meta = {"machine": platform.machine(), "cpus": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "date": time.strftime("%Y-%m-%d"), "repeats": a.repeats}
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(a.out)), suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        json.dump({"meta": meta, "rows": rows}, f, indent=1)
-    os.replace(tmp, a.out)
-    print(f"wrote {a.out}")
+            "numpy": np.__version__, "date": time.strftime("%Y-%m-%d"), "repeats": repeats, "quick": bool(args.quick)}
+    write_json(os.path.join(args.out, f"{NAME}.json"), {"meta": meta, "rows": rows})
+    nan = float("nan")
+    csv_rows = [[r["kernel"], r["map"], r["K"], r.get("point_loop_s", nan), r["batch_s"], r.get("batch_over_point", nan),
+                 r.get("auto_s", nan), r.get("per_point_s", r["batch_s"] / r["K"])] for r in rows]
+    table(os.path.join(args.out, f"{NAME}.csv"), CSV_COLUMNS, csv_rows)
+    def us(v):
+        return "-" if v != v else v * 1e6
+    body = (f"Median wall time of one evaluation with tangent over {repeats} repeats (`return_map`: a Python loop "
+            "of `return_map_point`, one vectorised `return_map_batch`, the automatic choice; `contact_set`: one "
+            "`ContactLaw.evaluate`, polar fields). Files: `bench_kernels.csv`, `bench_kernels.json`.\n\n"
+            + markdown_table(["kernel", "map", "K", "point loop [us]", "numpy [us]", "numpy / loop", "auto [us]",
+                              "numpy per point [us]"],
+                             [c[:3] + [us(c[3]), us(c[4]), "-" if c[5] != c[5] else c[5], us(c[6]), us(c[7])]
+                              for c in csv_rows]))
+    finish(args, timer, body, "Law kernels: per-point loop against numpy")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -2,12 +2,13 @@
 iterations per step and cost per contact-point evaluation of both scenes, across the number of
 contact points K, return map, model, Jacobian, solver and implementation (Exudyn, the numpy
 reference, later the fast path); the cost of the contact law itself per point; and our step cost
-as a ratio to Exudyn's C++ spring-dampers at the same points (``studies/baseline.py``).
+as a ratio to Exudyn's C++ spring-dampers at the same points (``studies/_lib/baseline.py``;
+``studies/baseline.py`` measures that table alone).
 
-    python studies/benchmarks.py [--quick] [--repeats N]
+    python studies/benchmarks.py [--quick] [--repeats N] [--out DIR]
 
-Benchmarks always run SERIAL (``--serial`` is forced): timings from parallel workers share cores
-and are meaningless. Every timing is the median over repeats (>= 3 quick, >= 5 full); ratios are
+Benchmarks always run SERIAL (``--serial`` is implied, ``--processes`` and ``--mpi`` are refused):
+timings from parallel workers share cores and are meaningless. Every timing is the median over repeats (>= 3 quick, >= 5 full); ratios are
 formed from medians measured in the same run, never from absolute times of different runs.
 The cost measure is the PROCESS CPU TIME of the solve (``time.process_time`` around
 ``SolveDynamic``, or around ``simulate_*`` for the reference; model building excluded). For these
@@ -17,9 +18,10 @@ grow when other processes share the machine; the solver's own wall time is kept 
 least disturbed measure, which the test of linear growth uses).
 
 Settings: a *setting* is (implementation, factor variation); an implementation is a name ->
-(engine, dict of Build*/simulate_* keyword options) in ``IMPLEMENTATIONS``, and a variation is
-a dict of BlockParams/ScrewParams overrides plus a dict of keyword options. The fast path is one
-more line in ``IMPLEMENTATIONS``, e.g. ``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
+(engine, dict of Build*/simulate_* keyword options) in ``IMPLEMENTATIONS``
+(``studies/_lib/implementations.py``), and a variation is a dict of BlockParams/ScrewParams
+overrides plus a dict of keyword options. The fast path is one more line in ``IMPLEMENTATIONS``,
+e.g. ``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
 
 Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one row per setting),
 ``kernel.csv`` (law cost per point), ``baseline.csv`` (ours / C++ baseline), ``benchmarks.json``
@@ -27,35 +29,25 @@ Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one ro
 """
 from __future__ import annotations
 
-import inspect
 import os
 import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
 
-import studylib  # noqa: E402
-from studylib import finish, markdown_table, parse_args, read_table, sweep, table, write_json  # noqa: E402
-
-from exu_aniso.models.block import BuildBlock  # noqa: E402
+from _lib import baseline, studylib  # noqa: E402
+from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
+from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table, write_json  # noqa: E402
 
 # ----------------------------------------------------------------------------------------------
 # settings
 
-# implementation name -> (engine, keyword options for BuildBlock/BuildScrew (exudyn) or
-# simulate_block/simulate_screw (reference)). Add the fast path here (one line).
-# "exudyn" runs BuildBlock/BuildScrew with their defaults (CreateAnisotropicContact's default
-# implementation; the one used is recorded in the column contact_impl).
-IMPLEMENTATIONS = {
-    "exudyn": ("exudyn", {}),
-    "reference": ("reference", {}),
-}
-# the numpy route of the glue (CreateAnisotropicContact(..., implementation="numpy")), as soon as
-# BuildBlock/BuildScrew pass `implementation` on
-if "implementation" in inspect.signature(BuildBlock).parameters:
-    IMPLEMENTATIONS["exudyn-numpy"] = ("exudyn", {"implementation": "numpy"})
+# implementation name -> (engine, Build* / simulate_* options): studies/_lib/implementations.py
+# (shared with work_precision.py; add the fast path there)
 
 # base scenes of the benchmark (defaults of the scenes otherwise: polar block with the radial map
 # and the displacement drive, spiral screw with the rotation drive)
@@ -187,11 +179,6 @@ def kernel_case(case):
                 all_in_state=bool(np.all(st == expect)))
 
 
-def baseline_case(case):
-    import baseline
-    return baseline.ratio_case(case)
-
-
 # ----------------------------------------------------------------------------------------------
 # analysis
 
@@ -211,9 +198,7 @@ BENCH_COLUMNS = ["scene [-]", "implementation [-]", "engine [-]", "contact_impl 
                  "relative_to_base [-]", "repeats [-]", "status [-]"]
 KERNEL_COLUMNS = ["return_map [-]", "state [-]", "K [-]", "per_point [s]", "per_call [s]",
                   "per_point_vs_K1 [-]", "repeats [-]"]
-BASE_COLUMNS = ["scene [-]", "model [-]", "drive [-]", "contact_impl [-]", "K [-]", "ours_per_step [s]", "baseline_per_step [s]",
-                "ours_over_baseline [-]", "ours_newton_per_step [-]", "baseline_newton_per_step [-]",
-                "ours_over_baseline_per_newton [-]"]
+BASE_COLUMNS = baseline.BASE_COLUMNS
 
 
 def fits_from_csv(path):
@@ -272,8 +257,7 @@ def main(argv=None):
 
     def extra(ap):
         ap.add_argument("--repeats", type=int, default=None, help="timing repeats (default 3 quick, 5 full)")
-    args = parse_args("benchmarks", __doc__.splitlines()[0], argv, extra)
-    args.serial = True                       # timings are never taken in parallel workers
+    args = parse_args("benchmarks", __doc__.splitlines()[0], argv, extra, parallel=False)   # serial timings
     reps = args.repeats or (3 if args.quick else 5)
     if reps < 3:
         raise ValueError(f"--repeats must be >= 3 (medians); got {reps}")
@@ -314,16 +298,13 @@ def main(argv=None):
           [[c["map"], c["state"], c["K"], r["per_point_s"], r["call_s"], r["per_point_s"] / k1[(c["map"], c["state"])],
             c["repeats"]] for c, r in zip(kcases, kres)])
 
-    # 3. ours / C++ baseline (studies/baseline.py), interleaved repeats in the same run
-    import baseline
+    # 3. ours / C++ baseline (studies/_lib/baseline.py), interleaved repeats in the same run
     bcases = []
     for impl, (engine, opts) in IMPLEMENTATIONS.items():
         if engine == "exudyn" and (impl == "exudyn" or not args.quick):
             bcases += baseline.ratio_cases(args.quick, reps, opts)
-    bres = sweep(baseline_case, bcases, args)
-    table(os.path.join(args.out, "baseline.csv"), BASE_COLUMNS,
-          [[r["scene"], r["model"], r["drive"], r["contact"], r["K"], r["ours_step_s"], r["base_step_s"], r["ratio_step"],
-            r["ours_newton_per_step"], r["base_newton_per_step"], r["ratio_per_newton"]] for r in bres])
+    bres = sweep(baseline.ratio_case, bcases, args)
+    table(os.path.join(args.out, "baseline.csv"), BASE_COLUMNS, baseline.table_rows(bres))
 
     # analysis from the CSV files written above
     fits = fits_from_csv(bench_csv)

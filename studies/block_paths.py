@@ -19,8 +19,10 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import studylib as sl  # noqa: E402
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
+from _lib import studylib as sl  # noqa: E402
 from exu_aniso.scenes import summary_float  # noqa: E402
 
 NAME = "block_paths"

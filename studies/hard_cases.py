@@ -26,8 +26,10 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import studylib  # noqa: E402
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
+from _lib import studylib  # noqa: E402
 
 from exu_aniso import energy  # noqa: E402
 from exu_aniso.failure import SimulationFailure  # noqa: E402

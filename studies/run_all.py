@@ -1,5 +1,16 @@
-"""Run every study (full size unless --quick) and assemble the results document docs/RESULTS.md
-from the report.md each study writes. Usage: python studies/run_all.py [--quick] [--only NAME ...]"""
+"""Run every study (full size unless --quick) and assemble the results document from the report.md
+each study writes.
+
+    python studies/run_all.py [--quick] [--serial] [--only NAME ...] [--out DIR]
+
+Default: the studies write docs/results/NAME and the document is docs/RESULTS.md; with --quick
+they write studies/results/NAME and the document is studies/results/RESULTS.md (git ignores
+studies/results). ``--out DIR``: the studies write DIR/NAME, the document is DIR/RESULTS.md.
+``--only NAME ...`` runs only these studies and reuses the reports the others left in the output
+folder (``--only`` with no name just reassembles the document). Each study runs as its own
+process (``python studies/NAME.py --out DIR/NAME [--quick] [--serial]``); a failed study is
+reported and the others still run (exit code 1).
+"""
 from __future__ import annotations
 
 import argparse
@@ -8,20 +19,35 @@ import subprocess
 import sys
 import time
 
-from studylib import HERE, ROOT, write_text
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
 
-# order of the sections in docs/RESULTS.md
+from _lib.studylib import ROOT, write_text  # noqa: E402
+
+# order of the sections in the results document (bench_kernels.py and baseline.py are not part of it:
+# the kernel timing is quoted in README.md, the baseline table is a section of benchmarks)
 STUDIES = ["block_paths", "screw_driving", "calibration", "return_maps", "hard_cases", "benchmarks",
            "work_precision", "peers"]
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--only", nargs="*", default=None, help="run only these studies (others: reuse their report)")
-    ap.add_argument("--serial", action="store_true")
+    ap = argparse.ArgumentParser(prog="studies/run_all.py", description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="the small version of every study (seconds each)")
+    ap.add_argument("--only", nargs="*", default=None, choices=STUDIES, metavar="NAME",
+                    help="run only these studies (others: reuse their report)")
+    ap.add_argument("--serial", action="store_true", help="passed on to every study")
+    ap.add_argument("--out", default=None,
+                    help="output folder (default docs/results, document docs/RESULTS.md; with --quick "
+                         "studies/results, document studies/results/RESULTS.md)")
     a = ap.parse_args(argv)
-    base = os.path.join(HERE, "results") if a.quick else os.path.join(ROOT, "docs", "results")
+    if a.out is not None:
+        base, doc = os.path.abspath(a.out), os.path.join(os.path.abspath(a.out), "RESULTS.md")
+    elif a.quick:
+        base = os.path.join(HERE, "results")
+        doc = os.path.join(base, "RESULTS.md")
+    else:
+        base, doc = os.path.join(ROOT, "docs", "results"), os.path.join(ROOT, "docs", "RESULTS.md")
     failed = []
     for name in STUDIES:
         script = os.path.join(HERE, name + ".py")
@@ -40,12 +66,13 @@ def main(argv=None):
     for name in STUDIES:
         rep = os.path.join(base, name, "report.md")
         if os.path.exists(rep):
-            text = open(rep).read()
-            # figures are linked relative to the study's folder; make them relative to docs/
-            text = text.replace("](./", f"](results/{name}/")
-            parts.append(text)
-    write_text(os.path.join(ROOT if not a.quick else HERE, "docs" if not a.quick else "results", "RESULTS.md"),
-               "\n".join(parts))
+            with open(rep) as f:
+                text = f.read()
+            # figures are linked relative to the study's folder; make them relative to the document
+            rel = os.path.relpath(os.path.join(base, name), os.path.dirname(doc)).replace(os.sep, "/")
+            parts.append(text.replace("](./", f"]({rel}/"))
+    write_text(doc, "\n".join(parts))
+    print(f"run_all: wrote {doc}", flush=True)
     if failed:
         print(f"run_all: failed: {failed}", file=sys.stderr)
         return 1

@@ -16,8 +16,10 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
+from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.calibration import steady_sliding  # noqa: E402
 from exu_aniso.failure import SimulationFailure  # noqa: E402

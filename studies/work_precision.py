@@ -1,11 +1,11 @@
 """Work-precision diagrams (issue 5, part 2): error against CPU time, log-log, for both scenes.
 
-    python studies/work_precision.py [--quick] [--repeats N]
+    python studies/work_precision.py [--quick] [--repeats N] [--out DIR]
 
 One curve per *family* (a setting with the step size varied): solver (trapezoidal,
 generalized-alpha), return map (seed, exact, radial), model (planar/full block, reduced/full
-screw), implementation (every entry of ``benchmarks.IMPLEMENTATIONS``: Exudyn, the numpy
-reference, later the fast path) and the oracle scenes. Errors:
+screw), implementation (every entry of ``IMPLEMENTATIONS`` in ``studies/_lib/implementations.py``:
+Exudyn, the numpy reference, later the fast path) and the oracle scenes. Errors:
 
 * against a converged fine solution of the SAME family (smallest dt / 4). Block: largest distance
   between the centre paths [m]; screw: largest displacement error of a point on the hole radius,
@@ -19,7 +19,8 @@ reference, later the fast path) and the oracle scenes. Errors:
   per revolution -> pitch). The oracle errors of the last three contain the penalty (model) error,
   so they level off where the time error falls below it.
 
-Cost: process CPU time of the whole run (median over repeats; serial, as for the benchmarks).
+Cost: process CPU time of the whole run (median over repeats; serial, as for the benchmarks:
+``--processes`` and ``--mpi`` are refused).
 Outputs: ``work_precision.csv``, ``orders.csv`` (observed order and ratios per family),
 ``work_precision.png`` (error vs CPU time), ``error_vs_dt.png``, ``report.md``.
 """
@@ -32,11 +33,13 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
 
-import studylib  # noqa: E402
-from benchmarks import IMPLEMENTATIONS  # noqa: E402
-from studylib import finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
+from _lib import studylib  # noqa: E402
+from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
+from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.oracles import orthotropic_heading  # noqa: E402
 from exu_aniso.scenes import BlockParams, ScrewParams, pitch, summary_float  # noqa: E402
@@ -250,8 +253,7 @@ def main(argv=None):
 
     def extra(ap):
         ap.add_argument("--repeats", type=int, default=None, help="timing repeats per point (default 1 quick, 3 full)")
-    args = parse_args("work_precision", __doc__.splitlines()[0], argv, extra)
-    args.serial = True                   # CPU times are taken one run after the other
+    args = parse_args("work_precision", __doc__.splitlines()[0], argv, extra, parallel=False)  # serial CPU times
     reps = args.repeats or (1 if args.quick else 3)
     fams = families(args.quick)
     cases = []

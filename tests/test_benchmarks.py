@@ -1,8 +1,9 @@
-"""Benchmark, work-precision and C++-baseline studies (studies/benchmarks.py, work_precision.py,
-baseline.py). The scripts run in their quick mode; the assertions are properties that hold on any
-machine load: timings positive and finite (the cost model's fit is checked on synthetic data),
-errors falling with the step size at second order on a smooth case, and the C++ baseline equal to
-our contact where our law is a linear spring (pure stick, isotropic adhesion). No time bounds."""
+"""Benchmark, work-precision and C++-baseline studies (studies/benchmarks.py, work_precision.py; the
+baseline models of studies/_lib/baseline.py). The scripts run in their quick mode; the assertions
+are properties that hold on any machine load: timings positive and finite (the cost model's fit is
+checked on synthetic data), errors falling with the step size at second order on a smooth case,
+and the C++ baseline equal to our contact where our law is a linear spring (pure stick, isotropic
+adhesion). No time bounds."""
 from __future__ import annotations
 
 import os
@@ -122,7 +123,7 @@ def test_baseline_block_equals_contact_in_stick(model):
     """Isotropic adhesion, every point sticking (mu = 50, pull 1 N < tipping): our contact is a linear
     spring per point, anchored at the initial contact point, and the C++ CartesianSpringDamper model
     gives the same trajectory to Newton tolerance (same solver, same steps)."""
-    import baseline
+    from _lib import baseline
     from exu_aniso.models.block import RunBlock
     from exu_aniso.scenes import BlockParams
     p = BlockParams(model=model, t_end=0.1, dt=1e-3, drive="force", force=1.0, drive_angle=30.0, points="corners",
@@ -152,7 +153,7 @@ def test_baseline_reduced_screw_equals_contact_in_stick(symmetry):
     """Reduced screw turned by the rotation drive, isotropic stick: torque -eps/K R^2 psi per
     point is exactly linear in psi, so the coordinate springs reproduce our run (0.5 rad turned),
     with one representative point (lumped spring pair) or all 24 points (a pair per point)."""
-    import baseline
+    from _lib import baseline
     from exu_aniso.models.screw import RunScrew
     from exu_aniso.scenes import ScrewParams
     p = ScrewParams(model="reduced", t_end=0.1, dt=1e-3, drive="rotation", **STICK)
@@ -170,7 +171,7 @@ def test_baseline_reduced_screw_equals_contact_in_stick(symmetry):
 
 
 def test_baseline_argument_errors():
-    import baseline
+    from _lib import baseline
     from exu_aniso.scenes import BlockParams, ScrewParams
     with pytest.raises(ValueError, match="nodeType"):
         baseline.BuildBlockBaseline(BlockParams(), nodeType="bad")

@@ -8,13 +8,10 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 
 import pytest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "studies"))
-from studylib import read_table  # noqa: E402
+from exu_aniso.output import read_table    # what the studies write their CSV files with (studies/_lib/studylib.py)
 
 
 def _row(tab, **match):

@@ -1,7 +1,8 @@
 """MJCF builders for the peer benchmark (``studies/peers.py``): MuJoCo's side of the two cases.
 
 Needs the optional ``bench`` extra (``pip install ".[bench]"``, i.e. ``mujoco>=3.2``); importing this
-module without mujoco raises ImportError, so ``peers.py`` checks for mujoco first.
+module without mujoco raises ImportError, so ``peers.py`` imports it only in its MuJoCo cases, which
+it runs only when mujoco imports (without it, their rows say how to install it).
 
 1. ``BoxOnPlane``: a box (free joint) on a plane, anisotropic Coulomb friction through an explicit
    ``<contact><pair condim="3" friction="...">`` and ``<option cone="elliptic"|"pyramidal">``, a

@@ -1,0 +1,212 @@
+"""The study scripts as scripts: layout of studies/, every script runs with --quick --out DIR, the
+--mpi launch check, and the sweep through Exudyn's ParameterVariation (progress, MPI route).
+
+Most scripts already run in quick mode in the test module named in COVERED; this module runs the
+others (bench_kernels, baseline, run_all: seconds each) and checks that the list stays complete."""
+from __future__ import annotations
+
+import importlib.machinery
+import importlib.util
+import operator
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+import types
+from argparse import Namespace
+from pathlib import Path
+
+import pytest
+
+from exu_aniso.output import read_table
+
+ROOT = Path(__file__).resolve().parent.parent
+STUDIES = ROOT / "studies"
+sys.path.insert(0, str(STUDIES))
+
+from _lib import studylib  # noqa: E402
+
+SCRIPTS = sorted(p.stem for p in STUDIES.glob("*.py"))
+HELPERS = {"studylib", "mujoco_models", "baseline", "implementations"}
+# script -> test module that runs it with --quick through the quick_study fixture
+COVERED = {"block_paths": "test_studies_block.py", "return_maps": "test_studies_block.py",
+           "screw_driving": "test_studies_screw.py", "calibration": "test_studies_screw.py",
+           "hard_cases": "test_hard_cases.py", "benchmarks": "test_benchmarks.py",
+           "work_precision": "test_benchmarks.py",
+           "peers": "test_peers.py"}        # with mujoco; test_peers.py also runs it with mujoco hidden
+RUN_HERE = [s for s in SCRIPTS if s not in COVERED]
+MPI_ENV = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "MPI_LOCALNRANKS", "PMIX_SIZE", "SLURM_NTASKS",
+           "OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", "SLURM_PROCID")
+
+
+def _clean_env(**extra):
+    env = {k: v for k, v in os.environ.items() if k not in MPI_ENV}
+    env.update(extra)
+    return env
+
+
+# ----------------------------------------------------------------------------------------------
+# layout
+
+def test_only_runnable_scripts_at_the_top_of_studies():
+    other = {p.name for p in STUDIES.iterdir()} - {"README.md", "_lib", "results", "__pycache__"}
+    assert all(n.endswith(".py") for n in other), other
+    for name in SCRIPTS:
+        src = (STUDIES / f"{name}.py").read_text()
+        assert 'if __name__ == "__main__":' in src, name
+        assert "--quick" in src or "parse_args(" in src, name
+        for mod in SCRIPTS + sorted(HELPERS):     # helpers come from _lib, scripts import no other script
+            assert not re.search(rf"^\s*(import {mod}\b|from {mod} import)", src, re.M), (name, mod)
+    assert HELPERS <= {p.stem for p in (STUDIES / "_lib").glob("*.py")}
+    assert not HELPERS & (set(SCRIPTS) - {"baseline"})     # baseline.py: the script; _lib/baseline.py: the models
+
+
+def test_every_script_runs_quick_in_the_suite():
+    assert set(COVERED) <= set(SCRIPTS), set(COVERED) - set(SCRIPTS)
+    for name, module in COVERED.items():
+        assert f'quick_study("{name}"' in (ROOT / "tests" / module).read_text(), (name, module)
+    assert set(RUN_HERE) == {"bench_kernels", "baseline", "run_all"}, RUN_HERE
+
+
+# ----------------------------------------------------------------------------------------------
+# the scripts no other test runs
+
+def test_bench_kernels_quick(tmp_path, quick_study):
+    quick_study("bench_kernels", tmp_path, timeout=120)
+    T = read_table(tmp_path / "bench_kernels.csv")
+    assert set(T["K [-]"]) == {1.0, 16.0} and all(v > 0 for v in T["numpy [s]"])
+    assert (tmp_path / "bench_kernels.json").exists() and (tmp_path / "report.md").exists()
+
+
+def test_baseline_quick(tmp_path, quick_study):
+    quick_study("baseline", tmp_path, timeout=120)
+    B = read_table(tmp_path / "baseline.csv")
+    assert len(B["scene [-]"]) == 8
+    assert all(v > 0 for v in B["ours_over_baseline [-]"]) and "ours/C++" in (tmp_path / "report.md").read_text()
+
+
+def test_run_all_quick_assembles_the_document(tmp_path, quick_study):
+    """run_all with --out: the study writes OUT/NAME, the document OUT/RESULTS.md with figure links
+    relative to it (one cheap study; the others are run by their own tests)."""
+    quick_study("run_all", tmp_path, timeout=120, args=("--only", "return_maps"))
+    doc = (tmp_path / "RESULTS.md").read_text()
+    assert "python studies/return_maps.py --quick" in doc and "](return_maps/jump.png)" in doc
+    assert (tmp_path / "return_maps" / "jump.png").exists()
+
+
+# ----------------------------------------------------------------------------------------------
+# --mpi: started any other way than `mpiexec -n N python -m mpi4py.futures ...` it stops at once
+
+def test_mpi_outside_mpiexec_stops_with_the_command(tmp_path):
+    t0 = time.perf_counter()
+    r = subprocess.run([sys.executable, "studies/block_paths.py", "--quick", "--mpi", "--out", str(tmp_path)],
+                       cwd=ROOT, timeout=10, capture_output=True, text=True, env=_clean_env())
+    assert time.perf_counter() - t0 < 10
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    assert "mpiexec -n N python -m mpi4py.futures studies/block_paths.py --mpi" in r.stderr
+    assert "Traceback" not in r.stderr and not list(tmp_path.iterdir())
+    if importlib.util.find_spec("mpi4py") is None:
+        assert "mpi4py is not installed: pip install mpi4py" in r.stderr
+
+
+@pytest.mark.skipif(importlib.util.find_spec("mpi4py") is None or shutil.which("mpiexec") is None,
+                    reason="needs mpi4py and mpiexec")
+def test_mpi_run_under_mpiexec(tmp_path):
+    """The real thing where MPI is installed: 3 processes (2 workers) compute the quick study."""
+    r = subprocess.run(["mpiexec", "-n", "3", sys.executable, "-m", "mpi4py.futures", "studies/return_maps.py",
+                        "--quick", "--mpi", "--out", str(tmp_path)], cwd=ROOT, timeout=180, capture_output=True,
+                       text=True, env=_clean_env())
+    assert r.returncode == 0, r.stderr
+    assert "return_maps: case 18/18 done" in r.stderr
+    assert len(read_table(tmp_path / "refinement.csv")["dt [s]"]) == 18
+
+
+@pytest.fixture
+def fake_mpi4py(tmp_path, monkeypatch):
+    """An importable (empty) package mpi4py: 'installed', but nothing of it is running."""
+    (tmp_path / "mpi4py").mkdir()
+    (tmp_path / "mpi4py" / "__init__.py").write_text("")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    for k in MPI_ENV:
+        monkeypatch.delenv(k, raising=False)
+    return tmp_path
+
+
+def test_mpi_problem_messages(fake_mpi4py, monkeypatch):
+    msg = studylib.mpi_problem("block_paths")
+    assert "not started under mpiexec with mpi4py.futures" in msg and "mpiexec -n N python -m mpi4py.futures" in msg
+    monkeypatch.setenv("OMPI_COMM_WORLD_SIZE", "4")       # plain `mpiexec -n 4 python studies/...`
+    assert "(OMPI_COMM_WORLD_SIZE=4) but not through mpi4py.futures" in studylib.mpi_problem("block_paths")
+    # as under `python -m mpi4py.futures`: the shared pool is set up, MPI knows the world size
+    world = types.SimpleNamespace(size=4)
+    monkeypatch.setitem(sys.modules, "mpi4py.futures._core", types.SimpleNamespace(SharedPool=object()))
+    monkeypatch.setitem(sys.modules, "mpi4py.MPI",
+                        types.SimpleNamespace(COMM_WORLD=types.SimpleNamespace(Get_size=lambda: world.size)))
+    assert studylib.mpi_problem("block_paths") is None
+    world.size = 1
+    assert "has 1 process" in studylib.mpi_problem("block_paths")
+
+
+def test_mpi_flag_combinations(fake_mpi4py, capsys):
+    with pytest.raises(SystemExit) as e:        # a timing study refuses --mpi
+        studylib.parse_args("bench_kernels", "", ["--quick", "--mpi"], parallel=False)
+    assert e.value.code == 2 and "--mpi and --processes do not apply" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as e:
+        studylib.parse_args("block_paths", "", ["--quick", "--mpi", "--serial"])
+    assert e.value.code == 2
+    with pytest.raises(SystemExit) as e:
+        studylib.parse_args("block_paths", "", ["--quick", "--mpi"])
+    assert e.value.code == 2 and "mpiexec -n N" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------------------------
+# sweep: ParameterVariation, progress, MPI route
+
+def _args(**kw):
+    return Namespace(**{**dict(name="t", serial=False, processes=None, mpi=False), **kw})
+
+
+CASES = [dict(x=3), dict(x=1), dict(x=2)]
+
+
+def test_sweep_serial_keeps_order_and_reports_progress(capsys):
+    assert studylib.sweep(operator.itemgetter("x"), CASES, _args(serial=True)) == [3, 1, 2]
+    err = capsys.readouterr().err
+    assert [f"t: {k}/3 done, case {k} (x={v})" in err for k, v in ((1, 3), (2, 1), (3, 2))] == [True] * 3
+
+
+def test_sweep_processes_keeps_order_and_reports_progress(capfd):
+    assert studylib.sweep(operator.itemgetter("x"), CASES, _args(processes=2)) == [3, 1, 2]
+    err = capfd.readouterr().err
+    if not studylib.progress_bar_available():   # tqdm absent: one line per finished case, counted across workers
+        assert all(f"t: {k}/3 done" in err for k in (1, 2, 3)), err
+
+
+def test_sweep_mpi_goes_through_mpipoolexecutor(monkeypatch, capsys):
+    """With --mpi the cases go to ParameterVariation(useMPI=True), which maps them with
+    mpi4py.futures.MPIPoolExecutor (faked here: a serial map that records its use)."""
+    used = []
+
+    class Executor:
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *a):
+            return False
+
+        def map(self, f, items):
+            used.append(len(items))
+            return map(f, items)
+
+    pkg = types.ModuleType("mpi4py")
+    pkg.__spec__ = importlib.machinery.ModuleSpec("mpi4py", None, is_package=True)
+    pkg.futures = types.SimpleNamespace(MPIPoolExecutor=Executor)
+    pkg.MPI = types.SimpleNamespace(COMM_WORLD=types.SimpleNamespace(Get_size=lambda: 3))
+    monkeypatch.setitem(sys.modules, "mpi4py", pkg)
+    monkeypatch.setitem(sys.modules, "mpi4py.futures", pkg.futures)
+    monkeypatch.setitem(sys.modules, "mpi4py.MPI", pkg.MPI)
+    assert studylib.sweep(operator.itemgetter("x"), CASES, _args(mpi=True)) == [3, 1, 2]
+    assert used == [3]
+    assert "t: case 2/3 done (x=1)" in capsys.readouterr().err     # MPI workers share no counter
