@@ -1,6 +1,7 @@
 """Command line: ``exu-aniso run SCENE`` and ``exu-aniso params SCENE``.
 
     exu-aniso run block|screw|all [--engine exudyn|reference] [--set NAME=VALUE ...] [--out DIR]
+                                  [--quiet] [--snapshot] [--view]
     exu-aniso params block|screw
 
 ``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
@@ -9,15 +10,21 @@ and DIR/trajectory.png; ``all`` runs both scenes into DIR/block and DIR/screw. E
 written to a temporary name and moved into place, so a failed run leaves no half-written
 result. Exit code 0 on success, 2 on bad names or values (with a message naming the
 parameter, the rule and the value), 1 when the simulation fails.
+
+An Exudyn run longer than about 2 s shows its progress on stderr (``exu_aniso.progress``; ``--quiet``
+turns it off). ``--snapshot`` also writes DIR/snapshot.png, the final state rendered by Exudyn's
+raytracer (no display needed); ``--view`` opens Exudyn's SolutionViewer on each run once all are
+written (needs a display: without one it exits with 2 before simulating). Both need the Exudyn engine.
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import io
-import math
 import os
 import sys
+import tempfile
 
 from .failure import SimulationFailure
 from .output import atomic_write as _atomic_write
@@ -64,13 +71,33 @@ def make_params(scene, sets):
         raise UsageError(f"{scene}: {e}") from None
 
 
-def simulate(scene, params, engine):
-    """Run one scene with one engine; returns the engine's Result."""
+VIEW_NO_DISPLAY = "--view needs a display ({}); use --snapshot, or run under xvfb-run -a"
+
+
+def simulate(scene, params, engine, progress=False, snapshot=None, solution_file=None):
+    """Run one scene with one engine; returns the engine's Result. Exudyn engine only: progress on
+    stderr, snapshot (PNG file name of the final state), solution_file (Exudyn solution for --view)."""
     if engine == "reference":
         from .reference import simulate_block, simulate_screw
         return simulate_block(params) if scene == "block" else simulate_screw(params)
     from .models import block as block_model, screw as screw_model
-    return block_model.RunBlock(params) if scene == "block" else screw_model.RunScrew(params)
+    run = block_model.RunBlock if scene == "block" else screw_model.RunScrew
+    return run(params, progress=progress, snapshot=snapshot, solutionFile=solution_file)
+
+
+def view_problem():
+    """Why --view cannot open a render window here (message for exit code 2), or None. Checked
+    before simulating: without a display Exudyn's renderer.Start() aborts the whole process."""
+    from .models.block import DisplayProblem
+    problem = DisplayProblem()
+    return VIEW_NO_DISPLAY.format(problem) if problem else None
+
+
+def view_solution(scene, params, solution_file):
+    """Exudyn's SolutionViewer on the solution a run wrote (the model is rebuilt from params)."""
+    from .models import block as block_model, screw as screw_model
+    model = block_model.BuildBlock(params) if scene == "block" else screw_model.BuildScrew(params)
+    block_model.ViewSolution(model, solution_file, title=f"exu-aniso {scene}")
 
 
 def write_csv(path, scene, traj):
@@ -83,27 +110,22 @@ def write_csv(path, scene, traj):
     _atomic_write(path, lambda f: f.write(buf.getvalue().encode()))
 
 
-def plot_trajectory(path, scene, traj, title, incomplete=False, warning=None):
+def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None):
+    """trajectory.png: block -> plots.PlotBlockPath; screw -> plots.PlotScrewAdvance over
+    plots.PlotScrewTorque. A failed run's plot says INCOMPLETE, an open energy ledger says so in red."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .plots import PlotBlockPath, PlotScrewAdvance, PlotScrewTorque
+
     if scene == "block":
         fig, ax = plt.subplots(figsize=(5.5, 5.0))
-        ax.plot(traj["x"], traj["y"], "-", lw=1.5, label="centre path")
-        ax.plot(traj["x"][0], traj["y"][0], "o", label="start")
-        ax.plot(0.0, 0.0, "k+", ms=12, mew=2, label="polar origin")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.legend(loc="best", fontsize=8)
+        PlotBlockPath(traj, params, ax=ax)
     else:
-        fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.0, 5.5), sharex=True)
-        a1.plot(traj["t"], [a / (2 * math.pi) for a in traj["angle"]])
-        a1.set_ylabel("rotation [rev]")
-        a2.plot(traj["t"], [1e3 * z for z in traj["z"]])
-        a2.set_ylabel("axial position z [mm]")
-        a2.set_xlabel("t [s]")
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.0, 6.5))
+        PlotScrewAdvance(traj, params, ax=a1)
+        PlotScrewTorque(traj, params, ax=a2)
     fig.suptitle(title, fontsize=9, color="red" if incomplete or warning else "black")
     fig.tight_layout()
     if warning:      # the energy ledger does not close: say so on the figure itself
@@ -117,15 +139,17 @@ def plot_trajectory(path, scene, traj, title, incomplete=False, warning=None):
     _atomic_write(path, lambda f: f.write(buf.getvalue()))
 
 
-def run_scene(scene, params, engine, out):
-    """Simulate and write trajectory.csv, trajectory.png and summary.json ("complete": true).
+def run_scene(scene, params, engine, out, progress=False, snapshot=False, solution_file=None):
+    """Simulate and write trajectory.csv, trajectory.png and summary.json ("complete": true), and
+    with ``snapshot`` snapshot.png (Exudyn engine; only when the run completes).
 
     When the simulation fails with a SimulationFailure carrying a partial trajectory, the three
     files are still written ("complete": false, the failure message, the plot marked INCOMPLETE)
     and the failure is re-raised; any other simulation error writes summary.json only."""
     os.makedirs(out, exist_ok=True)
     try:
-        res = simulate(scene, params, engine)
+        res = simulate(scene, params, engine, progress=progress, solution_file=solution_file,
+                       snapshot=os.path.join(out, "snapshot.png") if snapshot else None)
     except SimulationFailure as failure:
         if failure.partial is not None:
             write_outputs(scene, params, engine, out, failure.partial, failure.as_dict())
@@ -168,7 +192,7 @@ def write_outputs(scene, params, engine, out, res, failure=None):
     if summary.get("energy_ok") is False:
         warning = (f"WARNING: energy ledger open, residual {summary['energy']['residual']:.3g} > "
                    f"{summary['energy_tolerance']:.3g}")
-    plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, title,
+    plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, title, params,
                     incomplete=failure is not None, warning=warning)
     write_summary(out, summary)
     return summary
@@ -183,6 +207,14 @@ def main(argv=None):
     r.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter (see 'exu-aniso params SCENE'); repeatable")
     r.add_argument("--out", default="results", help="output directory (default: results)")
+    r.add_argument("--quiet", action="store_true",
+                   help="no progress display on stderr (shown for Exudyn runs longer than about 2 s)")
+    r.add_argument("--snapshot", action="store_true",
+                   help="also write DIR/snapshot.png: the final state rendered by Exudyn's raytracer "
+                        "(no display needed; Exudyn engine)")
+    r.add_argument("--view", action="store_true",
+                   help="open Exudyn's SolutionViewer on the result after the run "
+                        "(needs a display; Exudyn engine)")
     p = sub.add_parser("params", help="list the parameters of a scene with unit, default and rule")
     p.add_argument("scene", choices=tuple(SCENES))
     a = ap.parse_args(argv)
@@ -202,12 +234,27 @@ def main(argv=None):
             up = os.path.dirname(up)
         if not os.path.isdir(up):
             raise UsageError(f"--out must be a directory (created if missing); got {a.out!r}, but {up!r} is a file")
+        if (a.snapshot or a.view) and a.engine != "exudyn":
+            raise UsageError("--snapshot and --view need --engine exudyn "
+                             "(the reference engine has no Exudyn model to render)")
+        if a.view and view_problem():
+            raise UsageError(view_problem())
     except UsageError as e:
         print(f"exu-aniso: error: {e}", file=sys.stderr)
         return 2
+    # --view: the runs' Exudyn solution files live in a temporary directory until the viewer closes
+    with tempfile.TemporaryDirectory(prefix="exu-aniso-view-") if a.view else contextlib.nullcontext() as tmp:
+        return _run_jobs(jobs, a, tmp)
+
+
+def _run_jobs(jobs, a, tmp):
+    """Run the scenes in order (exit 1 at the first failure); then, with --view, view each one."""
+    views = []
     for scene, params, out in jobs:
+        solution_file = os.path.join(tmp, f"{scene}.sol") if tmp is not None else None
         try:
-            summary = run_scene(scene, params, a.engine, out)
+            summary = run_scene(scene, params, a.engine, out, progress=not a.quiet, snapshot=a.snapshot,
+                                solution_file=solution_file)
         except SimulationFailure as e:  # message with time, step size and contact state; partial results kept
             kept = "partial trajectory.csv, trajectory.png and" if e.partial is not None else "only"
             print(f"exu-aniso: {scene} ({a.engine}) did not complete: {e}\n"
@@ -219,6 +266,15 @@ def main(argv=None):
         show = {k: v for k, v in summary.items() if k not in ("params", "units")}
         print(f"{scene} [{a.engine}] -> {out}: " + ", ".join(
             f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in show.items()))
+        if solution_file is not None:
+            views.append((scene, params, solution_file))
+    for scene, params, solution_file in views:
+        sys.stdout.flush()
+        try:
+            view_solution(scene, params, solution_file)
+        except Exception as e:
+            print(f"exu-aniso: --view of {scene} failed: {type(e).__name__}: {e}", file=sys.stderr)
+            return 1
     return 0
 
 

@@ -23,19 +23,24 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+import os
 import re
 import sys
 import time
 
 import exudyn as exu
 import numpy as np
+from exudyn import graphics
 from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigidBody2D, ObjectGenericODE2,
-                                  ObjectRigidBody2D, SensorNode)
+                                  ObjectRigidBody2D, SensorNode, VObjectRigidBody2D)
+from exudyn.rigidBodyUtilities import RotationMatrixX, RotationMatrixZ
 from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
 from exu_aniso.exudyn_glue import CreateAnisotropicContact
 from exu_aniso.failure import SimulationFailure, contact_state_from_history, failure_message
+from exu_aniso.output import atomic_write
+from exu_aniso.progress import exudyn_pre_step, make_progress
 from exu_aniso.reference import Result
 from exu_aniso.energy import RigidMotion, motion_about_z
 from exu_aniso.scenes import BlockParams, block_contact_law, block_energy, block_points, block_summary
@@ -93,8 +98,14 @@ def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
                                            forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
 
 
-def SolveTimed(mbs, simulationSettings, solverType, contacts=()):
+def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     """mbs.SolveDynamic with wall time; returns (wall_s, steps, newton_iterations, info dict).
+
+    progress: None/False (silent), True or an ``exu_aniso.progress.Progress``: a run longer than
+    about 2 s shows its progress on stderr (simulated time in %, ETA, steps/s, Newton iterations),
+    through a pre-step user function chained with any existing Python one and removed afterwards
+    (it reads a clock and returns until an update is due: +0.2 to +0.7 % on the default scenes, within
+    the timing noise).
 
     If the solver fails (Exudyn raises SolverError when Newton fails at the minimum step size or
     with step reduction off, ModelError when a user function raises) this raises
@@ -105,6 +116,7 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=()):
     solver is silent (verboseMode 0); on success it is passed on unchanged."""
     ti = simulationSettings.timeIntegration
     capture = io.StringIO() if int(ti.verboseMode) == 0 else None
+    prog, previous = _AttachProgress(mbs, make_progress(progress), ti)
     t0 = time.perf_counter()
     try:
         with contextlib.redirect_stdout(capture) if capture is not None else contextlib.nullcontext():
@@ -112,11 +124,17 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=()):
         error = None if ok else "SolveDynamic returned False"
     except Exception as e:                      # exudyn.SolverError, exudyn.ModelError, ...
         error = e
+    finally:
+        if prog is not None:                    # leave the system as it was given
+            mbs.SetPreStepUserFunction(previous if previous is not None else 0)
     wall = time.perf_counter() - t0
-    if capture is not None and error is None and capture.getvalue():
-        sys.stdout.write(capture.getvalue())
     it = mbs.sys["dynamicSolver"].it
     steps = int(it.currentStepIndex) - 1 if solverType in SOLVER_TYPES.values() else int(it.currentStepIndex)
+    if prog is not None:                        # end the progress line before anything else is printed
+        prog.finish(t=float(mbs.systemData.GetTime(exu.ConfigurationType.StartOfStep)), steps=steps,
+                    newton_iterations=int(it.newtonStepsCount), ok=error is None)
+    if capture is not None and error is None and capture.getvalue():
+        sys.stdout.write(capture.getvalue())
     if error is not None:
         raise _Failure(mbs, simulationSettings, it, steps, error, contacts,
                        capture.getvalue() if capture is not None else "") from (error if isinstance(error, Exception)
@@ -126,6 +144,24 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=()):
     info = dict(solverType=str(solverType), nominal_steps=int(simulationSettings.timeIntegration.numberOfSteps),
                 accepted_steps=steps, newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
     return wall, steps, int(it.newtonStepsCount), info
+
+
+def _AttachProgress(mbs, prog, ti):
+    """Start ``prog`` (Progress or None) and install its pre-step function, chained with the system's
+    own Python pre-step function; returns (prog or None, previous function or None). A symbolic
+    pre-step function cannot be chained from Python: then no progress is shown."""
+    if prog is None:
+        return None, None
+    previous = mbs.GetPreStepUserFunction()
+    if isinstance(previous, dict):              # {'function': f, 'type': 'Python' | symbolic}
+        if previous.get("type") != "Python":
+            return None, None
+        previous = previous["function"]
+    if not callable(previous):                  # 0: none set
+        previous = None
+    prog.start(float(ti.endTime), float(ti.startTime))
+    mbs.SetPreStepUserFunction(exudyn_pre_step(prog, previous))
+    return prog, previous
 
 
 def _cause(error):
@@ -180,6 +216,87 @@ def Unwrap(angle):
 
 
 # ----------------------------------------------------------------------------------------------
+# pictures: body graphics, raytraced snapshot, solution viewer
+
+SNAPSHOT_SIZE = (800, 600)                      # [width, height] of snapshot.png in pixels
+# view of the snapshot (openGL.advanced.initialModelRotation): oblique from above, z up the image, from
+# 35 deg above the xy-plane, from the side the default light falls on (applied at the first render of an SC)
+SNAPSHOT_ROTATION = (RotationMatrixX(-math.radians(55.0)) @ RotationMatrixZ(math.radians(150.0))).T
+
+
+def BlockGraphics(p, center=(0.0, 0.0, 0.0)):
+    """Body graphics of the block: a cube of edge p.size centred at the body-local ``center``."""
+    a = p.size
+    return [graphics.Brick(centerPoint=list(center), size=[a, a, a], color=graphics.color.steelblue,
+                           addEdges=True, edgeColor=graphics.color.black)]
+
+
+def SnapshotImage(model, size=SNAPSHOT_SIZE, modelRotation=None):
+    """The model's Current state (after a solve: the final one) as an RGB image (height, width, 3),
+    uint8, rendered by Exudyn's software raytracer without a window (exudyn.interactive.ShowImage;
+    no display needed). modelRotation: 3x3 view rotation (None: SNAPSHOT_ROTATION, oblique from
+    above). The solver's status line is left out of the picture; the time is kept."""
+    from exudyn.interactive import ShowImage
+    SC = model["SC"]
+    sd = model["mbs"].systemData                # draw the Current state, whatever the renderer last showed
+    sd.SetSystemState(sd.GetSystemState(exu.ConfigurationType.Current), exu.ConfigurationType.Visualization)
+    sd.SetTime(sd.GetTime(exu.ConfigurationType.Current), exu.ConfigurationType.Visualization)
+    general = SC.visualizationSettings.general
+    before = general.showSolverInformation, general.minSceneSize
+    general.showSolverInformation = False
+    general.minSceneSize = 1e-3                  # zoom onto a small body too (the screw is 2 cm long)
+    try:
+        return ShowImage(SC, size=list(size), show=False,
+                         modelRotation=SNAPSHOT_ROTATION if modelRotation is None else modelRotation)
+    finally:
+        general.showSolverInformation, general.minSceneSize = before
+
+
+def WriteSnapshot(model, fileName, size=SNAPSHOT_SIZE, modelRotation=None):
+    """Write ``SnapshotImage`` as PNG to fileName, atomically (temporary name, then moved into place)."""
+    from matplotlib.image import imsave
+    image = SnapshotImage(model, size=size, modelRotation=modelRotation)
+    atomic_write(fileName, lambda f: imsave(f, image, format="png"))
+    return fileName
+
+
+def StoreSolution(simulationSettings, fileName, frames=500):
+    """Let the solver write its solution (coordinates, binary) to fileName, about ``frames`` rows over
+    the run, for ``ViewSolution``."""
+    ss = simulationSettings
+    ss.solution.file.write = True
+    ss.solution.file.binary = True
+    ss.solution.file.name = str(fileName)
+    span = float(ss.timeIntegration.endTime - ss.timeIntegration.startTime)
+    ss.solution.file.writePeriod = span / max(int(frames), 1)
+
+
+def DisplayProblem():
+    """Why no render window can open here ("DISPLAY is not set"), or None. Exudyn's renderer.Start()
+    aborts the whole process on Linux without a display, so check this before calling it."""
+    if bool(exu.special.userInterface.suppressRenderer):   # Start() returns at once: harmless
+        return None
+    if sys.platform.startswith(("win", "cygwin", "darwin")):
+        return None
+    if not os.environ.get("DISPLAY"):
+        return "DISPLAY is not set"
+    return None
+
+
+def ViewSolution(model, fileName, title=""):
+    """Open Exudyn's SolutionViewer (render window and dialog) on the solution file written by a run
+    of the same model (RunBlock/RunScrew solutionFile=..., or ``StoreSolution``); returns when the
+    window is closed. Raises RuntimeError instead of opening it when there is no display."""
+    problem = DisplayProblem()
+    if problem:
+        raise RuntimeError(f"ViewSolution needs a display ({problem}); "
+                           "use WriteSnapshot, or run under xvfb-run -a")
+    from exudyn.utilities import LoadSolutionFile
+    solution = LoadSolutionFile(str(fileName), verbose=False)
+    model["mbs"].SolutionViewer(solution, title=title)
+
+
+# ----------------------------------------------------------------------------------------------
 # the block scene
 
 def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=None, rhoInf=0.8,
@@ -209,7 +326,10 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     sensors = {}
     if p.model == "planar":
         nBlock = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[p.x0, p.y0, 0.0]))
-        oBlock = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nBlock, mass=m, inertia=m * a * a / 6.0))
+        # drawn as the cube standing on the plane: the node lies in z = 0, the bottom face at the held gap
+        look = VObjectRigidBody2D(graphicsData=BlockGraphics(p, [0.0, 0.0, 0.5 * a + gap]))
+        oBlock = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nBlock, mass=m, inertia=m * a * a / 6.0,
+                                                 visualization=look))
         nq, pos = 3, slice(0, 2)
         localPoints = block_points(p)
         localPoints[:, 2] = gap                 # planar: local z = held height over the plane
@@ -223,7 +343,8 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
                                                           outputVariableType=exu.OutputVariableType.Coordinates_t))
     else:
         oBlock = mbs.CreateRigidBody(inertia=InertiaCuboid(density=m / a ** 3, sideLengths=[a, a, a]),
-                                     referencePosition=[p.x0, p.y0, 0.5 * a + gap], nodeType=NODE_TYPES[nodeType])
+                                     referencePosition=[p.x0, p.y0, 0.5 * a + gap],
+                                     nodeType=NODE_TYPES[nodeType], graphicsDataList=BlockGraphics(p))
         nBlock = mbs.GetObject(oBlock)["nodeNumber"]
         nq, pos = (6 if nodeType == "RotVecLG" else 7), slice(0, 3)
         localPoints = block_points(p)
@@ -302,14 +423,23 @@ def BodyMotion(model, traj):
     return motion_about_z(0.0, 0.0, traj["z"], traj["angle"], 0.0, 0.0, traj["vz"], traj["omega"])
 
 
-def RunBlock(p: BlockParams = None, **options):
+def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=None, **options):
     """Build and solve the block scene; returns exu_aniso.reference.Result (trajectory with the
-    reference's keys, summary = scenes.block_summary, params, info). options: see BuildBlock."""
+    reference's keys, summary = scenes.block_summary, params, info). options: see BuildBlock.
+
+    progress: show the progress of a run longer than about 2 s on stderr (True, or an
+    exu_aniso.progress.Progress; see SolveTimed); snapshot: file name of a PNG of the final state
+    (``WriteSnapshot``: raytraced, no display needed; written only when the run completes);
+    solutionFile: let Exudyn write its solution there, to be played back with
+    ``ViewSolution(BuildBlock(p, **options), solutionFile)``."""
     p = BlockParams() if p is None else p
     model = BuildBlock(p, **options)
+    if solutionFile is not None:
+        StoreSolution(model["simulationSettings"], solutionFile)
     try:
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=[model["contact"]])
+                                              contacts=[model["contact"]],
+                                              progress=make_progress(progress, "block"))
     except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
         traj = BlockTrajectory(model)
         failure.partial = Result(traj, block_summary(traj, float("nan"), failure.steps, failure.newton_iterations),
@@ -323,6 +453,8 @@ def RunBlock(p: BlockParams = None, **options):
                 nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
                 K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
                 implementation=model["contact"]["implementation"])
+    if snapshot is not None:
+        info["snapshot"] = WriteSnapshot(model, snapshot)
     return Result(traj, summary, p, info)
 
 

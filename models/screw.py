@@ -25,15 +25,17 @@ import math
 
 import exudyn as exu
 import numpy as np
+from exudyn import graphics
 from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2, ObjectGenericODE2,
-                                  SensorNode)
+                                  SensorNode, VObjectGenericODE2)
 from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RigidBodyInertia,
-                                       RotationVector2RotationMatrix)
+                                       RotationMatrixZ, RotationVector2RotationMatrix)
 
 from exu_aniso.exudyn_glue import CreateAnisotropicContact
 from exu_aniso.failure import SimulationFailure
+from exu_aniso.progress import make_progress
 from exu_aniso.models.block import (NODE_TYPES, AddNodeDrive, BodyMotion, HistoryOutputs, SimulationSettingsFor,
-                                   SolveTimed, Unwrap)
+                                   SolveTimed, StoreSolution, Unwrap, WriteSnapshot)
 from exu_aniso.reference import Result
 from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.validation import check_bool, check_instance
@@ -59,6 +61,28 @@ def _drive_torque(p, psi, t):
 def _axial_force(p, z, t):
     """Axial force along +z [N] (axial_load plus the axial drive spring)."""
     return p.axial_load + (p.drive_stiffness * (p.axial_speed * t - z) if p.drive == "axial" else 0.0)
+
+
+def ScrewGraphics(p):
+    """Body graphics of the screw: a cylinder of the hole's radius over the contact length, centred on
+    the body's origin along its z axis, in two alternating colours so that its rotation shows."""
+    L = p.length
+    return [graphics.Cylinder(pAxis=[0.0, 0.0, -0.5 * L], vAxis=[0.0, 0.0, L], radius=p.radius, nTiles=32,
+                              color=graphics.color.steelblue, alternatingColor=graphics.color.lightgrey)]
+
+
+def _ReducedScrewGraphics(p, nScrew):
+    """graphicsDataUserFunction of the reduced screw (a GenericODE2 object has no body frame): the
+    ScrewGraphics turned by psi about and moved by z along the hole axis, in the drawn state."""
+    local = ScrewGraphics(p)
+
+    def UFgraphics(mbs, itemNumber):
+        psi, z = mbs.GetNodeOutput(nScrew, exu.OutputVariableType.Coordinates,
+                                   configuration=exu.ConfigurationType.Visualization)
+        A = np.asarray(RotationMatrixZ(float(psi)))
+        return [graphics.Move(g, [0.0, 0.0, float(z)], A) for g in local]
+
+    return UFgraphics
 
 
 def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
@@ -90,7 +114,9 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     if p.model == "reduced":
         nScrew = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
                                              initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))
-        oScrew = mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nScrew], massMatrix=np.diag([Ja, m])))
+        look = VObjectGenericODE2(graphicsDataUserFunction=_ReducedScrewGraphics(p, nScrew))
+        oScrew = mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nScrew], massMatrix=np.diag([Ja, m]),
+                                                 visualization=look))
         mPsi = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=0))
         mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=1))
         if p.drive == "torque":
@@ -114,7 +140,8 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
                                                           outputVariableType=exu.OutputVariableType.Coordinates_t))
     else:
         oScrew = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=m, inertiaTensor=np.diag([Jt, Jt, Ja])),
-                                     referencePosition=[0.0, 0.0, 0.0], nodeType=NODE_TYPES[nodeType])
+                                     referencePosition=[0.0, 0.0, 0.0], nodeType=NODE_TYPES[nodeType],
+                                     graphicsDataList=ScrewGraphics(p))
         nScrew = mbs.GetObject(oScrew)["nodeNumber"]
         if p.drive == "torque":
             mbs.CreateTorque(itemNumber=oScrew, loadVector=[0.0, 0.0, p.torque])
@@ -226,15 +253,20 @@ def ScrewTrajectory(model, contactOutputs=True):
     return traj
 
 
-def RunScrew(p: ScrewParams = None, contactOutputs=True, **options):
+def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapshot=None, solutionFile=None,
+             **options):
     """Build and solve the screw scene; returns exu_aniso.reference.Result (trajectory with the
-    reference's keys, summary = scenes.screw_summary, params, info). options: see BuildScrew."""
+    reference's keys, summary = scenes.screw_summary, params, info). options: see BuildScrew.
+    progress, snapshot, solutionFile: as for exu_aniso.models.block.RunBlock."""
     p = ScrewParams() if p is None else p
     check_bool("contactOutputs", contactOutputs)
     model = BuildScrew(p, **options)
+    if solutionFile is not None:
+        StoreSolution(model["simulationSettings"], solutionFile)
     try:
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=[model["contact"]])
+                                              contacts=[model["contact"]],
+                                              progress=make_progress(progress, "screw"))
     except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
         traj = ScrewTrajectory(model, contactOutputs=False)
         failure.partial = Result(traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations),
@@ -248,6 +280,8 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, **options):
                 nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
                 K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
                 implementation=model["contact"]["implementation"])
+    if snapshot is not None:
+        info["snapshot"] = WriteSnapshot(model, snapshot)
     return Result(traj, summary, p, info)
 
 
