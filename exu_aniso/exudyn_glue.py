@@ -245,6 +245,39 @@ class _ContactSet:
         h = mbs.GetNodeOutput(self.nData, exu.OutputVariableType.Coordinates, configuration=configuration)
         return np.asarray(h, dtype=float).reshape(self.K, N_HISTORY)
 
+    # --- read-only views for graphics and post-processing (never called by the solver) -----------
+    def history_at(self, mbs, configuration=None):
+        """History (K, 9) in an exu.ConfigurationType (e.g. Visualization: what the renderer and the
+        SolutionViewer show); None: the initial history given to the node (works before Assemble)."""
+        if configuration is None:
+            return np.asarray(mbs.GetNodeParameter(self.nData, "initialCoordinates"), dtype=float).reshape(
+                self.K, N_HISTORY)
+        return self.history(mbs, configuration)
+
+    def points_and_master_pose(self, mbs, configuration=None):
+        """Slave points in the master frame (K, 3) and the master's pose: position (3,) and rotation
+        matrix (3, 3) (master frame -> global; the origin and the identity for a ground master), in an
+        exu.ConfigurationType; None: the nodes' initial coordinates (works before Assemble). Global
+        positions are p + A x. Positions only: the law is not evaluated."""
+        def coordinates(nd):
+            if configuration is None:
+                return nd.q0
+            return np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates,
+                                                configuration=configuration), dtype=float)
+        x = self.slave.points(coordinates(self.slave), np.zeros(self.slave.n), self.points)[0]
+        if self.master is None:
+            return x, np.zeros(3), np.eye(3)
+        p, A, _, _ = self.master.frame(coordinates(self.master), np.zeros(self.master.n))
+        return (x - p) @ A, np.array(p, dtype=float), A
+
+    def body_position(self, mbs, configuration=None):
+        """Global position (3,) of the slave body's local origin (node reference point; the joint
+        origin of a screw-joint node) in a configuration (None: initial coordinates)."""
+        q = self.slave.q0 if configuration is None else np.asarray(
+            mbs.GetNodeOutput(self.slave.node, exu.OutputVariableType.Coordinates, configuration=configuration),
+            dtype=float)
+        return self.slave.points(q, np.zeros(self.slave.n), np.zeros((1, 3)))[0][0]
+
     @staticmethod
     def step_time(mbs, t):
         """Time since the start of the step [s] (the age of the converged history)."""
@@ -403,7 +436,12 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
 
     Returns a dict with 'oContact' (ObjectGenericODE2), 'nData' (NodeGenericData, the history:
     9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history), 'sDissipation'
-    (sensor of the total dissipated energy [J]), 'law', 'points' and 'implementation' (the one used).
+    (sensor of the total dissipated energy [J]), 'law', 'points' and 'implementation' (the one used),
+    and for graphics and post-processing: 'bodyNumber', 'masterBodyNumber' (as given), and three
+    read-only functions of (mbs, configuration=None) (an exu.ConfigurationType; None: the initial
+    coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
+    (K, 3), master position (3,), master rotation (3, 3)), 'historyAt' -> history (K, 9) and
+    'bodyPosition' -> global position (3,) of the slave body's local origin.
     """
     if contactLaw is None:
         if normalStiffness is None:
@@ -467,7 +505,11 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         mbs.SetPostNewtonUserFunction(_post_newton)
     mbs.variables[_SETS_KEY].append(cs)
     out = {"oContact": oContact, "nData": cs.nData, "law": contactLaw, "points": points,
-           "implementation": "compiled" if use_compiled else "numpy"}
+           "implementation": "compiled" if use_compiled else "numpy",
+           # read-only views (exu_aniso.graphics); functions of (mbs, configuration=None), see _ContactSet
+           "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
+           "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
+           "bodyPosition": cs.body_position}
     if storeSensors:
         sHistory = mbs.AddSensor(SensorNode(nodeNumber=cs.nData, outputVariableType=exu.OutputVariableType.Coordinates,
                                             storeInternal=True))

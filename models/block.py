@@ -1,7 +1,7 @@
 """Block on a (polar-)orthotropic plane as an Exudyn model (SPEC section 3; paper 000, Fig. 1).
 
 A rigid cube on the plane z = 0, pressed by ``normal_load`` and driven in the xy-plane, with the
-anisotropic contact of ``exu_aniso`` added by one ``CreateAnisotropicContact`` call. The models,
+anisotropic contact of ``exu_aniso`` added by one ``mbs.CreateAnisotropicContact`` call. The models,
 drives, initial state and trajectory keys are those of ``exu_aniso.reference`` (read its module
 docstring); ``RunBlock`` returns the same ``Result`` so the two engines compare field by field:
 
@@ -37,7 +37,7 @@ from exudyn.rigidBodyUtilities import RotationMatrixX, RotationMatrixZ
 from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
-from exu_aniso.exudyn_glue import CreateAnisotropicContact
+import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.output import atomic_write
 from exu_aniso.progress import exudyn_pre_step, make_progress
@@ -370,9 +370,9 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
         oDrive = AddNodeDrive(mbs, nBlock, nq, DriveForce, lambda t, q: Kdrive)
 
     if contactBuilder is None:
-        contact = CreateAnisotropicContact(mbs, bodyNumber=oBlock, localPoints=localPoints,
-                                           contactLaw=block_contact_law(p), jacobian=jacobian,
-                                           initializeHistory=True, implementation=implementation)
+        contact = mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
+                                               contactLaw=block_contact_law(p), jacobian=jacobian,
+                                               initializeHistory=True, implementation=implementation)
     else:
         contact = contactBuilder(mbs, oBlock, localPoints)
     mbs.Assemble()

@@ -31,7 +31,7 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGene
 from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RigidBodyInertia,
                                        RotationMatrixZ, RotationVector2RotationMatrix)
 
-from exu_aniso.exudyn_glue import CreateAnisotropicContact
+import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.failure import SimulationFailure
 from exu_aniso.progress import make_progress
 from exu_aniso.models.block import (NODE_TYPES, AddNodeDrive, BodyMotion, HistoryOutputs, SimulationSettingsFor,
@@ -195,9 +195,9 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
 
     pc = p.with_overrides(rings=1, points_per_ring=1) if (symmetry and p.model == "reduced") else p
     if contactBuilder is None:
-        contact = CreateAnisotropicContact(mbs, bodyNumber=oScrew, localPoints=screw_points(pc),
-                                           contactLaw=screw_contact_law(pc), jacobian=jacobian,
-                                           initializeHistory=True, implementation=implementation)
+        contact = mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=oScrew, localPoints=screw_points(pc),
+                                               contactLaw=screw_contact_law(pc), jacobian=jacobian,
+                                               initializeHistory=True, implementation=implementation)
     else:
         contact = contactBuilder(mbs, oScrew, screw_points(pc))
     mbs.Assemble()
