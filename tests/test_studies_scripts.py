@@ -174,14 +174,15 @@ CASES = [dict(x=3), dict(x=1), dict(x=2)]
 def test_sweep_serial_keeps_order_and_reports_progress(capsys):
     assert studylib.sweep(operator.itemgetter("x"), CASES, _args(serial=True)) == [3, 1, 2]
     err = capsys.readouterr().err
-    assert [f"t: {k}/3 done, case {k} (x={v})" in err for k, v in ((1, 3), (2, 1), (3, 2))] == [True] * 3
+    assert [f"] {k}/3 done, case {k} (x={v})" in err for k, v in ((1, 3), (2, 1), (3, 2))] == [True] * 3
+    assert "t: [#######.............] 1/3 done" in err and "t: [####################] 3/3 done" in err
 
 
 def test_sweep_processes_keeps_order_and_reports_progress(capfd):
     assert studylib.sweep(operator.itemgetter("x"), CASES, _args(processes=2)) == [3, 1, 2]
     err = capfd.readouterr().err
     if not studylib.progress_bar_available():   # tqdm absent: one line per finished case, counted across workers
-        assert all(f"t: {k}/3 done" in err for k in (1, 2, 3)), err
+        assert all(f"] {k}/3 done" in err for k in (1, 2, 3)), err
 
 
 def test_sweep_mpi_goes_through_mpipoolexecutor(monkeypatch, capsys):

@@ -187,6 +187,12 @@ def _case_text(case, width=90):
     return text if len(text) <= width else text[:width - 3] + "..."
 
 
+def text_bar(done, total, width=20):
+    """A progress bar in plain text, e.g. '#######.............' for 7 of 20."""
+    full = int(round(width * done / total)) if total > 0 else width
+    return "#" * full + "." * (width - full)
+
+
 def _call_case(parameterSet):
     """ParameterVariation's parameter function: run case number parameterSet['case']; with
     progress on, print one line to stderr when it is done."""
@@ -201,7 +207,8 @@ def _call_case(parameterSet):
         if _FINISHED is not None:               # serial, or a worker forked from the sweeping process
             with _FINISHED.get_lock():
                 _FINISHED.value += 1
-                done = f"{_FINISHED.value}/{n} done, case {i + 1}"
+                k = _FINISHED.value
+                done = f"[{text_bar(k, n)}] {k}/{n} done, case {i + 1}"
         print(f"{data['name']}: {done} ({_case_text(case)}) in {time.perf_counter() - t0:.1f} s, "
               f"{time.time() - data['t0']:.0f} s elapsed", file=sys.stderr, flush=True)
     return result
