@@ -111,10 +111,13 @@ def test_peers_without_mujoco_runs_our_side(tmp_path):
     installed: pip install '.[bench]'" without numbers, says so on stderr and in the report, and
     exits 0."""
     msg = "MuJoCo not installed: pip install '.[bench]'"
+    script = os.path.join(ROOT, "studies", "peers.py")
     code = ("import sys, runpy; sys.modules['mujoco'] = None; "
-            f"sys.argv = ['studies/peers.py', '--quick', '--serial', '--out', {str(tmp_path)!r}]; "
-            "runpy.run_path('studies/peers.py', run_name='__main__')")
-    r = subprocess.run([sys.executable, "-c", code], cwd=ROOT, timeout=120, capture_output=True, text=True)
+            f"sys.argv = [{script!r}, '--quick', '--serial', '--out', {str(tmp_path)!r}]; "
+            f"runpy.run_path({script!r}, run_name='__main__')")
+    # run outside the source tree: python -c puts the working directory first on sys.path, and the
+    # source tree's exu_aniso has no exu_aniso.models after a non-editable install (CI)
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, timeout=120, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert msg in r.stderr and "Traceback" not in r.stderr
     assert msg in (tmp_path / "report.md").read_text()
