@@ -26,7 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import geometry as _geometry
 from .law import N_PARAMS, _return_map_batch, check_return_map, elastic_energy_batch, return_map_point
+from .nets import net_of
 from .validation import check_array, check_choice, check_nonnegative, check_points, check_positive
 
 HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
@@ -78,10 +80,17 @@ class ContactLaw:
             raise TypeError(f"adhesion must be an Adhesion field (exu_aniso.Adhesion.*); got {adhesion!r}")
         if getattr(friction, "kind", None) != "friction":
             raise TypeError(f"friction must be a Friction field (exu_aniso.Friction.*); got {friction!r}")
-        if getattr(surface, "kind", None) not in ("plane", "cylinder"):
-            raise TypeError(f"surface must be a Plane or a Cylinder; got {surface!r}")
-        adhesion.check_surface(surface)
-        friction.check_surface(surface)
+        self.covariant = isinstance(surface, _geometry.Surface)
+        if not self.covariant and getattr(surface, "kind", None) not in ("plane", "cylinder"):
+            raise TypeError("surface must be a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, "
+                            f"SurfaceOfRevolution, ParametricSurface); got {surface!r}")
+        if self.covariant:
+            # the covariant kernel (exu_aniso.kernel) on the surface protocol; nets of B and F
+            check_choice("formulation", formulation, ("transport",))
+            self._nets = (net_of(adhesion, surface), net_of(friction, surface))
+        else:
+            adhesion.check_surface(surface)
+            friction.check_surface(surface)
         self.surface = surface
         self.adhesion = adhesion
         self.friction = friction
@@ -101,6 +110,36 @@ class ContactLaw:
     def initial_history(n_points):
         return np.zeros((int(n_points), N_HISTORY))
 
+    def adhesion_components(self, anchors):
+        """B (negative definite) by its components (b11, b12, b22) in the frame of the stored
+        traction at the anchors (K, 2) of history rows."""
+        anchors = np.asarray(anchors, dtype=float)
+        if not self.covariant:
+            return self.adhesion.physical(anchors, derivatives=False)[0]
+        from .kernel import adhesion_at
+        out = np.empty((anchors.shape[0], 3))
+        for k, (a1, a2) in enumerate(anchors):
+            out[k] = adhesion_at(self.surface.params, self._nets[0], float(a1), float(a2))
+        return out
+
+    def gap_and_normal(self, x):
+        """Normal gap xi3 (K,) and unit normal n (K, 3) (towards the slave side) of slave points x
+        (K, 3); the normal is NaN where the point is not in contact (xi3 >= 0)."""
+        x = np.asarray(x, dtype=float)
+        if not self.covariant:
+            gap = x[:, 2].copy() if self.surface.kind == "plane" else self.surface.gap(x)
+            n = np.full(x.shape, np.nan)
+            inside = gap < 0.0
+            if np.any(inside):
+                n[inside] = self.surface.frame(x[inside], derivatives=False).n
+            return gap, n
+        gap, n = np.empty(x.shape[0]), np.full(x.shape, np.nan)
+        for k in range(x.shape[0]):
+            gap[k], nk = self.surface.gap_and_normal(x[k])
+            if gap[k] < 0.0:
+                n[k] = nk
+        return gap, n
+
     def released_energy(self, H):
         """Tangential elastic energy T . C^-1 T / 2 [J] (K,) of history rows H (K, 9), C = -B at the
         stored anchor; zero for inactive rows. Losing contact resets T, so this energy leaves the
@@ -109,8 +148,7 @@ class ContactLaw:
         E = np.zeros(H.shape[0])
         act = H[:, 4] > 0.5
         if np.any(act):
-            Bp, _ = self.adhesion.physical(H[act, 2:4], derivatives=False)
-            E[act] = elastic_energy_batch(H[act, 0:2], Bp)
+            E[act] = elastic_energy_batch(H[act, 0:2], self.adhesion_components(H[act, 2:4]))
         return E
 
     def evaluate(self, x, v=None, history=None, tangent=True, dt=None):
@@ -129,6 +167,8 @@ class ContactLaw:
             (K, N_HISTORY))
         if self.formulation == "chart":
             return self._evaluate_chart(x, v, H, tangent)
+        if self.covariant:
+            return self._evaluate_covariant(x, v, H, tangent, dt)
         force = np.zeros((K, 3))
         stiff = np.zeros((K, 3, 3)) if tangent else None
         damp = np.zeros((K, 3, 3)) if tangent else None
@@ -228,6 +268,29 @@ class ContactLaw:
         newH[idx, 7] = status[idx]
         newH[idx, 8] = N
         return ContactState(force, stiff, damp, traction, normal, gap, status, slip, diss, newH, cpoint)
+
+    def _evaluate_covariant(self, x, v, H, tangent, dt):
+        """Every point through the compiled covariant kernel (exu_aniso.kernel.contact_point), the
+        definition the Exudyn compiled route uses too."""
+        from .kernel import LawParams, MAP_CODES, contact_point
+        K = x.shape[0]
+        law = LawParams(self.eps_N, self.d_N, self.d_T, MAP_CODES[self.return_map])
+        sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]
+        force = np.zeros((K, 3))
+        stiff = np.zeros((K, 3, 3))
+        damp = np.zeros((K, 3, 3))
+        newH = np.zeros((K, N_HISTORY))
+        status = np.zeros(K, dtype=int)
+        dT = np.zeros((2, 9))
+        for k in range(K):
+            status[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k].copy(), 0.0 if dt is None else float(dt),
+                                      tangent, force[k], stiff[k], damp[k], newH[k], dT)
+        closed = status != OPEN
+        gap, _ = self.gap_and_normal(x)
+        return ContactState(force, stiff if tangent else None, damp if tangent else None,
+                            np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,
+                            np.full((K, 2), np.nan), newH[:, 5] - H[:, 5], newH,
+                            np.where(closed[:, None], newH[:, 2:4], np.nan))
 
     # ------------------------------------------------------------------------------------------
     # the papers' covariant route, one point at a time (reference formulation)

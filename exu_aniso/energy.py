@@ -126,8 +126,7 @@ def stored_tangential(H, law):
     active = rows[:, _ACTIVE] > 0.5
     E = np.zeros(n * K)
     if np.any(active):
-        B, _ = law.adhesion.physical(rows[active][:, _A], derivatives=False)
-        E[active] = elastic_energy_batch(rows[active][:, _T], B)
+        E[active] = elastic_energy_batch(rows[active][:, _T], law.adhesion_components(rows[active][:, _A]))
     return E.reshape(n, K).sum(axis=1)
 
 
@@ -158,21 +157,20 @@ def contact_energy(law, X, V, H):
     V = np.asarray(V, dtype=float)
     H = _history(H)
     n, K, _ = X.shape
-    surf = law.surface
     x = X.reshape(n * K, 3)
-    gap = x[:, 2].copy() if surf.kind == "plane" else surf.gap(x)
+    gap, normal = law.gap_and_normal(x)
     inside = gap < 0.0
     stored = 0.5 * law.eps_N * np.where(inside, gap, 0.0) ** 2
     diss = dissipated(H)
     if law.d_N > 0.0 or law.d_T > 0.0:
         fd = np.zeros((n * K, 3))
         if np.any(inside):
-            fr = surf.frame(x[inside], derivatives=False)
+            nrm = normal[inside]
             N = H.reshape(n * K, N_HISTORY)[inside, _NORMAL]
-            Nd = N - law.eps_N * fr.gap                       # dashpot part of N (force on slave: -N n)
+            Nd = N - law.eps_N * gap[inside]                  # dashpot part of N (force on slave: -N n)
             v = V.reshape(n * K, 3)[inside]
-            vt = v - fr.n * np.einsum("ki,ki->k", fr.n, v)[:, None]
-            fd[inside] = -Nd[:, None] * fr.n - np.where(N < 0.0, law.d_T, 0.0)[:, None] * vt
+            vt = v - nrm * np.einsum("ki,ki->k", nrm, v)[:, None]
+            fd[inside] = -Nd[:, None] * nrm - np.where(N < 0.0, law.d_T, 0.0)[:, None] * vt
         fd = fd.reshape(n, K, 3)
         dD = -np.sum(0.5 * (fd[1:] + fd[:-1]) * np.diff(X, axis=0), axis=(1, 2))
         diss = diss + np.concatenate([[0.0], np.cumsum(dD)])

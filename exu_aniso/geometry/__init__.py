@@ -1,0 +1,12 @@
+"""Analytical master surfaces, one module each, on one protocol (``_core``): chart and its
+derivatives, closest point projection, metric, curvature, Christoffel symbols, parallel transport
+and the slip increment. See docs/adding_a_surface.md for how to add one (the torus as the example).
+"""
+from ._base import Point, Surface
+from .cone import Cone
+from .cylinder import Cylinder
+from .plane import Plane
+from .sphere import Sphere
+from .torus import Torus
+
+__all__ = ["Surface", "Point", "Plane", "Cylinder", "Cone", "Sphere", "Torus"]

@@ -1,0 +1,285 @@
+"""The covariant contact kernel for one slave point on any surface of the protocol, compiled with
+numba and composed from the surface's chart (``geometry._core``), the adhesion and friction nets
+(``nets``) and the return maps (``fastpath._return_map``, the law of ``exu_aniso.law``). Python
+callers (the numpy reference) call the same compiled function, so both engines evaluate one
+definition.
+
+Symbols (papers' notation, SPEC section 7): x the slave point, (xi1, xi2) the convective coordinates
+of its closest point C, xi3 the normal gap, rho_i, n, m_ij, h_ij, A_ij = m_ij - xi3 h_ij; T the
+tangential traction, N the normal traction (<= 0), B = -C adhesion (negative definite), F friction.
+Tensors and the traction are stored by their components in the orthonormal tangent frame
+(a_1, a_2) of C (``nets.tangent_frame``), which the law treats as the papers' metric-free case.
+
+One step from the converged history (T_n in the frame at the anchor xi_n):
+
+1. project x (hint xi_n); open if xi3 >= 0 (a sticking history is released: T.C^-1 T / 2 is
+   booked as dissipated);
+2. the coordinate increment d xi = xi - xi_n, periodic coordinates unwrapped to the branch
+   closest to the prediction (A^-1 rho^T v dt); a branch farther than a quarter period from the
+   prediction is an unresolved step (status 3) that the engine must refine;
+3. T_n is carried to C by parallel transport along d xi (midpoint rule, second order); the slip
+   increment is d xi^i rho_i at the midpoint, carried from there to C the same way, so steady
+   sliding does not depend on the step;
+4. T_tr = T_n + B slip, T = return map (seed / exact / radial), N = eps_N xi3 + d_N n.v;
+5. the force on the slave point is the one conjugate to the slip of C: G^T T - N n, with
+   G = E^T rho A^-1 rho^T (2 x 3); a tangential dashpot -d_T (v - n (n.v)) while loaded;
+6. the tangent df/dx: chain rule through q = (xi1, xi2, xi3) with d xi / dx = A^-1 rho^T and
+   d xi3 / dx = n; the law's derivative analytic (dT/dp of the return map); the derivatives of the
+   surface quantities (transported traction, slip, B, F, n, G) with respect to xi by central
+   differences of their analytic definitions (they are smooth in xi; the only non-smooth part, the
+   return map, is differentiated analytically at the state itself).
+
+All geometry is done in the surface's local frame; x, v in and f, df/dx, df/dv out are in the
+master frame.
+"""
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from .fastpath import _return_map
+from .geometry import _core
+from .geometry._core import add, cross, dot, local_chart, scale, sub
+from .nets import physical, tangent_frame
+
+LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
+MAP_CODES = {"seed": 0, "exact": 1, "radial": 2}
+OPEN, STICK, SLIP, UNRESOLVED = 0, 1, 2, 3
+N_HISTORY = 9
+# central difference step of the surface quantities in xi: this fraction of the point's distance
+# scale, divided by |rho_i| (error ~ step^2 from truncation, ~ eps / step from round-off)
+XI_STEP = 2e-6
+
+
+@njit(cache=True)
+def _rot_to_local(p, v):
+    return (dot(v, p.ex), dot(v, p.ey), dot(v, p.ez))
+
+
+@njit(cache=True)
+def _A_inv(r1, r2, r11, r12, r22, n, xi3):
+    m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
+    h11, h12, h22 = dot(r11, n), dot(r12, n), dot(r22, n)
+    a11, a12, a22 = m11 - xi3 * h11, m12 - xi3 * h12, m22 - xi3 * h22
+    det = a11 * a22 - a12 * a12
+    return a22 / det, -a12 / det, a11 / det, h11, h12, h22
+
+
+@njit(cache=True)
+def _contra(r1, r2, w):
+    """Contravariant components of the tangent vector w in the basis (r1, r2)."""
+    m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
+    det = m11 * m22 - m12 * m12
+    b1, b2 = dot(w, r1), dot(w, r2)
+    return (m22 * b1 - m12 * b2) / det, (m11 * b2 - m12 * b1) / det
+
+
+@njit(cache=True)
+def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, Tn1, Tn2):
+    """The quantities at C(xi1, xi2) (unwrapped coordinates) for the stored state (xi_n, T_n):
+    transported traction (2), slip (2), B (3, negative definite), F (3), n (3), G (6, rows of the
+    2 x 3 matrix), all in the local frame. Smooth in xi: the kernel differences them for the tangent."""
+    d1, d2 = xi1 - xn1, xi2 - xn2
+    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
+    a1, a2, nu = tangent_frame(r1, r2)
+    n = scale(sp.sign, nu)
+    # T_n: physical components at xi_n -> vector -> contravariant -> transport -> physical at xi
+    Tt1 = Tt2 = 0.0
+    if Tn1 != 0.0 or Tn2 != 0.0:
+        rn, rn1, rn2, _, _, _ = local_chart(sp, xn1, xn2)
+        b1, b2, _ = tangent_frame(rn1, rn2)
+        t1, t2 = _contra(rn1, rn2, add(scale(Tn1, b1), scale(Tn2, b2)))
+        t1, t2 = _core.transport(sp, xn1, xn2, d1, d2, t1, t2)
+        w = add(scale(t1, r1), scale(t2, r2))
+        Tt1, Tt2 = dot(w, a1), dot(w, a2)
+    # slip: d xi at the midpoint, carried to C
+    s1, s2 = _core.transport(sp, xn1 + 0.5 * d1, xn2 + 0.5 * d2, 0.5 * d1, 0.5 * d2, d1, d2)
+    w = add(scale(s1, r1), scale(s2, r2))
+    S1, S2 = dot(w, a1), dot(w, a2)
+    c11, c12, c22 = physical(netB, r, r1, r2)
+    f11, f12, f22 = physical(netF, r, r1, r2)
+    # G = E^T rho A^-1 rho^T
+    M11, M12, M22, _, _, _ = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    e11, e12 = dot(a1, r1), dot(a1, r2)
+    e21, e22 = dot(a2, r1), dot(a2, r2)
+    g11, g12 = e11 * M11 + e12 * M12, e11 * M12 + e12 * M22      # row 1 of E^T rho A^-1
+    g21, g22 = e21 * M11 + e22 * M12, e21 * M12 + e22 * M22
+    G1 = add(scale(g11, r1), scale(g12, r2))
+    G2 = add(scale(g21, r1), scale(g22, r2))
+    return (Tt1, Tt2, S1, S2, -c11, -c12, -c22, f11, f12, f22, n[0], n[1], n[2],
+            G1[0], G1[1], G1[2], G2[0], G2[1], G2[2])
+
+
+_NT = 19            # number of surface terms
+
+
+@njit(cache=True)
+def adhesion_at(sp, netB, xi1, xi2):
+    """B (negative definite) components (b11, b12, b22) in the tangent frame at (xi1, xi2)."""
+    r, r1, r2, _, _, _ = local_chart(sp, xi1, xi2)
+    c11, c12, c22 = physical(netB, r, r1, r2)
+    return -c11, -c12, -c22
+
+
+@njit(cache=True)
+def _release(sp, netB, h, hn):
+    """Contact lost: T . C^-1 T / 2 at the anchor of an active row h is booked as dissipated."""
+    if not h[4] > 0.5:
+        return
+    r, r1, r2, _, _, _ = local_chart(sp, h[2], h[3])
+    c11, c12, c22 = physical(netB, r, r1, r2)
+    det = c11 * c22 - c12 * c12
+    hn[5] += 0.5 * (c22 * h[0] * h[0] - 2.0 * c12 * h[0] * h[1] + c11 * h[1] * h[1]) / det
+
+
+@njit(cache=True)
+def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, dT):
+    """Force f (3), df/dx Kx (3, 3), df/dv Dv (3, 3) (when tangent) on the slave point at x with
+    velocity v (master frame, relative to the master), and the history candidate hn (9) from the
+    converged history h (9): traction (2, frame at the anchor), anchor xi (2, unwrapped), active,
+    dissipated energy, slip distance, status, N. dt: time since h (predicts the branch of periodic
+    coordinates). dT: scratch (2, 9). Returns the status (0 open, 1 stick, 2 slip, 3 unresolved)."""
+    for i in range(N_HISTORY):
+        hn[i] = h[i]
+    for i in (0, 1, 2, 3, 4, 7, 8):
+        hn[i] = 0.0
+    for i in range(3):
+        f[i] = 0.0
+        for j in range(3):
+            Kx[i, j] = 0.0
+            Dv[i, j] = 0.0
+    active = h[4] > 0.5
+    hint1, hint2 = (h[2], h[3]) if active else (math.nan, math.nan)
+    xi1, xi2, xi3, pstat = _core.project(sp, (x[0], x[1], x[2]), hint1, hint2)
+    if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
+        if xi3 >= 0.0:
+            _release(sp, netB, h, hn)
+            return OPEN
+    if pstat != 0 or not xi3 < 0.0:
+        raise ValueError("closest point projection undefined for a slave point in contact (centre of "
+                         "curvature, singular chart point, or no convergence): see geometry._core.project")
+    y = _core.to_local(sp, (x[0], x[1], x[2]))
+    vl = _rot_to_local(sp, (v[0], v[1], v[2]))
+    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
+    a1, a2, nu = tangent_frame(r1, r2)
+    n = scale(sp.sign, nu)
+    M11, M12, M22, h11, h12, h22 = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    # d xi / dx = A^-1 rho^T (rows), local frame
+    X1 = add(scale(M11, r1), scale(M12, r2))
+    X2 = add(scale(M12, r1), scale(M22, r2))
+    # anchor and increment: periodic coordinates to the branch of the predicted increment
+    status = STICK
+    if active:
+        p1, p2 = dot(X1, vl) * dt, dot(X2, vl) * dt
+        d1, e1 = _core.unwrap(sp.period1, xi1 - h[2], p1)
+        d2, e2 = _core.unwrap(sp.period2, xi2 - h[3], p2)
+        if (sp.period1 > 0.0 and e1 > 0.25 * sp.period1) or (sp.period2 > 0.0 and e2 > 0.25 * sp.period2):
+            status = UNRESOLVED
+        xn1, xn2, Tn1, Tn2 = h[2], h[3], h[0], h[1]
+        xi1, xi2 = xn1 + d1, xn2 + d2
+    else:
+        xn1, xn2, Tn1, Tn2 = xi1, xi2, 0.0, 0.0
+    st = surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, Tn1, Tn2)
+    vn = dot(n, vl)
+    N = law.eps_N * xi3 + law.d_N * vn
+    loaded = N < 0.0
+    if not loaded:
+        N = 0.0
+    Ttr1 = st[0] + st[4] * st[2] + st[5] * st[3]
+    Ttr2 = st[1] + st[5] * st[2] + st[6] * st[3]
+    B = (st[4], st[5], st[6])
+    F = (st[7], st[8], st[9])
+    T1, T2, sliding, sl1, sl2, _ = _return_map(law.method, Ttr1, Ttr2, -N, B, F, dT)
+    if sliding and status != UNRESOLVED:
+        status = SLIP
+    G1 = (st[13], st[14], st[15])
+    G2 = (st[16], st[17], st[18])
+    dTd = law.d_T if loaded else 0.0
+    fl = sub(add(scale(T1, G1), scale(T2, G2)), scale(N, n))
+    fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
+    if tangent:
+        # surface terms differenced in xi (at fixed xi3); G also depends on xi3 (analytic)
+        Kl = np.zeros((3, 3))
+        Dl = np.zeros((3, 3))
+        dS = np.zeros((2, _NT))
+        size = 1.0 + math.sqrt(dot(y, y))
+        for i in range(2):
+            hs = XI_STEP * size / math.sqrt(dot(r1, r1) if i == 0 else dot(r2, r2))
+            e1, e2 = hs * (i == 0), hs * (i == 1)
+            # a new contact anchors at the current point: the anchor moves with it (no slip)
+            m1, m2 = (0.0, 0.0) if active else (e1, e2)
+            a = surface_terms(sp, netB, netF, xi1 + e1, xi2 + e2, xi3, xn1 + m1, xn2 + m2, Tn1, Tn2)
+            b = surface_terms(sp, netB, netF, xi1 - e1, xi2 - e2, xi3, xn1 - m1, xn2 - m2, Tn1, Tn2)
+            for k in range(_NT):
+                dS[i, k] = (a[k] - b[k]) / (2.0 * hs)
+        # dG/dxi3 = E^T rho A^-1 h A^-1 rho^T
+        Ah11 = M11 * h11 + M12 * h12
+        Ah12 = M11 * h12 + M12 * h22
+        Ah21 = M12 * h11 + M22 * h12
+        Ah22 = M12 * h12 + M22 * h22
+        W11, W12 = Ah11 * M11 + Ah12 * M12, Ah11 * M12 + Ah12 * M22
+        W21, W22 = Ah21 * M11 + Ah22 * M12, Ah21 * M12 + Ah22 * M22   # A^-1 h A^-1
+        e11, e12, e21, e22 = dot(a1, r1), dot(a1, r2), dot(a2, r1), dot(a2, r2)
+        q11, q12 = e11 * W11 + e12 * W21, e11 * W12 + e12 * W22
+        q21, q22 = e21 * W11 + e22 * W21, e21 * W12 + e22 * W22
+        dG3_1 = add(scale(q11, r1), scale(q12, r2))
+        dG3_2 = add(scale(q21, r1), scale(q22, r2))
+        for j in range(3):
+            X1j, X2j, nj = X1[j], X2[j], n[j]
+            dq = np.zeros(_NT)
+            for k in range(_NT):
+                dq[k] = dS[0, k] * X1j + dS[1, k] * X2j
+            dn = (dq[10], dq[11], dq[12])
+            dNj = 0.0
+            if loaded:
+                dNj = law.eps_N * nj + law.d_N * dot(dn, vl)
+            # p = (Ttr1, Ttr2, |N|, b11, b12, b22, f11, f12, f22)
+            dTtr1 = dq[0] + dq[4] * st[2] + dq[5] * st[3] + st[4] * dq[2] + st[5] * dq[3]
+            dTtr2 = dq[1] + dq[5] * st[2] + dq[6] * st[3] + st[5] * dq[2] + st[6] * dq[3]
+            dp = (dTtr1, dTtr2, -dNj, dq[4], dq[5], dq[6], dq[7], dq[8], dq[9])
+            dT1 = 0.0
+            dT2 = 0.0
+            for k in range(9):
+                dT1 += dT[0, k] * dp[k]
+                dT2 += dT[1, k] * dp[k]
+            dG1 = add((dq[13], dq[14], dq[15]), scale(nj, dG3_1))
+            dG2 = add((dq[16], dq[17], dq[18]), scale(nj, dG3_2))
+            col = add(add(scale(T1, dG1), scale(T2, dG2)), add(scale(dT1, G1), scale(dT2, G2)))
+            col = sub(col, add(scale(dNj, n), scale(N, dn)))
+            if dTd > 0.0:
+                col = add(col, scale(dTd, add(scale(vn, dn), scale(dot(vl, dn), n))))
+            for i in range(3):
+                Kl[i, j] = col[i]
+        # df/dv: N through d_N n.v, the dashpot
+        dNv = law.d_N if loaded else 0.0
+        for j in range(3):
+            dT1 = -dT[0, 2] * dNv * n[j]
+            dT2 = -dT[1, 2] * dNv * n[j]
+            for i in range(3):
+                Dl[i, j] = dT1 * G1[i] + dT2 * G2[i] - n[i] * dNv * n[j] - dTd * ((i == j) - n[i] * n[j])
+        # to the master frame: K = R Kl R^T with R = [ex ey ez]
+        Rm = np.empty((3, 3))
+        for i in range(3):
+            Rm[i, 0], Rm[i, 1], Rm[i, 2] = sp.ex[i], sp.ey[i], sp.ez[i]
+        Kg = Rm @ Kl @ Rm.T
+        Dg = Rm @ Dl @ Rm.T
+        for i in range(3):
+            for j in range(3):
+                Kx[i, j] = Kg[i, j]
+                Dv[i, j] = Dg[i, j]
+    fg = _core.to_global(sp, fl)
+    for i in range(3):
+        f[i] = fg[i]
+    # energy removed by the return map in the step (trapezoidal, as contact.ContactLaw)
+    D = -0.5 * ((st[0] + T1) * sl1 + (st[1] + T2) * sl2)
+    hn[0], hn[1] = T1, T2
+    hn[2], hn[3] = xi1, xi2
+    hn[4] = 1.0
+    hn[5] = h[5] + D
+    hn[6] = h[6] + math.sqrt(sl1 * sl1 + sl2 * sl2)
+    hn[7] = status
+    hn[8] = N
+    return status

@@ -1,0 +1,187 @@
+"""The covariant contact kernel (exu_aniso.kernel) on the surface protocol: equal to today's
+transport kernel on the plane and the cylinder (where both apply), consistent tangent against
+finite differences on curved surfaces, objectivity under a rigid motion of master and slave
+together, and the zero-taper cone equal to the cylinder."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from exu_aniso import Adhesion, ContactLaw, Friction
+from exu_aniso import geometry as geo
+from exu_aniso import surfaces as old
+
+MAPS = ("seed", "exact", "radial")
+RNG = np.random.default_rng(11)
+
+
+def _inside(surface, box, depth=1e-4):
+    xi = np.array([RNG.uniform(*box[0]), RNG.uniform(*box[1])])
+    g = surface.at(xi)
+    return g.point - g.n * RNG.uniform(0.1, 1.0) * depth
+
+
+def _history(law, x, v, active=True):
+    """A converged history row near x: anchored at a nearby point, with a traction of the size of
+    the friction limit (so some evaluations stick and some slip)."""
+    st = law.evaluate(x[None, :] + RNG.normal(size=3) * 2e-5, v[None, :], None, tangent=False, dt=1e-3)
+    H = st.history.copy()
+    if active and H[0, 4] > 0.5:
+        H[0, 0:2] = RNG.normal(size=2) * 3.0
+    return H
+
+
+PAIRS = [
+    (old.Plane(), geo.Plane(), [(0.2, 1.0), (-1, 1)], Adhesion.polar(1e4, 1e2, 1e-3), Friction.polar(0.3, 0.6, 1e-3)),
+    (old.Plane(), geo.Plane(), [(0.2, 1.0), (-1, 1)], Adhesion.orthotropic(1e4, 1e2, 0.3),
+     Friction.orthotropic(0.3, 0.6, -0.2)),
+    (old.Cylinder(0.5, side="inside"), geo.Cylinder(0.5, side="inside"), [(-3, 3), (-1, 1)],
+     Adhesion.spiral(1e3, 1e5, 0.2), Friction.spiral(0.2, 0.5, 0.2)),
+    (old.Cylinder(0.5, axis_direction=(1, 1, 0), side="outside"),
+     geo.Cylinder(0.5, axis_direction=(1, 1, 0), side="outside"), [(-3, 3), (-1, 1)],
+     Adhesion.spiral(1e3, 1e5, -0.4), Friction.isotropic(0.3)),
+]
+
+
+@pytest.mark.parametrize("return_map", MAPS)
+@pytest.mark.parametrize("pair", PAIRS, ids=lambda p: f"{type(p[1]).__name__}-{p[3].pattern}")
+def test_equals_the_transport_kernel_on_plane_and_cylinder(pair, return_map):
+    """Force, tangent, damping matrix, status and history candidate of the covariant kernel equal
+    those of the transport kernel (contact.ContactLaw on surfaces.Plane / Cylinder, whose frozen
+    frame components are exact parallel transport there)."""
+    s_old, s_new, box, A, F = pair
+    kw = dict(normal_damping=3.0, return_map=return_map, tangential_damping=2.0)
+    a, b = ContactLaw(s_old, A, F, 1e5, **kw), ContactLaw(s_new, A, F, 1e5, **kw)
+    for _ in range(12):
+        x = np.array([RNG.uniform(0.2, 1.0), RNG.uniform(-1, 1), -RNG.uniform(0, 1e-4)]) \
+            if isinstance(s_new, geo.Plane) else _inside(s_new, box)
+        v = RNG.normal(size=3) * 0.1
+        H = _history(a, x, v)
+        sa = a.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        sb = b.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        assert sa.status[0] == sb.status[0]
+        scale = 1.0 + np.abs(sa.force).max()
+        np.testing.assert_allclose(sb.force, sa.force, rtol=0, atol=1e-10 * scale)
+        np.testing.assert_allclose(sb.history, sa.history, rtol=1e-10, atol=1e-10)
+        kscale = np.abs(sa.stiffness).max() + np.abs(sa.damping).max()
+        np.testing.assert_allclose(sb.stiffness, sa.stiffness, rtol=0, atol=1e-8 * kscale + 1e-12)
+        np.testing.assert_allclose(sb.damping, sa.damping, rtol=0, atol=1e-8 * kscale + 1e-12)
+
+
+CURVED = [
+    (geo.Cone(0.3, 0.5), [(-3, 3), (-0.4, 0.4)], Adhesion.spiral(1e3, 1e5, 0.25), Friction.orthotropic(0.2, 0.6, 0.4)),
+    (geo.Cone(-0.2, 0.4, axis_direction=(0, 1, 1), side="inside"), [(-3, 3), (-0.4, 0.4)],
+     Adhesion.isotropic(1e4), Friction.spiral(0.2, 0.6, 0.3)),
+    (geo.Sphere(0.6), [(-3, 3), (0.4, 2.7)], Adhesion.orthotropic(1e4, 3e2, 0.7), Friction.orthotropic(0.3, 0.5, 0.1)),
+    (geo.Sphere(0.6, center=(0.1, 0.2, 0.3), axis_direction=(1, 0, 1), side="inside"), [(-3, 3), (0.4, 2.7)],
+     Adhesion.orthotropic(2e3, 1e4, -0.3), Friction.isotropic(0.4)),
+    (geo.Torus(1.0, 0.3), [(-3, 3), (-3, 3)], Adhesion.orthotropic(1e4, 3e2, 0.2), Friction.orthotropic(0.2, 0.5, 0.8)),
+    (geo.Torus(1.0, 0.3, side="inside"), [(-3, 3), (-3, 3)], Adhesion.isotropic(1e4), Friction.isotropic(0.3)),
+]
+
+
+def _fd(law, x, v, H, dt, wrt, h):
+    J = np.zeros((3, 3))
+    for j in range(3):
+        e = np.zeros(3)
+        e[j] = h
+        xp, xm, vp, vm = (x + e, x - e, v, v) if wrt == "x" else (x, x, v + e, v - e)
+        fp = law.evaluate(xp[None, :], vp[None, :], H, tangent=False, dt=dt).force[0]
+        fm = law.evaluate(xm[None, :], vm[None, :], H, tangent=False, dt=dt).force[0]
+        J[:, j] = (fp - fm) / (2 * h)
+    return J
+
+
+@pytest.mark.parametrize("return_map", MAPS)
+@pytest.mark.parametrize("case", CURVED, ids=lambda c: repr(c[0]))
+def test_tangent_equals_finite_differences_on_curved_surfaces(case, return_map):
+    """df/dx and df/dv of the kernel against central differences of its force, with the history
+    fixed (active and new contacts, stick and slip, normal and tangential dashpots)."""
+    s, box, A, F = case
+    law = ContactLaw(s, A, F, 1e5, normal_damping=2.0, tangential_damping=1.0, return_map=return_map)
+    checked = 0
+    for trial in range(10):
+        x = _inside(s, box)
+        v = RNG.normal(size=3) * 0.1
+        H = _history(law, x, v, active=trial % 4 != 0)
+        st = law.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        if st.status[0] == 0:
+            continue
+        # stay on the state's side of the stick/slip switch: skip states within the FD step of it
+        near = [law.evaluate((x + d)[None, :], v[None, :], H, tangent=False, dt=1e-3).status[0]
+                for d in np.eye(3) * 2e-9]
+        if any(k != st.status[0] for k in near):
+            continue
+        Kfd = _fd(law, x, v, H, 1e-3, "x", 1e-9)
+        Dfd = _fd(law, x, v, H, 1e-3, "v", 1e-6)
+        ks = np.abs(Kfd).max()
+        np.testing.assert_allclose(st.stiffness[0], Kfd, rtol=0, atol=2e-5 * ks)
+        np.testing.assert_allclose(st.damping[0], Dfd, rtol=0, atol=1e-6 * (np.abs(Dfd).max() + 1.0))
+        checked += 1
+    assert checked >= 5
+
+
+@pytest.mark.parametrize("case", CURVED[::2], ids=lambda c: repr(c[0]))
+def test_objectivity_under_a_rigid_motion(case):
+    """Moving the master surface and the slave point (position, velocity, history in the master's
+    coordinates) together by a rigid motion leaves traction, N and status unchanged and turns the
+    force with the motion."""
+    s, box, A, F = case
+    p = s.params
+    th = 0.9
+    c, sn = math.cos(th), math.sin(th)
+    Q = np.array([[1, 0, 0], [0, c, -sn], [0, sn, c]])       # about x: the chart's reference axis stays
+    o = np.array([0.4, -0.7, 1.1])
+    moved = type(s)(**_moved_args(s, Q, o))
+    law0 = ContactLaw(s, A, F, 1e5, normal_damping=1.0, return_map="exact")
+    law1 = ContactLaw(moved, A, F, 1e5, normal_damping=1.0, return_map="exact")
+    for _ in range(5):
+        x = _inside(s, box)
+        v = RNG.normal(size=3) * 0.1
+        H = _history(law0, x, v)
+        a = law0.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        b = law1.evaluate((o + Q @ x)[None, :], (Q @ v)[None, :], H, tangent=True, dt=1e-3)
+        assert a.status[0] == b.status[0]
+        np.testing.assert_allclose(b.history, a.history, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(b.force[0], Q @ a.force[0], rtol=0, atol=1e-9 * np.abs(a.force).max())
+        np.testing.assert_allclose(b.stiffness[0], Q @ a.stiffness[0] @ Q.T, rtol=0,
+                                   atol=1e-7 * np.abs(a.stiffness).max())
+    assert p is s.params
+
+
+def _moved_args(s, Q, o):
+    p = s.params
+    base = np.array(p.origin)
+    if isinstance(s, geo.Cone):
+        return dict(half_angle=s.half_angle, radius=s.radius, axis_point=o + Q @ base,
+                    axis_direction=Q @ np.array(p.ez), side=s.side)
+    if isinstance(s, geo.Sphere):
+        return dict(radius=s.radius, center=o + Q @ base, axis_direction=Q @ np.array(p.ez), side=s.side)
+    return dict(major_radius=s.major_radius, minor_radius=s.minor_radius, center=o + Q @ base,
+                axis_direction=Q @ np.array(p.ez), side=s.side)
+
+
+def test_zero_taper_cone_equals_the_cylinder():
+    A, F = Adhesion.spiral(1e3, 1e5, 0.2), Friction.orthotropic(0.2, 0.5, 0.3)
+    cone = ContactLaw(geo.Cone(0.0, 0.5, side="inside"), A, F, 1e5, return_map="radial")
+    cyl = ContactLaw(geo.Cylinder(0.5, side="inside"), A, F, 1e5, return_map="radial")
+    for _ in range(8):
+        x = _inside(cyl.surface, [(-3, 3), (-1, 1)])
+        v = RNG.normal(size=3) * 0.1
+        H = _history(cyl, x, v)
+        a = cone.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        b = cyl.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        np.testing.assert_array_equal(a.force, b.force)
+        np.testing.assert_array_equal(a.history, b.history)
+        np.testing.assert_allclose(a.stiffness, b.stiffness, rtol=1e-9, atol=1e-9)
+
+
+def test_contact_on_a_pole_or_axis_is_a_clear_error():
+    law = ContactLaw(geo.Cylinder(0.5, side="outside"), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)
+    with pytest.raises(ValueError, match="projection undefined"):
+        law.evaluate(np.array([[0.0, 0.0, 0.2]]))          # on the axis of a shaft: inside it, no closest point
+    hole = ContactLaw(geo.Cylinder(0.5, side="inside"), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)
+    st = hole.evaluate(np.array([[0.0, 0.0, 0.2]]))        # on the axis of a hole: gap R, open
+    assert st.status[0] == 0 and st.force[0].tolist() == [0.0, 0.0, 0.0]
