@@ -6,6 +6,7 @@ modules ``exu_aniso.exudyn_glue`` (the contact set), ``exu_aniso.mainsystem`` (t
 and ``exu_aniso.graphics`` are the places that talk to Exudyn. Without Exudyn installed the
 package still imports, and the reference engine runs.
 """
+from ._numba_cache import CACHE_DIR as NUMBA_CACHE_DIR   # first: before any compiled kernel is defined
 from .contact import HISTORY_FIELDS, OPEN, SLIP, STICK, ContactLaw, ContactState
 from .fields import Adhesion, Friction, TensorField
 from .law import RETURN_MAPS, return_map_batch, return_map_point
