@@ -140,6 +140,21 @@ class ContactLaw:
                 n[k] = nk
         return gap, n
 
+    def traction_frames(self, x):
+        """The frame E (K, 3, 2) in which the history stores the traction of points in contact at
+        x (K, 3), and the normal n (K, 3) (graphics: the force E T - N n)."""
+        x = np.asarray(x, dtype=float)
+        if not self.covariant:
+            fr = self.surface.frame(x, derivatives=False)
+            return fr.E, fr.n
+        from .nets import tangent_frame
+        E, n = np.zeros((x.shape[0], 3, 2)), np.zeros((x.shape[0], 3))
+        for k in range(x.shape[0]):
+            p = self.surface.project(x[k])
+            a1, a2, _ = tangent_frame(tuple(p.rho[0]), tuple(p.rho[1]))
+            E[k, :, 0], E[k, :, 1], n[k] = a1, a2, p.n
+        return E, n
+
     def released_energy(self, H):
         """Tangential elastic energy T . C^-1 T / 2 [J] (K,) of history rows H (K, 9), C = -B at the
         stored anchor; zero for inactive rows. Losing contact resets T, so this energy leaves the

@@ -342,10 +342,13 @@ class _CompiledSet(_ContactSet):
     Newton solve (it only changes when a step is accepted)."""
 
     def __init__(self, mbs, law, slave, points, master):
-        from . import fastpath
         super().__init__(mbs, law, slave, points, master)
-        self._kernel = fastpath.evaluate_packed
-        self.pk = fastpath.PackedSet(law, slave.kind, slave.ref, points)
+        if law.covariant:       # every surface of the protocol: the covariant kernel
+            from .kernel import CovariantSet
+            self.pk = CovariantSet(law, slave.kind, slave.ref, points)
+        else:                   # Plane / Cylinder of exu_aniso.surfaces: the transport kernel
+            from .fastpath import PackedSet
+            self.pk = PackedSet(law, slave.kind, slave.ref, points)
         self._H_time = None
         self._dt = 0.0
 
@@ -356,9 +359,7 @@ class _CompiledSet(_ContactSet):
             self._dt = self.step_time(mbs, t)
 
     def _eval(self, mode, q, q_t, fq=0.0, fv=0.0):
-        pk = self.pk
-        self._kernel(mode, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fq, fv, self._dt, pk.W, pk.P,
-                     pk.S, pk.I)
+        self.pk.evaluate(mode, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fq, fv, self._dt)
 
     def force(self, mbs, t, itemNumber, q, q_t):
         self._load_history(mbs, t)

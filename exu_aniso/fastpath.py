@@ -27,7 +27,8 @@ import math
 import sys
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
 from .law import _KAPPA_MAXIT, _KAPPA_RTOL, RETURN_MAPS
 from .surfaces import Cylinder
@@ -493,8 +494,24 @@ def _ep_derivatives(qt, q_t, dA, Gt):
     Gt[2, 0], Gt[2, 1], Gt[2, 2], Gt[2, 3] = -2 * d3, 2 * d2, -2 * d1, 2 * d0
 
 
+def point_law(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+    """The contact law at one point for the set kernel: resolved at compile time by the type of
+    ``law``: the packed arrays (sp, bp, fp, lp) of the transport kernel of this module (plane and
+    cylinder), or the covariant bundle of ``exu_aniso.kernel`` (every surface of the protocol)."""
+    raise NotImplementedError("point_law is resolved at compile time")
+
+
+@overload(point_law)
+def _point_law_packed(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+    if isinstance(law, types.BaseTuple) and len(law) == 4 and isinstance(law[0], types.Array):
+        def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+            return contact_point(x, v, h, law[0], law[1], law[2], law[3], tangent, dt, f, Kx, Dv, hn, S)
+        return impl
+    return None
+
+
 @njit(cache=True)
-def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J, Hn, S):
+def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
     reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
     H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9).
@@ -586,7 +603,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, sp, bp, fp, lp, mode, fq, fv, dt, Q, J
                         Jx[i, j] = Jp[i, j]
                     for m in range(4):
                         Jx[i, 3 + m] = dA[m, 3 * i] * bx + dA[m, 3 * i + 1] * by + dA[m, 3 * i + 2] * bz
-        st = contact_point(x, v, H[k], sp, bp, fp, lp, tangent, dt, f, Kx, Dv, hn, S)
+        st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
         if st > 0:
             ncontact += 1
         if mode == 2:
@@ -744,11 +761,14 @@ class PackedSet:
         self.Q = self.S[17, 6, :nq]
         self.J = self.S[18, :nq, :nq]
 
+    def evaluate(self, mode, q, q_t, fq, fv, dt):
+        return evaluate_packed(mode, q, q_t, fq, fv, dt, self.W, self.P, self.S, self.I)
+
 
 @njit(cache=True)
 def evaluate_packed(mode, q, q_t, fq, fv, dt, W, P, S, I):
     """evaluate_set on the arrays packed by PackedSet."""
     nq = I[_I_NQ]
-    return evaluate_set(I[_I_KIND], q, q_t, W[I[_I_REF]:I[_I_END]], P[0, :, :3], P[1], W[I[_I_SP]:I[_I_BP]],
-                        W[I[_I_BP]:I[_I_FP]], W[I[_I_FP]:I[_I_LP]], W[I[_I_LP]:I[_I_REF]], mode, fq, fv, dt,
+    law = (W[I[_I_SP]:I[_I_BP]], W[I[_I_BP]:I[_I_FP]], W[I[_I_FP]:I[_I_LP]], W[I[_I_LP]:I[_I_REF]])
+    return evaluate_set(I[_I_KIND], q, q_t, W[I[_I_REF]:I[_I_END]], P[0, :, :3], P[1], law, mode, fq, fv, dt,
                         S[17, 6, :nq], S[18, :nq, :nq], P[2], S)

@@ -185,7 +185,7 @@ def _net_field(law):
             s11, s12, s22 = f.sign * f.physical(np.zeros((1, 2)), derivatives=False)[0][0]
             if abs(s12) > 1e-12 * (abs(s11) + abs(s22)) or abs(s11 - s22) > 1e-12 * (abs(s11) + abs(s22)):
                 return "angle", 0.5 * math.atan2(2.0 * s12, s11 - s22)   # axis of the larger eigenvalue
-    if law.surface.kind == "plane" and law.surface.coordinates == "polar":
+    if getattr(law.surface, "kind", None) == "plane" and law.surface.coordinates == "polar":
         return "polar", 0.0
     return "angle", 0.0
 
@@ -323,13 +323,13 @@ class _ContactGraphics:
         face_color = SURFACE_COLOR if color is None else color
         self.netColors = NET_COLORS if color is None else (
             tuple(0.5 * np.array(color[:3])) + (1.0,), tuple(0.8 * np.array(color[:3])) + (1.0,))
-        if surf.kind == "plane":
+        if getattr(surf, "kind", None) == "plane":
             a = _body_length(X, origin, float(np.hypot(X[:, 0].mean(), X[:, 1].mean())))
             if kind == "polar":
                 static, L = _plane_polar(X, a, size, self.netColors, face_color)
             else:
                 static, L = _plane_grid(X, a, angle, size, self.netColors, face_color)
-        elif surf.kind == "cylinder":
+        elif getattr(surf, "kind", None) == "cylinder":
             rel = X - surf.axis_point
             radial = rel - np.outer(rel @ surf.axes[2], surf.axes[2])
             a = _body_length(X, origin, float(np.linalg.norm(radial.mean(axis=0))))
@@ -380,8 +380,8 @@ class _ContactGraphics:
         loaded = (H[:, _STATUS] != OPEN) & ((H[:, _NORMAL] != 0.0) | np.any(H[:, _TRACTION] != 0.0, axis=1))
         if not np.any(loaded):
             return []
-        fr = self.law.surface.frame(x[loaded], derivatives=False)
-        f = np.einsum("kij,kj->ki", fr.E, H[loaded][:, _TRACTION]) - H[loaded][:, _NORMAL, None] * fr.n
+        E, n = self.law.traction_frames(x[loaded])
+        f = np.einsum("kij,kj->ki", E, H[loaded][:, _TRACTION]) - H[loaded][:, _NORMAL, None] * n
         f = f @ A.T
         if self.tractionScale is None:               # nothing was loaded initially: fix the scale now
             largest = float(np.max(np.abs(H[loaded][:, _NORMAL])))

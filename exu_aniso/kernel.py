@@ -39,8 +39,10 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
-from .fastpath import _return_map
+from .fastpath import _return_map, evaluate_set
+from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
 from .geometry._core import add, cross, dot, local_chart, scale, sub
 from .nets import physical, tangent_frame
@@ -283,3 +285,55 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, dT):
     hn[7] = status
     hn[8] = N
     return status
+
+
+# ----------------------------------------------------------------------------------------------
+# a contact set on one Exudyn node: the node kinematics of fastpath.evaluate_set with this kernel
+
+CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "law"))
+
+
+@overload(fastpath_point_law)
+def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+    if getattr(law, "instance_class", None) is CovariantLaw:
+        def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+            return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, tangent, f, Kx,
+                                 Dv, hn, S[0, :2, :])
+        return impl
+    return None
+
+
+@njit(cache=True)
+def evaluate_covariant(mode, q, q_t, fq, fv, dt, ref, law, P, S, kind):
+    """fastpath.evaluate_set (modes 0 force, 1 Jacobian, 2 history candidate) with the covariant
+    kernel at every point. P (3, K, 9): body-local points, converged history, candidate."""
+    nq = q.shape[0]
+    return evaluate_set(kind, q, q_t, ref, P[0, :, :3], P[1], law, mode, fq, fv, dt, S[17, 6, :nq],
+                        S[18, :nq, :nq], P[2], S)
+
+
+class CovariantSet:
+    """A contact set on the covariant kernel packed for the compiled call (the counterpart of
+    fastpath.PackedSet): the law bundle (surface, nets, law parameters; named tuples), points,
+    history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
+
+    def __init__(self, contact_law, node_kind, ref, points):
+        from .fastpath import NODE_COORDINATES, NODE_KINDS, SCRATCH_SLOTS, announce_compile
+        announce_compile()
+        nB, nF = contact_law._nets
+        self.law = CovariantLaw(contact_law.surface.params, nB, nF,
+                                LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
+                                          MAP_CODES[contact_law.return_map]))
+        self.kind = NODE_KINDS[node_kind]
+        nq = NODE_COORDINATES[self.kind]
+        b = np.asarray(points, dtype=float)
+        self.ref = np.asarray(ref, dtype=float)
+        self.P = np.zeros((3, b.shape[0], 9))
+        self.P[0, :, :3] = b
+        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
+        self.H, self.Hn = self.P[1], self.P[2]
+        self.Q = self.S[17, 6, :nq]
+        self.J = self.S[18, :nq, :nq]
+
+    def evaluate(self, mode, q, q_t, fq, fv, dt):
+        return evaluate_covariant(mode, q, q_t, fq, fv, dt, self.ref, self.law, self.P, self.S, self.kind)

@@ -111,7 +111,7 @@ CASES = [
     (Friction.polar, dict(mu_r=0.2, mu_phi=0.3, core_radius=INF), ("core_radius", "finite", "inf")),
     (Friction.spiral, dict(mu_1=0.2, mu_2=0.3, helix_angle=2.0), ("helix_angle", "(-pi/2, pi/2)", "2.0")),
     # --- contact law and its evaluation
-    (law, dict(surface=None), ("surface", "Plane or a Cylinder", "None")),
+    (law, dict(surface=None), ("surface", "a surface of exu_aniso", "None")),
     (law, dict(adhesion=Friction.isotropic(0.3)), ("adhesion", "Adhesion field", "Friction.isotropic")),
     (law, dict(friction="iso"), ("friction", "Friction field", "'iso'")),
     (law, dict(friction=Friction.spiral(0.1, 0.2, 0.1)), ("spiral", "Cylinder only", "Plane")),
@@ -251,7 +251,7 @@ CASES = [
     (contact, dict(localPoints=[]), ("localPoints", "K >= 1", "(0,)")),
     (contact, dict(localPoints=[[NAN, 0.0, 0.0]]), ("localPoints", "finite", "non-finite")),
     (contact, dict(localPoints="abc"), ("localPoints", "real numbers", "'abc'")),
-    (contact, dict(surface=None), ("surface", "Plane or a Cylinder", "None")),
+    (contact, dict(surface=None), ("surface", "a surface of exu_aniso", "None")),
     (contact, dict(adhesion=None), ("adhesion", "Adhesion field", "None")),
     (contact, dict(friction=Adhesion.isotropic(1.0)), ("friction", "Friction field", "Adhesion.isotropic")),
     (contact, dict(normalStiffness=-1.0), ("normalStiffness", "> 0", "-1.0")),

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 
+import numpy as np
 from numba import njit
 
 from ..validation import check_positive
@@ -40,6 +41,7 @@ class Cylinder(Surface):
     (a hole: slave inside, n towards the axis) or "outside" (a shaft)."""
 
     name = "Cylinder"
+    kind = "cylinder"       # the drawing rule of exu_aniso.graphics (axis_point, axes, radius, side)
 
     def __init__(self, radius, axis_point=(0.0, 0.0, 0.0), axis_direction=(0.0, 0.0, 1.0), side="inside"):
         self.radius = check_positive("radius", radius)
@@ -47,6 +49,16 @@ class Cylinder(Surface):
         sign = side_sign("Cylinder", side, ("outside", "inside"), 1.0)   # rho_1 x rho_2 = R e_r
         super().__init__(CylinderParams(*placement("Cylinder", axis_point, axis_direction), sign, TWO_PI, 0.0,
                                         self.radius))
+
+    @property
+    def axis_point(self):
+        return np.array(self.params.origin)
+
+    @property
+    def axes(self):
+        """Rows e_ref (phi = 0), e_ref2, e_axis."""
+        p = self.params
+        return np.array([p.ex, p.ey, p.ez])
 
     def __repr__(self):
         p = self.params

@@ -51,6 +51,7 @@ class Plane(Surface):
     coordinates: "cartesian" -> xi = (x, y); "polar" -> xi = (r, phi) about the origin."""
 
     name = "Plane"
+    kind = "plane"          # the drawing rule of exu_aniso.graphics
 
     def __init__(self, coordinates="cartesian", side="front"):
         if coordinates not in ("cartesian", "polar"):
