@@ -177,6 +177,9 @@ def contact_energy(law, X, V, H):
     return stored.reshape(n, K).sum(axis=1) + stored_tangential(H, law), diss
 
 
+ROUND_OFF_FLOOR = 1e-9
+
+
 def ledger(work_in, kinetic, potential, stored, dissipated, tolerance=ENERGY_TOLERANCE):
     """The energy ledger of a run from per-sample terms (arrays of length n).
 
@@ -184,7 +187,8 @@ def ledger(work_in, kinetic, potential, stored, dissipated, tolerance=ENERGY_TOL
     potential, stored, dissipated, residual = work_in - (kinetic + potential + stored +
     dissipated)) as arrays; summary has the final values of the five terms [J], ``residual`` =
     max over the run of |residual| / scale with scale = max over the run of max(|work in|,
-    |kinetic| + |potential| + |stored| + |dissipated|) (0 when nothing happens at all), and
+    |kinetic| + |potential| + |stored| + |dissipated|), at least ROUND_OFF_FLOOR of the terms'
+    absolute level (0 when nothing happens at all), and
     ``energy_ok`` = residual <= tolerance (finite)."""
     terms = dict(work_in=work_in, kinetic=kinetic, potential=potential, stored=stored, dissipated=dissipated)
     cols = {}
@@ -195,6 +199,11 @@ def ledger(work_in, kinetic, potential, stored, dissipated, tolerance=ENERGY_TOL
     cols["residual"] = res
     scale = float(np.max(np.maximum(np.abs(cols["work_in"]), np.abs(cols["kinetic"]) + np.abs(cols["potential"])
                                     + np.abs(cols["stored"]) + np.abs(cols["dissipated"]))))
+    # round-off floor: changes below 1e-9 of the energies' absolute level (e.g. the normal penalty
+    # energy a screw at rest holds from t = 0) are no motion; without it a run where nothing happens
+    # (changes of 1e-26 J) would report a relative residual of 1
+    level = max(float(np.max(np.abs(np.asarray(a, dtype=float)))) for a in terms.values())
+    scale = max(scale, ROUND_OFF_FLOOR * level)
     rel = float(np.max(np.abs(res)) / scale) if scale > 0.0 else 0.0
     summary = {k: float(cols[k][-1]) for k in terms}
     summary["residual"] = rel

@@ -716,25 +716,25 @@ _I_KIND, _I_NQ, _I_SP, _I_BP, _I_FP, _I_LP, _I_REF, _I_END = range(8)
 _announced = False
 
 
-def kernels_cached():
-    """True if numba's on-disk cache (``cache=True``: ``__pycache__`` beside this file, or
-    NUMBA_CACHE_DIR) holds compiled code of the contact kernel for the current source; False if the
-    first call will compile (10-20 s). Reads numba's cache index, a private API: when that fails,
-    it answers True (say nothing rather than something wrong)."""
+def kernels_cached(entry=None):
+    """True if numba's on-disk cache (exu_aniso._numba_cache) holds compiled code of the kernel
+    ``entry`` (a numba dispatcher; default: this module's evaluate_packed) for the current source;
+    False if the first call will compile (10-20 s). Reads numba's cache index, a private API: when
+    that fails, it answers True (say nothing rather than something wrong)."""
     try:
-        return bool(evaluate_packed._cache._cache_file._load_index())
+        return bool((entry or evaluate_packed)._cache._cache_file._load_index())
     except Exception:   # noqa: BLE001 - numba internals changed: no announcement
         return True
 
 
-def announce_compile(stream=None):
+def announce_compile(stream=None, entry=None):
     """Say once per process, before it happens, that the kernels are being compiled."""
     global _announced
     if _announced:
         return
     _announced = True
-    if not kernels_cached():
-        where = getattr(getattr(evaluate_packed, "_cache", None), "_cache_path", "numba's cache directory")
+    if not kernels_cached(entry):
+        where = getattr(getattr(entry or evaluate_packed, "_cache", None), "_cache_path", "numba's cache directory")
         print("exu_aniso: compiling the contact kernels with numba, once (10-20 s); later runs load them "
               f"from the cache in {where}", file=stream or sys.stderr, flush=True)
 

@@ -54,7 +54,7 @@ from . import energy
 from .contact import ContactLaw
 from .fields import Adhesion, Friction
 from .law import RETURN_MAPS
-from .surfaces import Cylinder, Plane
+from .geometry import Cone, Cylinder, Plane
 
 SOLVERS = ("trapezoidal", "generalized_alpha")
 
@@ -144,6 +144,10 @@ SCREW_PARAMS = {
                        "equally over the K points; the default damps the full screw's lateral mode (README)", ">= 0"),
     "tangential_damping": (0.0, "N s/m", "total tangential dashpot parallel to friction while loaded, split equally "
                            "over the K points", ">= 0"),
+    "surface": ("cylinder", "-", "thread surface: cylinder (the papers' hole) or cone (a tapered thread: the hole "
+                "r(z) = radius + z tan(half_angle), the screw's points on the parallel cone)", ("cylinder", "cone")),
+    "half_angle": (0.0, "deg", "half angle of the cone (surface = cone); 0 is the cylinder exactly; a 1:16 taper "
+                   "on the diameter is 1.79 deg", "(-45, 45)"),
 }
 
 
@@ -367,6 +371,8 @@ class ScrewParams(_ParamsMixin):
     solver: str = _SD["solver"]
     normal_damping: float = _SD["normal_damping"]
     tangential_damping: float = _SD["tangential_damping"]
+    surface: str = _SD["surface"]
+    half_angle: float = _SD["half_angle"]
 
 
 assert [f.name for f in dataclasses.fields(BlockParams)] == list(BLOCK_PARAMS)
@@ -395,15 +401,21 @@ def block_points(p):
 
 
 def screw_points(p):
-    """Body-local contact points (K, 3) on the cylinder of radius radius + interference [m].
+    """Body-local contact points (K, 3) on the cylinder of radius radius + interference [m] (on a
+    cone: at radius + interference / cos(half_angle) + z tan(half_angle), the cone parallel to the
+    hole at the normal distance interference).
 
     ``rings`` rings equally spaced over the length, centred on the COM (z from -length/2 to
     +length/2 including the ends; one ring sits at z = 0); ``points_per_ring`` points per ring at
     angles 2 pi j / points_per_ring. Ring-major order."""
-    rho = p.radius + p.interference
     z = np.zeros(1) if p.rings == 1 else np.linspace(-0.5 * p.length, 0.5 * p.length, p.rings)
     phi = 2.0 * np.pi * np.arange(p.points_per_ring) / p.points_per_ring
     Z, PHI = np.meshgrid(z, phi, indexing="ij")
+    if p.surface == "cone":
+        beta = math.radians(p.half_angle)
+        rho = p.radius + p.interference / math.cos(beta) + Z.ravel() * math.tan(beta)
+    else:
+        rho = p.radius + p.interference
     return np.column_stack([rho * np.cos(PHI.ravel()), rho * np.sin(PHI.ravel()), Z.ravel()])
 
 
@@ -428,14 +440,16 @@ def block_contact_law(p):
         Fr = Friction.orthotropic(p.mu_1, p.mu_2, angle=rad(p.friction_angle))
     else:
         Fr = Friction.polar(p.mu_1, p.mu_2, core_radius=p.core_radius)
-    coords = "polar" if "polar" in (p.adhesion, p.friction) else "cartesian"
-    return ContactLaw(Plane(coordinates=coords), B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map,
+    # the Cartesian chart for every field: its coordinate basis is parallel, so the transport of the
+    # sticking traction is exact; a polar net is defined on it (nets.PolarNet)
+    return ContactLaw(Plane(), B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map,
                       normal_damping=p.normal_damping / K, tangential_damping=p.tangential_damping / K)
 
 
 def screw_contact_law(p):
-    """ContactLaw of the screw scene: hole = Cylinder(radius, side="inside") about the z axis,
-    per-point stiffnesses = total / K, spiral fields with the helix angle."""
+    """ContactLaw of the screw scene: hole = Cylinder(radius, side="inside") about the z axis (or
+    the Cone of half_angle through it at z = 0), per-point stiffnesses = total / K, spiral fields
+    with the helix angle (on the cone: the same lead, the pitch 2 pi radius tan(helix_angle))."""
     K = p.rings * p.points_per_ring
     alpha = math.radians(p.helix_angle)
     if p.adhesion == "isotropic":
@@ -446,7 +460,10 @@ def screw_contact_law(p):
         Fr = Friction.isotropic(p.mu_1)
     else:
         Fr = Friction.spiral(p.mu_1, p.mu_2, alpha)
-    hole = Cylinder(p.radius, axis_point=(0.0, 0.0, 0.0), axis_direction=(0.0, 0.0, 1.0), side="inside")
+    if p.surface == "cone":
+        hole = Cone(math.radians(p.half_angle), p.radius, side="inside")
+    else:
+        hole = Cylinder(p.radius, side="inside")
     return ContactLaw(hole, B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map,
                       normal_damping=p.normal_damping / K, tangential_damping=p.tangential_damping / K)
 

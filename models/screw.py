@@ -193,7 +193,11 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
             sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
                                                      outputVariableType=getattr(exu.OutputVariableType, ovt)))
 
-    pc = p.with_overrides(rings=1, points_per_ring=1) if (symmetry and p.model == "reduced") else p
+    # under the screw joint every point of a ring has the same state; on a cylinder every ring too
+    pc = p
+    if symmetry and p.model == "reduced":
+        pc = p.with_overrides(rings=1, points_per_ring=1) if (p.surface == "cylinder" or p.half_angle == 0.0) \
+            else p.with_overrides(points_per_ring=1)
     if contactBuilder is None:
         contact = mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=oScrew, localPoints=screw_points(pc),
                                                contactLaw=screw_contact_law(pc), jacobian=jacobian,

@@ -275,7 +275,7 @@ def test_compile_announcement_only_when_not_cached(monkeypatch, capsys):
     from exu_aniso import fastpath
     for cached, expected in ((True, ""), (False, "compiling the contact kernels")):
         monkeypatch.setattr(fastpath, "_announced", False)
-        monkeypatch.setattr(fastpath, "kernels_cached", lambda: cached)
+        monkeypatch.setattr(fastpath, "kernels_cached", lambda entry=None: cached)
         fastpath.announce_compile()
         fastpath.announce_compile()            # once per process
         err = capsys.readouterr().err

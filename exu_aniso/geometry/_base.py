@@ -1,9 +1,12 @@
 """The Python face of a surface: construction with checked arguments, and the protocol's compiled
 functions (``_core``) called on the surface's parameter tuple. The numpy reference uses these
-methods; compiled kernels call the ``_core`` functions with ``surface.params`` directly."""
+methods; compiled kernels call the ``_core`` functions with ``surface.params`` directly. A user
+surface whose function numba cannot compile (``compiled = False``) runs the same functions as plain
+Python (``Surface.protocol``)."""
 from __future__ import annotations
 
 import math
+import types
 from dataclasses import dataclass
 
 import numpy as np
@@ -12,6 +15,22 @@ from ..validation import check_vector
 from . import _core
 
 TWO_PI = 2.0 * math.pi
+
+
+def _plain_python(module):
+    """The numba functions of module as plain Python: each one's py_func, re-bound to a copy of the
+    module's globals in which the other numba functions are plain Python too (a py_func alone still
+    calls the compiled helpers, and they cannot type a surface numba cannot compile). The registry
+    (_CHART, _GUESS) is shared; the constants are those at import."""
+    ns = dict(vars(module))
+    for name, f in vars(module).items():
+        g = getattr(f, "py_func", None)
+        if callable(g):
+            ns[name] = types.FunctionType(g.__code__, ns, g.__name__, g.__defaults__, g.__closure__)
+    return types.SimpleNamespace(**ns)
+
+
+_CORE_PYTHON = _plain_python(_core)
 
 _STATUS_TEXT = {
     1: "the Newton iteration of the closest point projection did not converge",
@@ -69,9 +88,15 @@ class Surface:
     """Base of every surface: ``params`` is its parameter namedtuple (registered in _core)."""
 
     name = "Surface"
+    compiled = True         # False: a user surface numba could not compile (runs in plain Python)
 
     def __init__(self, params):
         self.params = params
+
+    @property
+    def protocol(self):
+        """The protocol's functions for this surface: compiled (_core) or their plain Python twins."""
+        return _core if self.compiled else _CORE_PYTHON
 
     @property
     def periods(self):
@@ -80,7 +105,7 @@ class Surface:
     def at(self, xi, xi3=0.0):
         """Surface quantities at chart coordinates xi."""
         xi = check_vector("xi", xi, 2)
-        r, r1, r2, n, m, M, h, G1, G2 = _core.geometry(self.params, float(xi[0]), float(xi[1]))
+        r, r1, r2, n, m, M, h, G1, G2 = self.protocol.geometry(self.params, float(xi[0]), float(xi[1]))
         sym = lambda a: np.array([[a[0], a[1]], [a[1], a[2]]])  # noqa: E731
         return Point(np.array(xi, dtype=float), float(xi3), np.array(r), np.array([r1, r2]), np.array(n),
                      sym(m), sym(M), sym(h), np.array([sym(G1), sym(G2)]))
@@ -90,7 +115,7 @@ class Surface:
         Raises ValueError with the reason where the projection is undefined."""
         x = check_vector("x", x, 3)
         h1, h2 = (math.nan, math.nan) if hint is None else map(float, check_vector("hint", hint, 2))
-        xi1, xi2, xi3, status = _core.project(self.params, tuple(map(float, x)), h1, h2)
+        xi1, xi2, xi3, status = self.protocol.project(self.params, tuple(map(float, x)), h1, h2)
         if status:
             raise ValueError(f"{self!r}: no closest point for the slave point {np.asarray(x).tolist()}: "
                              f"{_STATUS_TEXT[status]}")
@@ -100,20 +125,22 @@ class Surface:
         """Normal gap xi3 and unit normal of the point x without raising: the gap is defined at a
         centre of curvature too (a point on a hole's axis is R away from its wall), the normal is
         NaN there; both are NaN where the chart is singular at the closest point."""
-        xi1, xi2, xi3, status = _core.project(self.params, tuple(map(float, x)), math.nan, math.nan)
+        f = self.protocol
+        xi1, xi2, xi3, status = f.project(self.params, tuple(map(float, x)), math.nan, math.nan)
         if status:
             return xi3, np.full(3, np.nan)
-        return xi3, np.array(_core.geometry(self.params, xi1, xi2)[3])
+        return xi3, np.array(f.geometry(self.params, xi1, xi2)[3])
 
     def transport(self, xi, dxi, t):
         """Parallel transport of the tangent vector with contravariant components t from xi along
         the coordinate increment dxi (second order)."""
-        return np.array(_core.transport(self.params, float(xi[0]), float(xi[1]), float(dxi[0]), float(dxi[1]),
-                                        float(t[0]), float(t[1])))
+        return np.array(self.protocol.transport(self.params, float(xi[0]), float(xi[1]), float(dxi[0]),
+                                                float(dxi[1]), float(t[0]), float(t[1])))
 
     def slip(self, xi, dxi):
         """Displacement of the contact point along the surface for the coordinate increment dxi."""
-        return np.array(_core.slip_vector(self.params, float(xi[0]), float(xi[1]), float(dxi[0]), float(dxi[1])))
+        return np.array(self.protocol.slip_vector(self.params, float(xi[0]), float(xi[1]), float(dxi[0]),
+                                                  float(dxi[1])))
 
     def increment(self, xi_old, xi_new, predicted=(0.0, 0.0)):
         """Coordinate increment from xi_old to xi_new, periodic coordinates unwrapped to the branch

@@ -55,6 +55,11 @@ class Cylinder(Surface):
         return np.array(self.params.origin)
 
     @property
+    def sign(self):
+        """+1 for a shaft (n = e_r), -1 for a hole (n towards the axis)."""
+        return self.params.sign
+
+    @property
     def axes(self):
         """Rows e_ref (phi = 0), e_ref2, e_axis."""
         p = self.params
