@@ -69,7 +69,7 @@ SOLVERS = ("trapezoidal", "generalized_alpha")
 SCREW_NORMAL_DAMPING = 300.0
 POSITION_LIMIT = 1e6     # block: |x0|, |y0| <= POSITION_LIMIT * size
 
-# rules: "real", "> 0", ">= 0", "int >= 1", "(-90, 90)", "points" or a tuple of choices
+# rules: "real", "> 0", ">= 0", "int >= 1", "(-90, 90)", "(-45, 45)", "points" or a tuple of choices
 _POINTS_RULE = "'center' | 'corners' | 'grid:N' (N >= 2)"
 
 BLOCK_PARAMS = {
@@ -226,6 +226,8 @@ def _check(name, value, rule):
         raise ValueError(f"{name} must be >= 0; got {value!r}")
     if rule == "(-90, 90)" and not -90.0 < v < 90.0:
         raise ValueError(f"{name} must lie in (-90, 90) deg; got {value!r}")
+    if rule == "(-45, 45)" and not -45.0 < v < 45.0:
+        raise ValueError(f"{name} must lie in (-45, 45) deg; got {value!r}")
     return v
 
 
