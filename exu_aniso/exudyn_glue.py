@@ -81,11 +81,13 @@ class _BodyKinematics:
     def __init__(self, mbs, node_number):
         self.node = node_number
         self.kind = mbs.GetNode(node_number)["nodeType"]
-        kinds = {"RigidBody2D": 3, "RigidBodyRotVecLG": 6, "RigidBodyEP": 7, "GenericODE2": 2}
+        kinds = {"RigidBody2D": 3, "RigidBodyRotVecLG": 6, "RigidBodyEP": 7, "GenericODE2": 2, "Point": 3,
+                 "Point2D": 2}
         if self.kind not in kinds:
             raise ValueError(f"CreateAnisotropicContact: body node {node_number} has type {self.kind!r}; supported "
-                             f"are NodeRigidBody2D, NodeRigidBodyRotVecLG (RotationRotationVector), NodeRigidBodyEP "
-                             f"and a 2-coordinate NodeGenericODE2 (screw joint: rotation about z, translation along z)")
+                             f"are NodeRigidBody2D, NodeRigidBodyRotVecLG (RotationRotationVector), NodeRigidBodyEP, "
+                             f"NodePoint and NodePoint2D (mass points) and a 2-coordinate NodeGenericODE2 (screw "
+                             f"joint: rotation about z, translation along z)")
         self.n = kinds[self.kind]
         self.ref = np.asarray(mbs.GetNodeParameter(node_number, "referenceCoordinates"), dtype=float)
         if self.ref.shape != (self.n,):   # only a NodeGenericODE2 can have another size
@@ -111,6 +113,16 @@ class _BodyKinematics:
             J[:, 0, 0] = J[:, 1, 1] = 1.0
             J[:, 0, 2] = -ay
             J[:, 1, 2] = ax
+            return x, v, J, None
+        if self.kind in ("Point", "Point2D"):          # mass point: x = q + b (2D: in the plane z = 0)
+            nd = self.n
+            x = np.array(b, dtype=float)
+            x[:, :nd] += q[:nd]
+            v = np.zeros((K, 3))
+            v[:, :nd] = q_t[:nd]
+            J = np.zeros((K, 3, nd))
+            for i in range(nd):
+                J[:, i, i] = 1.0
             return x, v, J, None
         if self.kind == "GenericODE2":                 # screw joint: q = (psi, z)
             ax, ay = _rotate_z(q[0], b)
@@ -146,6 +158,8 @@ class _BodyKinematics:
         q = self.ref + np.asarray(q, dtype=float)
         K = b.shape[0]
         dJ = np.zeros((K, 3, self.n, self.n))
+        if self.kind in ("Point", "Point2D"):          # Jp = I: constant
+            return dJ
         if self.kind in ("RigidBody2D", "GenericODE2"):
             r = 2 if self.kind == "RigidBody2D" else 0
             ax, ay = _rotate_z(q[r], b)

@@ -18,7 +18,8 @@ Packed parameters (``pack_law``): surface ``sp`` = [kind (0 plane, 1 cylinder), 
 axis_point(3), e1(3), e2(3), a(3)]; fields ``bp``/``fp`` = [polar flag, c11, c12, c22 (constant
 physical components of the positive tensor), l1, l2, r_c^2, sign]; law ``lp`` = [eps_N, d_N,
 map (0 seed, 1 exact, 2 radial), d_T]. Node kinds: 0 ``NodeRigidBody2D``, 1 screw joint
-(``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``.
+(``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``, 4 ``NodePoint``
+(``ObjectMassPoint``), 5 ``NodePoint2D`` (``ObjectMassPoint2D``, in the plane z = 0).
 This module needs no Exudyn.
 """
 from __future__ import annotations
@@ -34,8 +35,9 @@ from .law import _KAPPA_MAXIT, _KAPPA_RTOL, RETURN_MAPS
 from .surfaces import Cylinder
 
 MAP_CODES = {"seed": 0, "exact": 1, "radial": 2}
-NODE_KINDS = {"RigidBody2D": 0, "GenericODE2": 1, "RigidBodyRotVecLG": 2, "RigidBodyEP": 3}
-NODE_COORDINATES = (3, 2, 6, 7)
+NODE_KINDS = {"RigidBody2D": 0, "GenericODE2": 1, "RigidBodyRotVecLG": 2, "RigidBodyEP": 3, "Point": 4,
+              "Point2D": 5}
+NODE_COORDINATES = (3, 2, 6, 7, 3, 2)
 SCRATCH_SLOTS = 19   # (slots, 9, 9) scratch: 0-8 point kernel, 9-17 set kernel, 18 Jacobian
 assert set(MAP_CODES) == set(RETURN_MAPS)
 
@@ -539,7 +541,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             Dq[i, j] = 0.0
     for i in range(nq):
         qt[i] = ref[i] + q[i]
-    if kind >= 2:
+    if kind == 2 or kind == 3:
         _rotation(kind, qt, A, G)
     nr = nq - 3
     tangent = mode == 1
@@ -556,7 +558,14 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     ncontact = 0
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-        if kind == 0 or kind == 1:
+        if kind >= 4:                          # mass point (3D, or 2D in the plane z = 0): x = q + b
+            for i in range(3):
+                for j in range(nq):
+                    Jp[i, j] = 1.0 if i == j else 0.0
+            x[0], x[1] = qt[0] + bx, qt[1] + by
+            v[0], v[1] = q_t[0], q_t[1]
+            x[2], v[2] = (qt[2] + bz, q_t[2]) if kind == 4 else (bz, 0.0)
+        elif kind == 0 or kind == 1:
             r = 2 if kind == 0 else 0
             c, s = math.cos(qt[r]), math.sin(qt[r])
             ax, ay = c * bx - s * by, s * bx + c * by
@@ -633,7 +642,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             for j in range(3):
                 if Dv[i, j] != 0.0:
                     damped = True
-        if damped:
+        if damped and kind < 4:                # (a mass point's velocity does not depend on q)
             u0 = u1 = u2 = 0.0
             if kind >= 2:                      # u = omega_local x b
                 u0, u1, u2 = wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx
@@ -677,7 +686,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             for i in range(3):
                 for j in range(3):
                     Mg[i, j] += fbv[i] * bv[j] - (bf if i == j else 0.0)
-        else:
+        elif kind == 3:
             # EP: Q_rot = G^T (b x A^T f); d/de_m at fixed f = dG/de_m^T c + G^T (b x dA/de_m^T f),
             # c = b x A^T f; G is linear in e, G(e)^T c = 2 Mc e with Mc = [[0, -c^T], [c, -[c]x]]
             fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]

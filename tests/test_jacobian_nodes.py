@@ -17,14 +17,15 @@ import numpy as np
 import pytest
 
 exu = pytest.importorskip("exudyn")
-from exudyn.itemInterface import NodeGenericODE2, NodeRigidBody2D, ObjectGenericODE2, ObjectRigidBody2D  # noqa: E402
+from exudyn.itemInterface import (NodeGenericODE2, NodePoint2D, NodeRigidBody2D, ObjectGenericODE2,  # noqa: E402
+                                  ObjectMassPoint2D, ObjectRigidBody2D)
 from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Cylinder, Friction, Plane  # noqa: E402
 from exu_aniso import exudyn_glue as glue  # noqa: E402
 from exu_aniso.contact import ContactLaw  # noqa: E402
 
-NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP"]
+NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D"]
 SOS = exu.ConfigurationType.StartOfStep
 H_LENGTH = 1e-9          # FD step of a length coordinate [m]: penetrations are ~1e-5 m
 ARM = 0.05               # lever arm of the points [m]: FD step of an angle = H_LENGTH / ARM
@@ -60,6 +61,15 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
         o = mbs.AddObject(ObjectRigidBody2D(nodeNumber=n, mass=1.0, inertia=0.01))
         q = np.array([0.01, -0.02, 0.7])
         qt = np.array([0.1, 0.2, -1.0])
+        points = np.array([[sx * ARM, sy * ARM, -rng.uniform(1e-5, 3e-5)] for sx in (-1, 1) for sy in (-1, 1)])
+    elif node_kind in ("Point", "Point2D"):      # a mass point carrying offset points x = q + b
+        if node_kind == "Point":
+            o = mbs.CreateMassPoint(referencePosition=[0.3, 0.1, 0.0], mass=1.0)
+            q, qt = np.array([0.01, -0.02, 0.0]), np.array([0.1, 0.2, -0.05])
+        else:
+            n = mbs.AddNode(NodePoint2D(referenceCoordinates=[0.3, 0.1]))
+            o = mbs.AddObject(ObjectMassPoint2D(nodeNumber=n, mass=1.0))
+            q, qt = np.array([0.01, -0.02]), np.array([0.1, 0.2])
         points = np.array([[sx * ARM, sy * ARM, -rng.uniform(1e-5, 3e-5)] for sx in (-1, 1) for sy in (-1, 1)])
     elif node_kind == "GenericODE2":
         n = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
@@ -139,6 +149,8 @@ def _steps(cs):
         return np.array([H_LENGTH, H_LENGTH, H_LENGTH / ARM])
     if sl.kind == "GenericODE2":
         return np.array([H_LENGTH / ARM, H_LENGTH])
+    if sl.kind in ("Point", "Point2D"):
+        return np.full(sl.n, H_LENGTH)
     return np.concatenate([np.full(3, H_LENGTH), np.full(sl.n - 3, H_LENGTH / ARM)])
 
 
@@ -193,8 +205,8 @@ def test_jacobian_equals_finite_differences(node_kind, implementation, return_ma
                         f"differences by {eq:.2e} of |J|_max = {sq:.3e}\nanalytic\n{Jq}\nFD\n{Jq_fd}")
     assert ev <= RTOL, (f"{node_kind} {implementation} {return_map} d_N={d_N}: -dQ/dq_t differs from central "
                         f"differences by {ev:.2e} of |J|_max = {sv:.3e}\nanalytic\n{Jv}\nFD\n{Jv_fd}")
-    if d_N == 0.0 or node_kind in ("RigidBody2D", "GenericODE2"):
-        # planar node: points move in the plane; screw joint: points move along the hole wall.
+    if d_N == 0.0 or node_kind in ("RigidBody2D", "GenericODE2", "Point2D"):
+        # planar nodes: points move in the plane; screw joint: points move along the hole wall.
         # Either way n . v = 0, so the normal damping never acts
         assert sv <= fv and np.abs(Jv).max() <= fv
     else:
