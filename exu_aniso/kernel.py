@@ -161,9 +161,15 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, dT):
         if xi3 >= 0.0:
             _release(sp, netB, h, hn)
             return OPEN
-    if pstat != 0 or not xi3 < 0.0:
-        raise ValueError("closest point projection undefined for a slave point in contact (centre of "
-                         "curvature, singular chart point, or no convergence): see geometry._core.project")
+    if pstat == 2:
+        raise ValueError("slave point at a centre of curvature of the surface (on the cylinder axis, a cone's axis, "
+                         "a sphere's centre or a torus's centre circle): the closest point is not unique there")
+    if pstat == 3 or not xi3 < 0.0:
+        raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
+                         "the sphere's chart, the polar origin, a cone's apex): choose axis_direction so that the "
+                         "path avoids it")
+    if pstat == 1:
+        raise ValueError("the closest point projection of a slave point in contact did not converge")
     y = _core.to_local(sp, (x[0], x[1], x[2]))
     vl = _rot_to_local(sp, (v[0], v[1], v[2]))
     r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)

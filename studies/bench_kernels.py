@@ -65,7 +65,7 @@ def run(repeats=7, sizes=(1, 4, 16, 64), calls=400):
             t_auto = _median_time(lambda: return_map_batch(T_tr, N, B, F, method), repeats, inner)
             rows.append({"kernel": "return_map", "map": method, "K": K, "point_loop_s": t_point,
                          "batch_s": t_batch, "batch_over_point": t_batch / t_point, "auto_s": t_auto})
-    law = ContactLaw(Plane("polar"), Adhesion.polar(1e4, 1e3, 1e-3), Friction.polar(0.2, 0.6, 1e-3), 1e6)
+    law = ContactLaw(Plane(), Adhesion.polar(1e4, 1e3, 1e-3), Friction.polar(0.2, 0.6, 1e-3), 1e6)
     for K in sizes:
         x = np.c_[rng.uniform(0.2, 1.0, (K, 2)), -1e-5 * np.ones(K)]
         H = law.initial_history(K)

@@ -160,7 +160,7 @@ def kernel_case(case):
     from exu_aniso import Adhesion, ContactLaw, Friction, Plane
     rng = np.random.default_rng(0)
     K = case["K"]
-    law = ContactLaw(Plane("polar"), Adhesion.polar(1e4, 1e3, 1e-3), Friction.polar(0.2, 0.6, 1e-3), 1e6,
+    law = ContactLaw(Plane(), Adhesion.polar(1e4, 1e3, 1e-3), Friction.polar(0.2, 0.6, 1e-3), 1e6,
                      return_map=case["map"])
     x = np.c_[rng.uniform(0.2, 1.0, (K, 2)), -1e-5 * np.ones(K)]
     H = law.initial_history(K)

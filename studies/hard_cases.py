@@ -81,7 +81,7 @@ case("polar_origin_no_core", scene="block", map="radial", params=dict(points="ce
      t_end=0.1, t_quick=0.1, expect=("error", "polar orthotropy is undefined at the polar origin"),
      note="core_radius 0 with the contact point on the origin: clear ValueError, no NaN")
 case("cylinder_axis", scene="kernel", map="exact", t_end=0.0, t_quick=0.0,
-     expect=("error", "slave point on the cylinder axis"),
+     expect=("error", "centre of curvature of the surface (on the cylinder axis"),
      note="hole: a point on the axis is open (gap R, zero force); shaft: projection raises")
 case("screw_22_revolutions", scene="screw", map="radial", params=dict(rotation_speed=20 * math.pi), t_end=2.2,
      t_quick=0.5, fields=("angle", "z"), err_tol=0.02,

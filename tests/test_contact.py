@@ -7,7 +7,8 @@ import sys
 import numpy as np
 import pytest
 
-from exu_aniso import OPEN, RETURN_MAPS, SLIP, STICK, Adhesion, ContactLaw, Cylinder, Friction, Plane
+from exu_aniso import OPEN, RETURN_MAPS, SLIP, STICK, Adhesion, ContactLaw, Friction
+from exu_aniso.surfaces import Cylinder, Plane  # the transport kernel's surfaces
 
 CASES = {
     "plane-polar-fields": (Plane("polar"), Adhesion.polar(1e4, 3e3, 0.01), Friction.polar(0.2, 0.6, 0.02)),

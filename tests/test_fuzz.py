@@ -16,7 +16,8 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from exu_aniso import Adhesion, ContactLaw, Cylinder, Friction, Plane
+from exu_aniso import Adhesion, ContactLaw, Friction
+from exu_aniso.surfaces import Cylinder, Plane  # the transport kernel's surfaces
 from exu_aniso.contact import N_HISTORY
 from exu_aniso.law import RETURN_MAPS, SLIP, STICK, return_map_batch, return_map_point
 from exu_aniso.surfaces import wrap_angle

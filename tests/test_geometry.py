@@ -4,7 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from exu_aniso import Adhesion, Cylinder, Friction, Plane
+from exu_aniso import Adhesion, Friction
+from exu_aniso.surfaces import Cylinder, Plane  # the transport kernel's surfaces
 from exu_aniso.surfaces import wrap_angle
 
 SURFACES = [Plane("cartesian"), Plane("polar"),
