@@ -116,7 +116,8 @@ class ContactLaw:
         anchors = np.asarray(anchors, dtype=float)
         if not self.covariant:
             return self.adhesion.physical(anchors, derivatives=False)[0]
-        from .kernel import adhesion_at
+        from . import kernel
+        adhesion_at = kernel.adhesion_at if self.surface.compiled else kernel.plain_python().adhesion_at
         out = np.empty((anchors.shape[0], 3))
         for k, (a1, a2) in enumerate(anchors):
             out[k] = adhesion_at(self.surface.params, self._nets[0], float(a1), float(a2))
@@ -287,7 +288,9 @@ class ContactLaw:
     def _evaluate_covariant(self, x, v, H, tangent, dt):
         """Every point through the compiled covariant kernel (exu_aniso.kernel.contact_point), the
         definition the Exudyn compiled route uses too."""
-        from .kernel import LawParams, MAP_CODES, contact_point
+        from . import kernel
+        from .kernel import LawParams, MAP_CODES
+        contact_point = kernel.contact_point if self.surface.compiled else kernel.plain_python().contact_point
         K = x.shape[0]
         law = LawParams(self.eps_N, self.d_N, self.d_T, MAP_CODES[self.return_map])
         sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]

@@ -494,7 +494,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     if implementation not in ("auto", "compiled", "numpy"):
         raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
                          f"got {implementation!r}")
-    compiled_ok = master is None and contactLaw.formulation == "transport"
+    compiled_ok = master is None and contactLaw.formulation == "transport" and getattr(contactLaw.surface, "compiled",
+                                                                                        True)
     if implementation == "compiled" and not compiled_ok:
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a master fixed to ground "
                          "(masterBodyNumber=None) and a ContactLaw with formulation='transport'; use 'numpy' or 'auto'")

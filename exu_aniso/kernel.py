@@ -354,3 +354,27 @@ class CovariantSet:
 
     def evaluate(self, mode, q, q_t, fq, fv, dt):
         return evaluate_covariant(mode, q, q_t, fq, fv, dt, self.ref, self.law, self.P, self.S, self.kind)
+
+
+_PLAIN = None
+
+
+def plain_python():
+    """This module's kernel as plain Python, for a user surface numba cannot compile
+    (``surface.compiled`` False): every compiled function here runs its Python source, calling
+    the plain-Python twin of the surface protocol; nets and return maps stay compiled (their
+    arguments are numbers). Same formulas, much slower."""
+    global _PLAIN
+    if _PLAIN is None:
+        import types as _types
+
+        from .geometry._base import _CORE_PYTHON
+        ns = dict(globals())
+        for name, f in list(ns.items()):
+            g = getattr(f, "py_func", None)
+            if callable(g) and g.__module__ == __name__:
+                ns[name] = _types.FunctionType(g.__code__, ns, g.__name__, g.__defaults__, g.__closure__)
+        ns["_core"] = _CORE_PYTHON
+        ns["local_chart"] = _CORE_PYTHON.local_chart
+        _PLAIN = _types.SimpleNamespace(**{k: v for k, v in ns.items() if not k.startswith("__")})
+    return _PLAIN

@@ -185,3 +185,34 @@ def test_contact_on_a_pole_or_axis_is_a_clear_error():
     hole = ContactLaw(geo.Cylinder(0.5, side="inside"), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)
     st = hole.evaluate(np.array([[0.0, 0.0, 0.2]]))        # on the axis of a hole: gap R, open
     assert st.status[0] == 0 and st.force[0].tolist() == [0.0, 0.0, 0.0]
+
+
+SIZES = {"r": 0.5}
+
+
+def _python_only_profile(z):          # a dict lookup: numba cannot compile it
+    return SIZES["r"] + 0.1 * z, 0.1, 0.0
+
+
+def _profile(z):
+    return 0.5 + 0.1 * z, 0.1, 0.0
+
+
+@pytest.mark.parametrize("profile", [_profile, _python_only_profile], ids=["compiled", "plain-python"])
+def test_user_surface_of_revolution_equals_the_cone(profile):
+    """The same cone as SurfaceOfRevolution (compiled, or plain Python when numba cannot compile the
+    profile): the kernel gives the forces, tangent and history of geo.Cone."""
+    s = geo.SurfaceOfRevolution(profile)
+    assert s.compiled == (profile is _profile)
+    A, F = Adhesion.isotropic(1e4), Friction.orthotropic(0.2, 0.5, 0.3)
+    a = ContactLaw(s, A, F, 1e5, return_map="exact")
+    b = ContactLaw(geo.Cone(math.atan(0.1), 0.5), A, F, 1e5, return_map="exact")
+    for _ in range(4):
+        x = _inside(b.surface, [(-3, 3), (-0.3, 0.3)])
+        v = RNG.normal(size=3) * 0.1
+        H = _history(b, x, v)
+        sa = a.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        sb = b.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
+        np.testing.assert_allclose(sa.force, sb.force, rtol=0, atol=1e-10 * (1 + np.abs(sb.force).max()))
+        np.testing.assert_allclose(sa.history, sb.history, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(sa.stiffness, sb.stiffness, rtol=0, atol=1e-8 * np.abs(sb.stiffness).max())
