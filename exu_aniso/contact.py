@@ -299,10 +299,10 @@ class ContactLaw:
         damp = np.zeros((K, 3, 3))
         newH = np.zeros((K, N_HISTORY))
         status = np.zeros(K, dtype=int)
-        dT = np.zeros((2, 9))
+        W = np.zeros((3, 9, 9))
         for k in range(K):
             status[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k].copy(), 0.0 if dt is None else float(dt),
-                                      tangent, force[k], stiff[k], damp[k], newH[k], dT)
+                                      tangent, force[k], stiff[k], damp[k], newH[k], W)
         closed = status != OPEN
         gap, _ = self.gap_and_normal(x)
         return ContactState(force, stiff if tangent else None, damp if tangent else None,

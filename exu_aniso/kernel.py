@@ -139,12 +139,14 @@ def _release(sp, netB, h, hn):
 
 
 @njit(cache=True)
-def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, dT):
+def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     """Force f (3), df/dx Kx (3, 3), df/dv Dv (3, 3) (when tangent) on the slave point at x with
     velocity v (master frame, relative to the master), and the history candidate hn (9) from the
     converged history h (9): traction (2, frame at the anchor), anchor xi (2, unwrapped), active,
     dissipated energy, slip distance, status, N. dt: time since h (predicts the branch of periodic
-    coordinates). dT: scratch (2, 9). Returns the status (0 open, 1 stick, 2 slip, 3 unresolved)."""
+    coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (0 open,
+    1 stick, 2 slip, 3 unresolved)."""
+    dT = W[0, 0:2, :]
     for i in range(N_HISTORY):
         hn[i] = h[i]
     for i in (0, 1, 2, 3, 4, 7, 8):
@@ -211,9 +213,10 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, dT):
     fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
     if tangent:
         # surface terms differenced in xi (at fixed xi3); G also depends on xi3 (analytic)
-        Kl = np.zeros((3, 3))
-        Dl = np.zeros((3, 3))
-        dS = np.zeros((2, _NT))
+        Kl = W[0, 2:5, 0:3]
+        Dl = W[0, 5:8, 0:3]
+        dS = W[1].reshape(81)[:2 * _NT].reshape((2, _NT))
+        dq = W[2].reshape(81)[:_NT]
         # step: XI_STEP of the local length scale (the point's distance from the local origin, at
         # most the smallest radius of curvature); an angle coordinate steps XI_STEP radians
         m11, m22 = dot(r1, r1), dot(r2, r2)
@@ -248,7 +251,6 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, dT):
         dG3_2 = add(scale(q21, r1), scale(q22, r2))
         for j in range(3):
             X1j, X2j, nj = X1[j], X2[j], n[j]
-            dq = np.zeros(_NT)
             for k in range(_NT):
                 dq[k] = dS[0, k] * X1j + dS[1, k] * X2j
             dn = (dq[10], dq[11], dq[12])
@@ -279,16 +281,20 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, dT):
             dT2 = -dT[1, 2] * dNv * n[j]
             for i in range(3):
                 Dl[i, j] = dT1 * G1[i] + dT2 * G2[i] - n[i] * dNv * n[j] - dTd * ((i == j) - n[i] * n[j])
-        # to the master frame: K = R Kl R^T with R = [ex ey ez]
-        Rm = np.empty((3, 3))
+        # to the master frame: K = R Kl R^T with R = [ex ey ez] (columns)
+        R0, R1, R2 = sp.ex, sp.ey, sp.ez
         for i in range(3):
-            Rm[i, 0], Rm[i, 1], Rm[i, 2] = sp.ex[i], sp.ey[i], sp.ez[i]
-        Kg = Rm @ Kl @ Rm.T
-        Dg = Rm @ Dl @ Rm.T
-        for i in range(3):
+            Ri = (R0[i], R1[i], R2[i])
             for j in range(3):
-                Kx[i, j] = Kg[i, j]
-                Dv[i, j] = Dg[i, j]
+                Rj = (R0[j], R1[j], R2[j])
+                k = 0.0
+                d = 0.0
+                for a in range(3):
+                    for b in range(3):
+                        k += Ri[a] * Kl[a, b] * Rj[b]
+                        d += Ri[a] * Dl[a, b] * Rj[b]
+                Kx[i, j] = k
+                Dv[i, j] = d
     fg = _core.to_global(sp, fl)
     for i in range(3):
         f[i] = fg[i]
@@ -315,7 +321,7 @@ def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
     if getattr(law, "instance_class", None) is CovariantLaw:
         def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
             return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, tangent, f, Kx,
-                                 Dv, hn, S[0, :2, :])
+                                 Dv, hn, S[0:3])
         return impl
     return None
 

@@ -233,14 +233,27 @@ def unwrap(period, d, predicted):
 
 
 @njit(cache=True)
+def christoffel(p, xi1, xi2):
+    """Gamma^1_(11, 12, 22) and Gamma^2_(11, 12, 22) at (xi1, xi2), from the local chart only."""
+    r, r1, r2, r11, r12, r22 = local_chart(p, xi1, xi2)
+    m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
+    det = m11 * m22 - m12 * m12
+    M11, M12, M22 = m22 / det, -m12 / det, m11 / det
+    a11, a12, a22 = dot(r11, r1), dot(r12, r1), dot(r22, r1)
+    b11, b12, b22 = dot(r11, r2), dot(r12, r2), dot(r22, r2)
+    return ((M11 * a11 + M12 * b11, M11 * a12 + M12 * b12, M11 * a22 + M12 * b22),
+            (M12 * a11 + M22 * b11, M12 * a12 + M22 * b12, M12 * a22 + M22 * b22))
+
+
+@njit(cache=True)
 def transport(p, xi1, xi2, d1, d2, t1, t2):
     """Parallel transport of the tangent vector with contravariant components (t1, t2) at (xi1, xi2)
     along the coordinate line segment to (xi1 + d1, xi2 + d2): dt^k = -Gamma^k_ij t^i dxi^j,
     integrated by the midpoint rule (second order in the step). Returns the components at the end."""
-    G1, G2 = geometry(p, xi1, xi2)[7:9]
+    G1, G2 = christoffel(p, xi1, xi2)
     h1 = t1 - 0.5 * ((G1[0] * t1 + G1[1] * t2) * d1 + (G1[1] * t1 + G1[2] * t2) * d2)
     h2 = t2 - 0.5 * ((G2[0] * t1 + G2[1] * t2) * d1 + (G2[1] * t1 + G2[2] * t2) * d2)
-    G1, G2 = geometry(p, xi1 + 0.5 * d1, xi2 + 0.5 * d2)[7:9]
+    G1, G2 = christoffel(p, xi1 + 0.5 * d1, xi2 + 0.5 * d2)
     return (t1 - ((G1[0] * h1 + G1[1] * h2) * d1 + (G1[1] * h1 + G1[2] * h2) * d2),
             t2 - ((G2[0] * h1 + G2[1] * h2) * d1 + (G2[1] * h1 + G2[2] * h2) * d2))
 
