@@ -49,7 +49,7 @@ class TensorField:
         self.label = label
         if matrix is not None:          # constant components given directly (positive tensor)
             self._const = np.array(matrix, dtype=float)
-        elif pattern in ("isotropic", "orthotropic", "spiral"):
+        elif pattern in ("isotropic", "orthotropic", "spiral") and angle is not None:
             c, s = math.cos(angle), math.sin(angle)
             l1, l2 = lam
             self._const = np.array([l1 * c * c + l2 * s * s, (l1 - l2) * c * s, l1 * s * s + l2 * c * c])
@@ -69,6 +69,9 @@ class TensorField:
             raise ValueError(f"{self!r}: polar orthotropy is defined on a Plane only; got {surface!r}")
         if self.pattern == "spiral" and surface.kind != "cylinder":
             raise ValueError(f"{self!r}: spiral orthotropy is defined on a Cylinder only; got {surface!r}")
+        if self.pattern == "spiral" and self.angle is None:
+            raise ValueError(f"{self!r}: a spiral given by its lead needs a surface of exu_aniso (the protocol's "
+                             f"Cylinder, Cone, SurfaceOfRevolution, ...); got {surface!r}")
 
     def physical(self, u, derivatives=True):
         """Components (K, 3) of B (adhesion, negative definite) or F in the transport frame, and
@@ -129,6 +132,22 @@ def _helix(helix_angle):
     return a
 
 
+def _spiral(kind, n1, v1, n2, v2, helix_angle, lead):
+    """A spiral net given by its helix angle (at the surface's radius: Cylinder, Cone) or by its
+    lead [m of the second surface coordinate per turn] (any surface of revolution)."""
+    lam = _pair(kind, n1, v1, n2, v2)
+    if (helix_angle is None) == (lead is None):
+        raise ValueError(f"spiral: give exactly one of helix_angle [rad] and lead [m per turn]; got "
+                         f"helix_angle={helix_angle!r}, lead={lead!r}")
+    name = "Adhesion" if kind == _ADHESION else "Friction"
+    if lead is not None:
+        f = TensorField(kind, "spiral", lam, angle=None, label=f"spiral({v1}, {v2}, lead={lead})")
+        f.lead = check_real("lead", lead)
+        return f
+    a = _helix(helix_angle)
+    return TensorField(kind, "spiral", lam, angle=a, label=f"spiral({v1}, {v2}, helix_angle={a})")
+
+
 class Adhesion:
     """Adhesion tensor fields B = -(eps_1 e1 e1 + eps_2 e2 e2); stiffnesses in N/m (per point)."""
 
@@ -152,11 +171,10 @@ class Adhesion:
                            label=f"polar({eps_r}, {eps_phi}, core_radius={core_radius})")
 
     @staticmethod
-    def spiral(eps_1, eps_2, helix_angle):
-        """Spiral orthotropy on a cylinder: eps_1 along the helix (angle [rad]), eps_2 across."""
-        lam = _pair(_ADHESION, "eps_1", eps_1, "eps_2", eps_2)
-        a = _helix(helix_angle)
-        return TensorField(_ADHESION, "spiral", lam, angle=a, label=f"spiral({eps_1}, {eps_2}, helix_angle={a})")
+    def spiral(eps_1, eps_2, helix_angle=None, lead=None):
+        """Spiral orthotropy: eps_1 along the helix, eps_2 across; the helix by its angle [rad] at
+        the surface's radius (Cylinder, Cone) or by its lead [m per turn] (any surface of revolution)."""
+        return _spiral(_ADHESION, "eps_1", eps_1, "eps_2", eps_2, helix_angle, lead)
 
     @staticmethod
     def from_matrix(B):
@@ -186,10 +204,9 @@ class Friction:
                            label=f"polar({mu_r}, {mu_phi}, core_radius={core_radius})")
 
     @staticmethod
-    def spiral(mu_1, mu_2, helix_angle):
-        lam = _pair(_FRICTION, "mu_1", mu_1, "mu_2", mu_2)
-        a = _helix(helix_angle)
-        return TensorField(_FRICTION, "spiral", lam, angle=a, label=f"spiral({mu_1}, {mu_2}, helix_angle={a})")
+    def spiral(mu_1, mu_2, helix_angle=None, lead=None):
+        """Spiral friction net, as Adhesion.spiral (mu_1 along the helix, mu_2 across)."""
+        return _spiral(_FRICTION, "mu_1", mu_1, "mu_2", mu_2, helix_angle, lead)
 
     @staticmethod
     def from_matrix(F):

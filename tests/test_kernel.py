@@ -216,3 +216,26 @@ def test_user_surface_of_revolution_equals_the_cone(profile):
         np.testing.assert_allclose(sa.force, sb.force, rtol=0, atol=1e-10 * (1 + np.abs(sb.force).max()))
         np.testing.assert_allclose(sa.history, sb.history, rtol=1e-10, atol=1e-12)
         np.testing.assert_allclose(sa.stiffness, sb.stiffness, rtol=0, atol=1e-8 * np.abs(sb.stiffness).max())
+
+
+def test_spiral_by_lead_equals_spiral_by_helix_angle():
+    """On a cylinder of radius R the helix angle alpha and the lead 2 pi R tan(alpha) are the same
+    net; on a cone the helix angle is taken at its radius (z = 0)."""
+    alpha = 0.2
+    for surface in (geo.Cylinder(0.5, side="inside"), geo.Cone(0.1, 0.5, side="inside")):
+        lead = 2 * math.pi * 0.5 * math.tan(alpha)
+        a = ContactLaw(surface, Adhesion.spiral(1e3, 1e5, helix_angle=alpha), Friction.spiral(0.2, 0.5, helix_angle=alpha),
+                       1e5, return_map="radial")
+        b = ContactLaw(surface, Adhesion.spiral(1e3, 1e5, lead=lead), Friction.spiral(0.2, 0.5, lead=lead), 1e5,
+                       return_map="radial")
+        for _ in range(4):
+            x = _inside(surface, [(-3, 3), (-0.3, 0.3)])
+            v = RNG.normal(size=3) * 0.1
+            H = _history(a, x, v)
+            np.testing.assert_allclose(b.evaluate(x[None, :], v[None, :], H, dt=1e-3).force,
+                                       a.evaluate(x[None, :], v[None, :], H, dt=1e-3).force, rtol=1e-12, atol=1e-12)
+    with pytest.raises(ValueError, match="exactly one of helix_angle"):
+        Adhesion.spiral(1e3, 1e5)
+    with pytest.raises(ValueError, match="needs a surface of exu_aniso"):
+        from exu_aniso import surfaces as old_surfaces
+        ContactLaw(old_surfaces.Cylinder(0.5), Adhesion.spiral(1e3, 1e5, lead=0.1), Friction.isotropic(0.3), 1e5)
