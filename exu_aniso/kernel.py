@@ -44,7 +44,7 @@ from numba.extending import overload
 from .fastpath import _return_map, evaluate_set
 from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
-from .geometry._core import add, cross, dot, local_chart, scale, sub
+from .geometry._core import add, dot, local_chart, scale, sub
 from .nets import physical, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))

@@ -5,8 +5,6 @@ mu, pushed out of the narrowing hole when tan(half_angle) > mu (a point pressed 
 generator feels N sin(beta) along the axis against at most mu N cos(beta) of friction)."""
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
