@@ -304,6 +304,74 @@ def _cylinder(cyl, X, a, angle, size, colors, face_color):
     return [_face(pts, tri, normals, face_color)] + items, L
 
 
+def _chart_patch(surf, X, a, size, colors, face_color, n1=48, n2=24, lines1=24, lines2=12):
+    """Any surface of the protocol (exu_aniso.geometry) drawn from its chart: a patch of the
+    coordinate box around the slave points' closest points (a periodic coordinate over its whole
+    period; otherwise the points' range widened by L on each side, L = size or 2 a, measured along
+    rho_i, at most the largest |rho_i| at the points) with the coordinate lines xi1 = const and
+    xi2 = const. Returns (items, L)."""
+    L = size if size is not None else 2.0 * a
+    xi = []
+    for x in X:
+        try:
+            xi.append(surf.project(x).xi)
+        except ValueError:                       # a point with no closest point: leave it out
+            continue
+    if not xi:
+        return [], L
+    xi = np.array(xi)
+    if size is None:        # at most the surface's own size there (a cone's radius: not past its apex)
+        L = min(L, max(float(np.max(np.linalg.norm(surf.at(q).rho, axis=1))) for q in xi))
+    ranges = []
+    for i, period in enumerate(surf.periods):
+        lo, hi = float(xi[:, i].min()), float(xi[:, i].max())
+        if period > 0.0:
+            c = 0.5 * (lo + hi)
+            ranges.append((c - 0.5 * period, c + 0.5 * period))
+            continue
+        g = surf.at(xi[np.argmin(xi[:, i])])
+        w = L / max(float(np.linalg.norm(g.rho[i])), 1e-300)
+        ranges.append((lo - w, hi + w))
+    if isinstance(getattr(surf, "params", None), tuple) and type(surf).__name__ == "Sphere":
+        ranges[1] = (max(ranges[1][0], 1e-3), min(ranges[1][1], math.pi - 1e-3))   # the chart's poles
+
+    def point(u, v, offset=0.0):
+        try:
+            g = surf.at((u, v))
+        except ValueError:
+            return None
+        return g.point - offset * g.n, g.n
+
+    off = min(FACE_OFFSET * L, 0.01 * L)
+    U = np.linspace(*ranges[0], n1 + 1)
+    V = np.linspace(*ranges[1], n2 + 1)
+    grid = [[point(u, v, off) for v in V] for u in U]
+    pts, nrm, index = [], [], {}
+    for i in range(n1 + 1):
+        for j in range(n2 + 1):
+            if grid[i][j] is not None:
+                index[i, j] = len(pts)
+                pts.append(grid[i][j][0])
+                nrm.append(grid[i][j][1])
+    tri = []
+    for i in range(n1):
+        for j in range(n2):
+            q = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]
+            if all(k in index for k in q):
+                a0, a1, a2, a3 = (index[k] for k in q)
+                tri += [[a0, a1, a2], [a0, a2, a3]]
+    items = [_face(np.array(pts), tri, np.array(nrm), face_color)] if tri else []
+    for family, (fixed, free), color, count in ((0, (U, V), colors[0], lines1), (1, (V, U), colors[1], lines2)):
+        polylines = []
+        for c in np.linspace(fixed[0], fixed[-1], count + 1)[:-1 if surf.periods[family] > 0.0 else None]:
+            line = [point(c, t) if family == 0 else point(t, c) for t in np.linspace(free[0], free[-1], 4 * len(free))]
+            line = [q[0] for q in line if q is not None]
+            if len(line) > 1:
+                polylines.append(_segments(np.array(line)))
+        items.append(_lines(polylines, color))
+    return items, L
+
+
 # ----------------------------------------------------------------------------------------------
 
 class _ContactGraphics:
@@ -334,6 +402,9 @@ class _ContactGraphics:
             radial = rel - np.outer(rel @ surf.axes[2], surf.axes[2])
             a = _body_length(X, origin, float(np.linalg.norm(radial.mean(axis=0))))
             static, L = _cylinder(surf, X, a, angle, size, self.netColors, face_color)
+        elif hasattr(surf, "periods") and hasattr(surf, "at"):   # any surface of the protocol: from its chart
+            a = _body_length(X, origin, 0.0)
+            static, L = _chart_patch(surf, X, a, size, self.netColors, face_color)
         else:                                       # no drawing rule for this surface: points and arrows only
             a = _body_length(X, origin, 0.0)
             static, L = [], (size if size is not None else GRID_HALF_WIDTH * a)

@@ -532,3 +532,29 @@ def test_raytraced_image_shows_the_states():
         assert img.shape[2] == 3 and img.std() > 10.0          # not blank
     assert share(rest, STATUS_COLORS[STICK]) > 0.005 and share(rest, STATUS_COLORS[SLIP]) == 0.0
     assert share(pulled, STATUS_COLORS[SLIP]) > 0.005 and share(pulled, STATUS_COLORS[STICK]) == 0.0
+
+
+@pytest.mark.parametrize("make", [lambda: __import__("exu_aniso").Sphere(0.5, axis_direction=(1, 0, 0)),
+                                  lambda: __import__("exu_aniso").Torus(1.0, 0.3),
+                                  lambda: __import__("exu_aniso").Cone(0.3, 0.5)], ids=["sphere", "torus", "cone"])
+def test_any_protocol_surface_is_drawn_from_its_chart(make):
+    """Surfaces without a drawing rule of their own (sphere, torus, cone) are drawn from their chart:
+    a face and the coordinate lines, every line point on the surface (to the float32 of the
+    graphics data), and the contact point."""
+    import exu_aniso  # noqa: F401  (mbs.CreateAnisotropicContact)
+    from exu_aniso import Adhesion, Friction
+    surf = make()
+    g = surf.at((0.3, 1.2 if type(surf).__name__ == "Sphere" else 0.2))
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    o = mbs.CreateMassPoint(referencePosition=list(g.point - 1e-6 * g.n), mass=0.1)
+    mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=[[0.0, 0.0, 0.0]], surface=surf,
+                                 adhesion=Adhesion.isotropic(1e4), friction=Friction.isotropic(0.2), normalStiffness=1e6)
+    mbs.Assemble()
+    d = SC.renderer.GetGraphicsData()
+    drawnByObjects = np.asarray(d["spheres"]["items"])[:, 1] == int(exu.ItemType.Object)   # not the node's own dot
+    assert len(d["triangles"]["items"]) > 100 and int(np.sum(drawnByObjects)) == 1
+    P = np.asarray(d["lines"]["points"], dtype=float).reshape(-1, 3)
+    assert len(P) > 100
+    gaps = np.array([surf.project(p).xi3 for p in P[::7]])
+    assert np.max(np.abs(gaps)) < 1e-6, np.max(np.abs(gaps))
