@@ -429,8 +429,9 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
                              implementation="auto", tangentialDamping=None):
     """Add anisotropic frictional contact between body-fixed points and an analytical surface.
 
-    bodyNumber: slave body (ObjectRigidBody, or ObjectRigidBody2D for a planar model);
-    localPoints: (K, 3) body-local contact points [m]; surface: exu_aniso Plane or Cylinder in the
+    bodyNumber: slave body (ObjectRigidBody, ObjectRigidBody2D for a planar model, ObjectMassPoint or
+    ObjectMassPoint2D); localPoints: (K, 3) body-local contact points [m]; surface: a surface of
+    exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution, ParametricSurface) in the
     master frame; adhesion / friction: exu_aniso Adhesion / Friction fields; normalStiffness
     eps_N [N/m per point]; normalDamping d_N [N s/m per point, default 0]; tangentialDamping d_T
     [N s/m per point, default 0: a dashpot -d_T v_t parallel to friction while loaded];

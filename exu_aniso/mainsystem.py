@@ -45,9 +45,11 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         name: name string of the contact object; its history node gets name+'History', its sensors
             name+'HistorySensor' and name+'DissipationSensor'
         bodyNumber: slave body (ObjectIndex): ObjectRigidBody (EP or rotation-vector node), ObjectRigidBody2D,
-            or an ObjectGenericODE2 with a 2-coordinate node (psi, z) for a reduced screw joint
+            ObjectMassPoint or ObjectMassPoint2D (localPoints=[[0, 0, 0]]), or an ObjectGenericODE2 with a
+            2-coordinate node (psi, z) for a reduced screw joint
         localPoints: list of K body-local contact points, each a 3D list or numpy array [m]
-        surface: exu_aniso Plane or Cylinder, in the frame of the master (ground or masterBodyNumber)
+        surface: a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution,
+            ParametricSurface), in the frame of the master (ground or masterBodyNumber)
         adhesion: exu_aniso Adhesion field (B), stiffness per point [N/m]
         friction: exu_aniso Friction field (F), Coulomb coefficients
         normalStiffness: normal penalty stiffness per point [N/m], > 0
