@@ -77,3 +77,18 @@ def test_bad_half_angle_is_named():
         ScrewParams(surface="cone", half_angle=60.0)
     with pytest.raises(ValueError, match="surface"):
         ScrewParams(surface="sphere")
+
+
+def test_tapered_thread_study_quick(tmp_path, quick_study):
+    """studies/tapered_thread.py --quick: the cylinder row equals the screw scene's closed form
+    (advance/pitch 0.99, torque 0.1014 N m), the 1:16 taper jams (torque up), and the back-out rows
+    agree with tan(half_angle) < mu."""
+    from exu_aniso.output import read_table
+    quick_study("tapered_thread", tmp_path)
+    D = read_table(tmp_path / "drive.csv")
+    i0 = D["half_angle [deg]"].index(0.0)
+    assert abs(D["torque_mean [N m]"][i0] - 0.1014) < 1e-3 and abs(D["advance/pitch [-]"][i0] - 0.99) < 0.01
+    it = [i for i, a in enumerate(D["half_angle [deg]"]) if a < 0.0][0]
+    assert D["torque_mean [N m]"][it] > 2.0 * D["torque_mean [N m]"][i0]
+    B = read_table(tmp_path / "backout.csv")
+    assert B["held [-]"] == B["held_theory [-]"] and set(B["held [-]"]) == {"yes", "no"}
