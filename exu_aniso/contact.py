@@ -299,12 +299,12 @@ class ContactLaw:
         damp = np.zeros((K, 3, 3))
         newH = np.zeros((K, N_HISTORY))
         status = np.zeros(K, dtype=int)
+        gap = np.zeros(K)
         W = np.zeros((3, 9, 9))
         for k in range(K):
-            status[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k].copy(), 0.0 if dt is None else float(dt),
-                                      tangent, force[k], stiff[k], damp[k], newH[k], W)
+            status[k], gap[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k], 0.0 if dt is None else float(dt),
+                                              tangent, force[k], stiff[k], damp[k], newH[k], W)
         closed = status != OPEN
-        gap, _ = self.gap_and_normal(x)
         return ContactState(force, stiff if tangent else None, damp if tangent else None,
                             np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,
                             np.full((K, 2), np.nan), newH[:, 5] - H[:, 5], newH,

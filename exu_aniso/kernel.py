@@ -81,21 +81,31 @@ def _contra(r1, r2, w):
 
 
 @njit(cache=True)
-def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, Tn1, Tn2):
-    """The quantities at C(xi1, xi2) (unwrapped coordinates) for the stored state (xi_n, T_n):
+def anchor_contravariant(sp, xn1, xn2, Tn1, Tn2):
+    """Contravariant components at the anchor xi_n of the stored traction (physical components in
+    the anchor's tangent frame): what parallel transport carries. Computed once per evaluation,
+    not in every stencil point of the tangent."""
+    if Tn1 == 0.0 and Tn2 == 0.0:
+        return 0.0, 0.0
+    rn, rn1, rn2, _, _, _ = local_chart(sp, xn1, xn2)
+    b1, b2, _ = tangent_frame(rn1, rn2)
+    return _contra(rn1, rn2, add(scale(Tn1, b1), scale(Tn2, b2)))
+
+
+@njit(cache=True)
+def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
+    """The quantities at C(xi1, xi2) (unwrapped coordinates) for the stored state: anchor xi_n and
+    the traction's contravariant components (tn1, tn2) there (``anchor_contravariant``):
     transported traction (2), slip (2), B (3, negative definite), F (3), n (3), G (6, rows of the
     2 x 3 matrix), all in the local frame. Smooth in xi: the kernel differences them for the tangent."""
     d1, d2 = xi1 - xn1, xi2 - xn2
     r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
     a1, a2, nu = tangent_frame(r1, r2)
     n = scale(sp.sign, nu)
-    # T_n: physical components at xi_n -> vector -> contravariant -> transport -> physical at xi
+    # T_n: contravariant at xi_n -> transport -> physical components at xi
     Tt1 = Tt2 = 0.0
-    if Tn1 != 0.0 or Tn2 != 0.0:
-        rn, rn1, rn2, _, _, _ = local_chart(sp, xn1, xn2)
-        b1, b2, _ = tangent_frame(rn1, rn2)
-        t1, t2 = _contra(rn1, rn2, add(scale(Tn1, b1), scale(Tn2, b2)))
-        t1, t2 = _core.transport(sp, xn1, xn2, d1, d2, t1, t2)
+    if tn1 != 0.0 or tn2 != 0.0:
+        t1, t2 = _core.transport(sp, xn1, xn2, d1, d2, tn1, tn2)
         w = add(scale(t1, r1), scale(t2, r2))
         Tt1, Tt2 = dot(w, a1), dot(w, a2)
     # slip: d xi at the midpoint, carried to C
@@ -145,7 +155,7 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     converged history h (9): traction (2, frame at the anchor), anchor xi (2, unwrapped), active,
     dissipated energy, slip distance, status, N. dt: time since h (predicts the branch of periodic
     coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (0 open,
-    1 stick, 2 slip, 3 unresolved)."""
+    1 stick, 2 slip, 3 unresolved) and the normal gap xi3."""
     dT = W[0, 0:2, :]
     for i in range(N_HISTORY):
         hn[i] = h[i]
@@ -162,7 +172,7 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
         if xi3 >= 0.0:
             _release(sp, netB, h, hn)
-            return OPEN
+            return OPEN, xi3
     if pstat == 2:
         raise ValueError("slave point at a centre of curvature of the surface (on the cylinder axis, a cone's axis, "
                          "a sphere's centre or a torus's centre circle): the closest point is not unique there")
@@ -193,7 +203,8 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
         xi1, xi2 = xn1 + d1, xn2 + d2
     else:
         xn1, xn2, Tn1, Tn2 = xi1, xi2, 0.0, 0.0
-    st = surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, Tn1, Tn2)
+    tn1, tn2 = anchor_contravariant(sp, xn1, xn2, Tn1, Tn2)
+    st = surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2)
     vn = dot(n, vl)
     N = law.eps_N * xi3 + law.d_N * vn
     loaded = N < 0.0
@@ -231,10 +242,10 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
             # a new contact anchors at the current point: the anchor moves with it (no slip)
             m1, m2 = (0.0, 0.0) if active else (e1, e2)
             # fourth-order central difference: (8 (f(h) - f(-h)) - (f(2h) - f(-2h))) / 12 h
-            a = surface_terms(sp, netB, netF, xi1 + e1, xi2 + e2, xi3, xn1 + m1, xn2 + m2, Tn1, Tn2)
-            b = surface_terms(sp, netB, netF, xi1 - e1, xi2 - e2, xi3, xn1 - m1, xn2 - m2, Tn1, Tn2)
-            fp2 = surface_terms(sp, netB, netF, xi1 + 2 * e1, xi2 + 2 * e2, xi3, xn1 + 2 * m1, xn2 + 2 * m2, Tn1, Tn2)
-            fm2 = surface_terms(sp, netB, netF, xi1 - 2 * e1, xi2 - 2 * e2, xi3, xn1 - 2 * m1, xn2 - 2 * m2, Tn1, Tn2)
+            a = surface_terms(sp, netB, netF, xi1 + e1, xi2 + e2, xi3, xn1 + m1, xn2 + m2, tn1, tn2)
+            b = surface_terms(sp, netB, netF, xi1 - e1, xi2 - e2, xi3, xn1 - m1, xn2 - m2, tn1, tn2)
+            fp2 = surface_terms(sp, netB, netF, xi1 + 2 * e1, xi2 + 2 * e2, xi3, xn1 + 2 * m1, xn2 + 2 * m2, tn1, tn2)
+            fm2 = surface_terms(sp, netB, netF, xi1 - 2 * e1, xi2 - 2 * e2, xi3, xn1 - 2 * m1, xn2 - 2 * m2, tn1, tn2)
             for k in range(_NT):
                 dS[i, k] = (8.0 * (a[k] - b[k]) - (fp2[k] - fm2[k])) / (12.0 * hs)
         # dG/dxi3 = E^T rho A^-1 h A^-1 rho^T
@@ -307,7 +318,7 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     hn[6] = h[6] + math.sqrt(sl1 * sl1 + sl2 * sl2)
     hn[7] = status
     hn[8] = N
-    return status
+    return status, xi3
 
 
 # ----------------------------------------------------------------------------------------------
@@ -321,7 +332,7 @@ def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
     if getattr(law, "instance_class", None) is CovariantLaw:
         def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
             return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, tangent, f, Kx,
-                                 Dv, hn, S[0:3])
+                                 Dv, hn, S[0:3])[0]
         return impl
     return None
 
@@ -372,15 +383,9 @@ def plain_python():
     arguments are numbers). Same formulas, much slower."""
     global _PLAIN
     if _PLAIN is None:
-        import types as _types
+        import sys
 
-        from .geometry._base import _CORE_PYTHON
-        ns = dict(globals())
-        for name, f in list(ns.items()):
-            g = getattr(f, "py_func", None)
-            if callable(g) and g.__module__ == __name__:
-                ns[name] = _types.FunctionType(g.__code__, ns, g.__name__, g.__defaults__, g.__closure__)
-        ns["_core"] = _CORE_PYTHON
-        ns["local_chart"] = _CORE_PYTHON.local_chart
-        _PLAIN = _types.SimpleNamespace(**{k: v for k, v in ns.items() if not k.startswith("__")})
+        from .geometry._base import _CORE_PYTHON, _plain_python
+        _PLAIN = _plain_python(sys.modules[__name__], own_only=True,
+                               overrides={"_core": _CORE_PYTHON, "local_chart": _CORE_PYTHON.local_chart})
     return _PLAIN

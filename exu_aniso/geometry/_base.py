@@ -17,16 +17,19 @@ from . import _core
 TWO_PI = 2.0 * math.pi
 
 
-def _plain_python(module):
+def _plain_python(module, overrides=None, own_only=False):
     """The numba functions of module as plain Python: each one's py_func, re-bound to a copy of the
     module's globals in which the other numba functions are plain Python too (a py_func alone still
     calls the compiled helpers, and they cannot type a surface numba cannot compile). The registry
-    (_CHART, _GUESS) is shared; the constants are those at import."""
+    (_CHART, _GUESS) is shared; the constants are those at import. own_only: only the functions
+    defined in module itself (imported ones stay compiled); overrides: names replaced in the copy
+    (e.g. another module's plain-Python twin)."""
     ns = dict(vars(module))
     for name, f in vars(module).items():
         g = getattr(f, "py_func", None)
-        if callable(g):
+        if callable(g) and (not own_only or g.__module__ == module.__name__):
             ns[name] = types.FunctionType(g.__code__, ns, g.__name__, g.__defaults__, g.__closure__)
+    ns.update(overrides or {})
     return types.SimpleNamespace(**ns)
 
 
