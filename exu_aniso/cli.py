@@ -29,21 +29,12 @@ import tempfile
 from .failure import SimulationFailure
 from .output import atomic_write as _atomic_write
 from .output import json_safe, write_json
-from .scenes import ENERGY_COLUMNS, BlockParams, ScrewParams
+from .scene_catalog import MAIN_JOB, SCENES
 
-SCENES = {"block": BlockParams, "screw": ScrewParams}
 ENGINES = ("exudyn", "reference")
-
 # trajectory columns written to CSV, in this order, with their SI units (plain names are the public
-# interface: block t,x,y,theta,...; screw t,angle,z,...; the units go to summary.json "units")
-# energy_*: the run's energy ledger (exu_aniso.energy; changes from t = 0, residual = imbalance)
-_LEDGER = {k: "J" for k in ENERGY_COLUMNS}
-COLUMNS = {
-    "block": {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
-              "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N", **_LEDGER},
-    "screw": {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
-              "axial_force": "N", "dissipated_energy": "J", **_LEDGER},
-}
+# interface; the units go to summary.json "units"); energy_*: the run's energy ledger
+COLUMNS = {name: scene.columns for name, scene in SCENES.items()}
 
 
 class UsageError(Exception):
@@ -66,7 +57,7 @@ def parse_sets(pairs):
 
 def make_params(scene, sets):
     try:
-        return SCENES[scene].from_strings(sets)
+        return SCENES[scene].params.from_strings(sets)
     except (ValueError, TypeError) as e:
         raise UsageError(f"{scene}: {e}") from None
 
@@ -77,12 +68,10 @@ VIEW_NO_DISPLAY = "--view needs a display ({}); use --snapshot, or run under xvf
 def simulate(scene, params, engine, progress=False, snapshot=None, solution_file=None):
     """Run one scene with one engine; returns the engine's Result. Exudyn engine only: progress on
     stderr, snapshot (PNG file name of the final state), solution_file (Exudyn solution for --view)."""
+    sc = SCENES[scene]
     if engine == "reference":
-        from .reference import simulate_block, simulate_screw
-        return simulate_block(params) if scene == "block" else simulate_screw(params)
-    from .models import block as block_model, screw as screw_model
-    run = block_model.RunBlock if scene == "block" else screw_model.RunScrew
-    return run(params, progress=progress, snapshot=snapshot, solutionFile=solution_file)
+        return sc.reference(params)
+    return sc.run_exudyn(params, progress=progress, snapshot=snapshot, solutionFile=solution_file)
 
 
 def view_problem():
@@ -95,9 +84,8 @@ def view_problem():
 
 def view_solution(scene, params, solution_file):
     """Exudyn's SolutionViewer on the solution a run wrote (the model is rebuilt from params)."""
-    from .models import block as block_model, screw as screw_model
-    model = block_model.BuildBlock(params) if scene == "block" else screw_model.BuildScrew(params)
-    block_model.ViewSolution(model, solution_file, title=f"exu-aniso {scene}")
+    from .models.block import ViewSolution
+    ViewSolution(SCENES[scene].build_exudyn(params), solution_file, title=f"exu-aniso {scene}")
 
 
 def write_csv(path, scene, traj):
@@ -111,21 +99,16 @@ def write_csv(path, scene, traj):
 
 
 def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None):
-    """trajectory.png: block -> plots.PlotBlockPath; screw -> plots.PlotScrewAdvance over
-    plots.PlotScrewTorque. A failed run's plot says INCOMPLETE, an open energy ledger says so in red."""
+    """trajectory.png: the scene's plot (block: plots.PlotBlockPath; screw: plots.PlotScrewAdvance
+    over plots.PlotScrewTorque; see scene_catalog). A failed run's plot says INCOMPLETE, an open
+    energy ledger says so in red."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .plots import PlotBlockPath, PlotScrewAdvance, PlotScrewTorque
-
-    if scene == "block":
-        fig, ax = plt.subplots(figsize=(5.5, 5.0))
-        PlotBlockPath(traj, params, ax=ax)
-    else:
-        fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.0, 6.5))
-        PlotScrewAdvance(traj, params, ax=a1)
-        PlotScrewTorque(traj, params, ax=a2)
+    sc = SCENES[scene]
+    fig = plt.figure(figsize=sc.figsize)
+    sc.plot(traj, params, fig)
     fig.suptitle(title, fontsize=9, color="red" if incomplete or warning else "black")
     fig.tight_layout()
     if warning:      # the energy ledger does not close: say so on the figure itself
@@ -182,8 +165,9 @@ def write_outputs(scene, params, engine, out, res, failure=None):
     summary["params"] = params.as_dict()
     summary["units"] = {k: u for k, u in COLUMNS[scene].items() if k in res.trajectory}
     write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory)
-    keys = ("heading_deg", "r_mean") if scene == "block" else ("advance_per_rev", "torque_mean")
-    title = f"{scene} ({engine}, {params.return_map} map, {params.model}): " + ", ".join(
+    keys = SCENES[scene].title_keys
+    model = getattr(params, "model", None)
+    title = f"{scene} ({engine}, {params.return_map} map{', ' + model if model else ''}): " + ", ".join(
         f"{k} = {summary[k]:.4g}" if summary.get(k) is not None else f"{k} undefined" for k in keys)
     if failure is not None:
         title = (f"INCOMPLETE: stopped at t = {failure['time_reached']:.4g} s of {failure['end_time']:.4g} s\n"
@@ -202,7 +186,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(prog="exu-aniso", description="Anisotropic frictional contact scenes for Exudyn")
     sub = ap.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run a scene and write trajectory.csv, summary.json, trajectory.png")
-    r.add_argument("scene", choices=("block", "screw", "all"))
+    r.add_argument("scene", choices=(*SCENES, "all"))
     r.add_argument("--engine", choices=ENGINES, default="exudyn")
     r.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter (see 'exu-aniso params SCENE'); repeatable")
@@ -220,20 +204,23 @@ def main(argv=None):
     a = ap.parse_args(argv)
     try:
         if a.command == "params":
-            cls = SCENES[a.scene]
+            cls = SCENES[a.scene].params
             print(f"{'name':16s} {'default':14s} {'unit':14s} {'allowed':34s} description")
             print(cls.describe())
             return 0
         sets = parse_sets(a.sets)
-        scenes = ("block", "screw") if a.scene == "all" else (a.scene,)
+        scenes = MAIN_JOB if a.scene == "all" else (a.scene,)
         if a.scene == "all" and sets:
-            raise UsageError("--set applies to one scene; run 'block' or 'screw' to override parameters")
+            raise UsageError(f"--set applies to one scene; run one of {', '.join(SCENES)} to override parameters")
         jobs = [(s, make_params(s, sets), os.path.join(a.out, s) if a.scene == "all" else a.out) for s in scenes]
         up = os.path.abspath(a.out)      # --out must be (or become) a directory: no existing file on its path
         while not os.path.exists(up):
             up = os.path.dirname(up)
         if not os.path.isdir(up):
             raise UsageError(f"--out must be a directory (created if missing); got {a.out!r}, but {up!r} is a file")
+        for s in scenes:
+            if a.engine == "reference" and SCENES[s].reference is None:
+                raise UsageError(f"{s}: the reference engine has no model of this scene; use --engine exudyn")
         if (a.snapshot or a.view) and a.engine != "exudyn":
             raise UsageError("--snapshot and --view need --engine exudyn "
                              "(the reference engine has no Exudyn model to render)")
