@@ -1,6 +1,6 @@
 """exu_aniso: anisotropic frictional contact (Konyukhov & Schweizerhof) for Exudyn.
 
-The numpy kernels (surfaces, fields, law, contact, reference) never import exudyn; the glue
+The kernels (geometry, nets, fields, law, kernel, contact, reference) never import exudyn; the glue
 modules ``exu_aniso.exudyn_glue`` (the contact set), ``exu_aniso.mainsystem`` (the method
 ``mbs.CreateAnisotropicContact``, bound to ``exudyn.MainSystem`` when this package is imported)
 and ``exu_aniso.graphics`` are the places that talk to Exudyn. Without Exudyn installed the

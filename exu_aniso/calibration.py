@@ -10,7 +10,7 @@ In the reduced model the screw stays on the hole axis, so every point carries th
 the total is ``N = eps_n * interference``. In steady sliding (rotation speed and axial speed
 constant, inertia forces zero) the total tangential traction the hole exerts on the screw is
 ``T = -(tau e_phi + axial_load e_z)``: ``tau`` balances the drive torque (torque = R * tau with
-the hole radius R: the traction acts where the slip is measured, see surfaces.Frame) and the axial
+the hole radius R: the traction acts where the slip is measured, see kernel.py step 5) and the axial
 part balances the axial load. Write
 ``S = -T = tau e_phi + axial_load e_z`` in the helix frame (e1 = cos a e_phi + sin a e_z,
 e2 = -sin a e_phi + cos a e_z). Sliding puts it on the friction ellipse

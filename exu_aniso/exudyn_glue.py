@@ -351,18 +351,14 @@ class _ContactSet:
 
 class _CompiledSet(_ContactSet):
     """The same contact set evaluated by the compiled kernel ``exu_aniso.fastpath`` (ground
-    master, transport formulation): one compiled call per user function on arrays packed once
-    (``fastpath.PackedSet``). The converged history is copied into the packed arrays once per
+    master, a surface numba compiles): one compiled call per user function on arrays packed once
+    (``kernel.CovariantSet``). The converged history is copied into the packed arrays once per
     Newton solve (it only changes when a step is accepted)."""
 
     def __init__(self, mbs, law, slave, points, master):
         super().__init__(mbs, law, slave, points, master)
-        if law.covariant:       # every surface of the protocol: the covariant kernel
-            from .kernel import CovariantSet
-            self.pk = CovariantSet(law, slave.kind, slave.ref, points)
-        else:                   # Plane / Cylinder of exu_aniso.surfaces: the transport kernel
-            from .fastpath import PackedSet
-            self.pk = PackedSet(law, slave.kind, slave.ref, points)
+        from .kernel import CovariantSet
+        self.pk = CovariantSet(law, slave.kind, slave.ref, points)
         self._H_time = None
         self._dt = 0.0
 
@@ -446,7 +442,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, or a NodeGenericODE2
     with 2 coordinates (psi about z [rad], z [m]) for a reduced screw-joint model.
     implementation: "compiled" (the numba kernel of exu_aniso.fastpath: one compiled call per user
-    function; ground master and the transport formulation), "numpy" (ContactLaw.evaluate with
+    function; ground master and a compiled surface), "numpy" (ContactLaw.evaluate with
     numpy; any configuration) or "auto" (compiled where it applies, numpy otherwise). Both give
     the same results to round-off (tests/test_fastpath.py).
 
@@ -495,11 +491,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     if implementation not in ("auto", "compiled", "numpy"):
         raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
                          f"got {implementation!r}")
-    compiled_ok = master is None and contactLaw.formulation == "transport" and getattr(contactLaw.surface, "compiled",
-                                                                                        True)
+    compiled_ok = master is None and contactLaw.surface.compiled
     if implementation == "compiled" and not compiled_ok:
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a master fixed to ground "
-                         "(masterBodyNumber=None) and a ContactLaw with formulation='transport'; use 'numpy' or 'auto'")
+                         "(masterBodyNumber=None) and a surface numba can compile; use 'numpy' or 'auto'")
     use_compiled = compiled_ok and implementation != "numpy"
     cs = (_CompiledSet if use_compiled else _ContactSet)(mbs, contactLaw, slave, points, master)
     K = points.shape[0]

@@ -10,20 +10,20 @@ Both are orthotropic fields ``P = lambda_1 e1 e1 + lambda_2 e2 e2`` built on a d
 Direction fields:
 
 * ``isotropic``:   lambda_1 = lambda_2 (any surface);
-* ``orthotropic``: constant angle in the transport frame (plane: from e_x towards e_y;
-  cylinder: from e_phi towards e_z);
+* ``orthotropic``: e1 at a constant angle from the xi1 coordinate line, towards xi2 (plane:
+  from e_x towards e_y; cylinder, cone, any surface of revolution: from the circumference
+  towards the axis);
 * ``polar``:       plane only, e1 = e_r, e2 = e_phi about the origin (papers' eq. 8). Undefined at
   the origin; with ``core_radius = r_c > 0`` the projector e_r e_r is regularised to
   ``(x x^T + r_c^2/2 I) / (|x|^2 + r_c^2)`` (smooth, SPD kept, isotropic mean at the origin,
   relative deviation from the exact field ~ (r_c/r)^2). With r_c = 0 evaluating at the origin
   raises ValueError;
-* ``spiral``:      cylinder only, e1 along the helix of angle alpha (pitch p = 2 pi R tan alpha),
-  e1 = cos(alpha) e_phi + sin(alpha) e_z (papers' second example).
+* ``spiral``:      any surface of revolution, e1 along the helix of constant lead (given by the
+  lead, or by the helix angle alpha at the radius of a Cylinder or Cone: lead 2 pi R tan alpha);
+  e1 = cos(alpha) e_phi + sin(alpha) e_z on a cylinder (papers' second example).
 
-Components: ``physical(surface, u)`` gives the (K, 3) components ``(s11, s12, s22)`` in the
-surface transport frame and their derivative with respect to the arc-length coordinates of C;
-``components(surface, xi)`` gives the components in the chart basis as the papers store them
-(B covariant b_ij, F contravariant f^ij).
+A field here is a description; ``exu_aniso.nets.net_of(field, surface)`` turns it into the net the
+contact kernel evaluates (principal values and the direction of e1 at a surface point).
 """
 from __future__ import annotations
 
@@ -63,61 +63,6 @@ class TensorField:
     def is_constant(self):
         return self._const is not None
 
-    def check_surface(self, surface):
-        """Raise if this direction field is not defined on the surface type."""
-        if self.pattern == "polar" and surface.kind != "plane":
-            raise ValueError(f"{self!r}: polar orthotropy is defined on a Plane only; got {surface!r}")
-        if self.pattern == "spiral" and surface.kind != "cylinder":
-            raise ValueError(f"{self!r}: spiral orthotropy is defined on a Cylinder only; got {surface!r}")
-        if self.pattern == "spiral" and self.angle is None:
-            raise ValueError(f"{self!r}: a spiral given by its lead needs a surface of exu_aniso (the protocol's "
-                             f"Cylinder, Cone, SurfaceOfRevolution, ...); got {surface!r}")
-
-    def physical(self, u, derivatives=True):
-        """Components (K, 3) of B (adhesion, negative definite) or F in the transport frame, and
-        their derivative (K, 3, 2) with respect to the arc-length coordinates of C."""
-        u = np.asarray(u, dtype=float)
-        K = u.shape[0]
-        if self._const is not None:
-            P = np.broadcast_to(self.sign * self._const, (K, 3)).copy()
-            return P, (np.zeros((K, 3, 2)) if derivatives else None)
-        x, y = u[:, 0], u[:, 1]
-        rc2 = self.core_radius ** 2
-        d = x * x + y * y + rc2
-        if not np.all(np.isfinite(d)):
-            raise ValueError(f"{self!r}: point coordinates too large or not finite for the polar field: "
-                             f"x^2 + y^2 overflows (max |x|, |y| = {np.max(np.abs(u[:, :2])):.3g} m)")
-        if np.any(d <= 0.0):
-            raise ValueError(f"{self!r}: polar orthotropy is undefined at the polar origin (x = y = 0); "
-                             "set core_radius > 0 to regularise it there")
-        M = np.stack([(x * x + 0.5 * rc2) / d, x * y / d, (y * y + 0.5 * rc2) / d], axis=-1)
-        l1, l2 = self.lam
-        P = self.sign * (l2 * np.array([1.0, 0.0, 1.0]) + (l1 - l2) * M)
-        dP = None
-        if derivatives:
-            dM = np.empty((K, 3, 2))
-            dM[:, 0, 0] = (2 * x - 2 * x * M[:, 0]) / d
-            dM[:, 0, 1] = (-2 * y * M[:, 0]) / d
-            dM[:, 1, 0] = (y - 2 * x * M[:, 1]) / d
-            dM[:, 1, 1] = (x - 2 * y * M[:, 1]) / d
-            dM[:, 2, 0] = (-2 * x * M[:, 2]) / d
-            dM[:, 2, 1] = (2 * y - 2 * y * M[:, 2]) / d
-            dP = self.sign * (l1 - l2) * dM
-        return P, dP
-
-    def components(self, surface, xi):
-        """Components in the chart basis at chart coordinates xi: B -> covariant b_ij,
-        F -> contravariant f^ij, as a 2x2 array."""
-        self.check_surface(surface)
-        L = surface.transport_matrix(xi)
-        u = surface.frame_position(xi)[None, :]
-        p = self.physical(u, derivatives=False)[0][0]
-        P = np.array([[p[0], p[1]], [p[1], p[2]]])
-        if self.kind == _ADHESION:
-            return L.T @ P @ L
-        Li = np.linalg.inv(L)
-        return Li @ P @ Li.T
-
 
 def _pair(kind, n1, v1, n2, v2):
     if kind == _ADHESION:
@@ -139,7 +84,6 @@ def _spiral(kind, n1, v1, n2, v2, helix_angle, lead):
     if (helix_angle is None) == (lead is None):
         raise ValueError(f"spiral: give exactly one of helix_angle [rad] and lead [m per turn]; got "
                          f"helix_angle={helix_angle!r}, lead={lead!r}")
-    name = "Adhesion" if kind == _ADHESION else "Friction"
     if lead is not None:
         f = TensorField(kind, "spiral", lam, angle=None, label=f"spiral({v1}, {v2}, lead={lead})")
         f.lead = check_real("lead", lead)

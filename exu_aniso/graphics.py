@@ -40,11 +40,13 @@ What is drawn (global coordinates; a moving master's surface in the master body'
 * the contact points (slave points S) as spheres coloured by the history column ``status`` of the
   drawn configuration: ``STATUS_COLORS`` (open grey, stick green, slip red);
 * with ``showTraction``: at each loaded point an arrow of the force the master exerts on the slave
-  point, ``E T - N n`` (T: history ``traction_1``, ``traction_2`` in the transport frame E = [a_1,
-  a_2] of ``surfaces.Frame``; N <= 0: history ``normal``; n: surface normal), times tractionScale.
+  point, ``E T - N n`` (T: history ``traction_1``, ``traction_2`` in the orthonormal tangent frame
+  E = [a_1, a_2] of the contact point, ``ContactLaw.traction_frames``; N <= 0: history ``normal``;
+  n: surface normal), times tractionScale.
 
-Another surface kind (none yet: ``ContactLaw`` takes Plane and Cylinder) gets no surface drawing,
-only the points and arrows, with L = ``GRID_HALF_WIDTH`` * a.
+Drawing rules by surface class (``_DRAWINGS``): the Plane (a polar disk or a grid) and the Cylinder
+(a tube with helices); every other surface of the protocol is drawn from its chart
+(``_chart_patch``: a face and the coordinate lines, inside the surface's ``limits``).
 
 Scene size (computed once, from the slave points in the master frame at the nodes' initial
 coordinates, and cached with all static geometry): the body length a = the largest of the points'
@@ -72,6 +74,7 @@ import numpy as np
 from exudyn import graphics
 
 from .contact import HISTORY_FIELDS, OPEN, SLIP, STICK
+from .geometry import Cylinder, Plane
 from .validation import check_bool, check_instance
 
 _WHERE = "AddContactGraphics"
@@ -174,18 +177,18 @@ def _face(points, triangles, normal, color):
 
 def _net_field(law):
     """(kind, angle) of the net to draw: kind 'polar' or 'angle' (lines along e1 at angle [rad] from the
-    first transport-frame axis: plane e_x, cylinder e_phi)."""
-    fields = (law.adhesion, law.friction)
-    if any(f.pattern == "polar" for f in fields):
+    xi1 coordinate line: plane e_x, cylinder e_phi), from the nets the kernel evaluates."""
+    from .nets import OrthotropicNet, PolarNet, SpiralNet
+    surf = law.surface
+    nets = law._nets
+    if any(isinstance(n, PolarNet) for n in nets):
         return "polar", 0.0
-    for f in fields:
-        if f.pattern in ("orthotropic", "spiral"):
-            return "angle", float(f.angle)
-        if f.pattern == "matrix":
-            s11, s12, s22 = f.sign * f.physical(np.zeros((1, 2)), derivatives=False)[0][0]
-            if abs(s12) > 1e-12 * (abs(s11) + abs(s22)) or abs(s11 - s22) > 1e-12 * (abs(s11) + abs(s22)):
-                return "angle", 0.5 * math.atan2(2.0 * s12, s11 - s22)   # axis of the larger eigenvalue
-    if getattr(law.surface, "kind", None) == "plane" and law.surface.coordinates == "polar":
+    for n in nets:
+        if isinstance(n, SpiralNet):   # e1 along rho_1 + lead / (2 pi) rho_2: on a cylinder atan(lead / 2 pi R)
+            return "angle", math.atan2(n.lead, 2.0 * math.pi * getattr(surf, "radius", 1.0))
+        if isinstance(n, OrthotropicNet) and n.l1 != n.l2:
+            return "angle", float(n.angle)
+    if getattr(surf, "coordinates", None) == "polar":
         return "polar", 0.0
     return "angle", 0.0
 
@@ -332,8 +335,9 @@ def _chart_patch(surf, X, a, size, colors, face_color, n1=48, n2=24, lines1=24, 
         g = surf.at(xi[np.argmin(xi[:, i])])
         w = L / max(float(np.linalg.norm(g.rho[i])), 1e-300)
         ranges.append((lo - w, hi + w))
-    if isinstance(getattr(surf, "params", None), tuple) and type(surf).__name__ == "Sphere":
-        ranges[1] = (max(ranges[1][0], 1e-3), min(ranges[1][1], math.pi - 1e-3))   # the chart's poles
+    for i, (lo, hi) in enumerate(surf.limits):      # stay off the chart's poles, axis or apex
+        margin = 1e-3 * (hi - lo if math.isfinite(hi - lo) else max(ranges[i][1] - ranges[i][0], 1e-300))
+        ranges[i] = (max(ranges[i][0], lo + margin), min(ranges[i][1], hi - margin))
 
     def point(u, v, offset=0.0):
         try:
@@ -374,6 +378,27 @@ def _chart_patch(surf, X, a, size, colors, face_color, n1=48, n2=24, lines1=24, 
 
 # ----------------------------------------------------------------------------------------------
 
+def _draw_plane(surf, X, origin, kind, angle, size, colors, face_color):
+    a = _body_length(X, origin, float(np.hypot(X[:, 0].mean(), X[:, 1].mean())))
+    if kind == "polar":
+        return _plane_polar(X, a, size, colors, face_color)
+    return _plane_grid(X, a, angle, size, colors, face_color)
+
+
+def _draw_cylinder(surf, X, origin, kind, angle, size, colors, face_color):
+    rel = X - surf.axis_point
+    radial = rel - np.outer(rel @ surf.axes[2], surf.axes[2])
+    a = _body_length(X, origin, float(np.linalg.norm(radial.mean(axis=0))))
+    return _cylinder(surf, X, a, angle, size, colors, face_color)
+
+
+def _draw_chart(surf, X, origin, kind, angle, size, colors, face_color):
+    return _chart_patch(surf, X, _body_length(X, origin, 0.0), size, colors, face_color)
+
+
+_DRAWINGS = {Plane: _draw_plane, Cylinder: _draw_cylinder}
+
+
 class _ContactGraphics:
     """The graphicsDataUserFunction of one contact set: static geometry built once at construction
     (master frame), per call only the master's pose, the point colours and the arrows."""
@@ -391,23 +416,8 @@ class _ContactGraphics:
         face_color = SURFACE_COLOR if color is None else color
         self.netColors = NET_COLORS if color is None else (
             tuple(0.5 * np.array(color[:3])) + (1.0,), tuple(0.8 * np.array(color[:3])) + (1.0,))
-        if getattr(surf, "kind", None) == "plane":
-            a = _body_length(X, origin, float(np.hypot(X[:, 0].mean(), X[:, 1].mean())))
-            if kind == "polar":
-                static, L = _plane_polar(X, a, size, self.netColors, face_color)
-            else:
-                static, L = _plane_grid(X, a, angle, size, self.netColors, face_color)
-        elif getattr(surf, "kind", None) == "cylinder":
-            rel = X - surf.axis_point
-            radial = rel - np.outer(rel @ surf.axes[2], surf.axes[2])
-            a = _body_length(X, origin, float(np.linalg.norm(radial.mean(axis=0))))
-            static, L = _cylinder(surf, X, a, angle, size, self.netColors, face_color)
-        elif hasattr(surf, "periods") and hasattr(surf, "at"):   # any surface of the protocol: from its chart
-            a = _body_length(X, origin, 0.0)
-            static, L = _chart_patch(surf, X, a, size, self.netColors, face_color)
-        else:                                       # no drawing rule for this surface: points and arrows only
-            a = _body_length(X, origin, 0.0)
-            static, L = [], (size if size is not None else GRID_HALF_WIDTH * a)
+        static, L = _DRAWINGS.get(type(surf), _draw_chart)(surf, X, origin, kind, angle, size, self.netColors,
+                                                           face_color)
         self.sceneSize = L
         self.static = static if showNet else []
         self.pointRadius = min(POINT_RADIUS * L, 0.25 * _closest_spacing(X))

@@ -1,6 +1,6 @@
 """The covariant contact kernel for one slave point on any surface of the protocol, compiled with
 numba and composed from the surface's chart (``geometry._core``), the adhesion and friction nets
-(``nets``) and the return maps (``fastpath._return_map``, the law of ``exu_aniso.law``). Python
+(``nets``) and the return maps (``law.return_map``). Python
 callers (the numpy reference) call the same compiled function, so both engines evaluate one
 definition.
 
@@ -41,14 +41,14 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from .fastpath import _return_map, evaluate_set
+from .fastpath import evaluate_set
 from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
 from .geometry._core import add, dot, local_chart, scale, sub
+from .law import MAP_CODES, return_map
 from .nets import physical, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
-MAP_CODES = {"seed": 0, "exact": 1, "radial": 2}
 OPEN, STICK, SLIP, UNRESOLVED = 0, 1, 2, 3
 N_HISTORY = 9
 # central difference step of the surface quantities in xi, relative to the local length scale
@@ -130,11 +130,11 @@ _NT = 19            # number of surface terms
 
 
 @njit(cache=True)
-def adhesion_at(sp, netB, xi1, xi2):
-    """B (negative definite) components (b11, b12, b22) in the tangent frame at (xi1, xi2)."""
+def net_at(sp, net, xi1, xi2):
+    """Components (p11, p12, p22) of a net's positive tensor (C = -B or F) in the tangent frame at
+    (xi1, xi2)."""
     r, r1, r2, _, _, _ = local_chart(sp, xi1, xi2)
-    c11, c12, c22 = physical(netB, r, r1, r2)
-    return -c11, -c12, -c22
+    return physical(net, r, r1, r2)
 
 
 @njit(cache=True)
@@ -214,7 +214,7 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     Ttr2 = st[1] + st[5] * st[2] + st[6] * st[3]
     B = (st[4], st[5], st[6])
     F = (st[7], st[8], st[9])
-    T1, T2, sliding, sl1, sl2, _ = _return_map(law.method, Ttr1, Ttr2, -N, B, F, dT)
+    T1, T2, sliding, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT)[:5]
     if sliding and status != UNRESOLVED:
         status = SLIP
     G1 = (st[13], st[14], st[15])
@@ -347,8 +347,7 @@ def evaluate_covariant(mode, q, q_t, fq, fv, dt, ref, law, P, S, kind):
 
 
 class CovariantSet:
-    """A contact set on the covariant kernel packed for the compiled call (the counterpart of
-    fastpath.PackedSet): the law bundle (surface, nets, law parameters; named tuples), points,
+    """A contact set on the covariant kernel packed for the compiled call: the law bundle (surface, nets, law parameters; named tuples), points,
     history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
 
     def __init__(self, contact_law, node_kind, ref, points):

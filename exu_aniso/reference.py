@@ -551,7 +551,7 @@ class _Stepper:
 
 
 def _model_for(p, law=None):
-    """Model of the scene; ``law`` replaces the scene's ContactLaw (e.g. another formulation)."""
+    """Model of the scene; ``law`` replaces the scene's ContactLaw (e.g. another chart of its surface)."""
     if law is not None:
         check_instance("law", law, ContactLaw)
     if isinstance(p, BlockParams):
@@ -665,7 +665,7 @@ def simulate_block(params=None, **options):
     needed by the seed map, whose discontinuity at stick/slip can leave the step without a root;
     counted in ``info["forced_accepts"]``), reject_steps / split_steps (nominal step indices to
     reject after convergence / to halve directly), law (a ContactLaw replacing the scene's, e.g.
-    the chart formulation in polar coordinates). Returns Result."""
+    the plane in polar coordinates). Returns Result."""
     p = BlockParams() if params is None else params
     if not isinstance(p, BlockParams):
         raise TypeError(f"params must be BlockParams; got {type(p).__name__}")

@@ -317,7 +317,7 @@ def _checks(spec, p, r):
         out.append((bool(np.all(T[~act] == 0.0)), "history reset while open (T = 0)"))
         Tfirst = T[regained[0] + 1, regained[1]]
         out.append((bool(np.all(np.abs(Tfirst) == 0.0)), "T = 0 in the first contact step after landing"))
-        F, _ = law.friction.physical(H[:, :, 2:4].reshape(-1, 2), derivatives=False)
+        F = law.friction_components(H[:, :, 2:4].reshape(-1, 2))
         TT = T.reshape(-1, 2)
         phi = np.sqrt(F[:, 0] * TT[:, 0] ** 2 + 2 * F[:, 1] * TT[:, 0] * TT[:, 1] + F[:, 2] * TT[:, 1] ** 2)
         N = np.abs(H[:, :, 8]).reshape(-1)

@@ -15,7 +15,7 @@ import pytest
 from exudyn.utilities import InertiaCuboid
 
 from exu_aniso import Adhesion, ContactLaw, Friction, return_map_batch, return_map_point
-from exu_aniso.surfaces import Cylinder, Plane  # the transport kernel's surfaces
+from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.cli import main
 from exu_aniso.exudyn_glue import CreateAnisotropicContact
 from exu_aniso.models.block import BuildBlock, RunBlock

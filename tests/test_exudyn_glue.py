@@ -6,7 +6,7 @@ exu = pytest.importorskip("exudyn")
 from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
-from exu_aniso.surfaces import Plane  # the transport kernel's surfaces
+from exu_aniso.geometry import Plane
 from exu_aniso.contact import HISTORY_FIELDS  # noqa: E402
 from exu_aniso.exudyn_glue import CreateAnisotropicContact, HistoryComponent  # noqa: E402
 

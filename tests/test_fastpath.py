@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from exu_aniso import Adhesion, Friction
-from exu_aniso.surfaces import Cylinder, Plane  # the transport kernel's surfaces
+from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.contact import ContactLaw
 from exu_aniso import fastpath as fpk
 

@@ -18,7 +18,7 @@ exu = pytest.importorskip("exudyn")
 from exudyn.utilities import InertiaCuboid, LoadSolutionFile, RigidBodyInertia, SetSolutionState  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
-from exu_aniso.surfaces import Cylinder, Plane  # the transport kernel's surfaces
+from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK  # noqa: E402
 from exu_aniso.exudyn_glue import CreateAnisotropicContact  # noqa: E402
 from exu_aniso.graphics import NET_COLORS, STATUS_COLORS, AddContactGraphics  # noqa: E402

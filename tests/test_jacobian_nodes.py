@@ -22,7 +22,7 @@ from exudyn.itemInterface import (NodeGenericODE2, NodePoint2D, NodeRigidBody2D,
 from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
-from exu_aniso.surfaces import Cylinder, Plane  # the transport kernel's surfaces
+from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso import exudyn_glue as glue  # noqa: E402
 from exu_aniso.contact import ContactLaw  # noqa: E402
 

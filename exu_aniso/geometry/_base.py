@@ -105,6 +105,12 @@ class Surface:
     def periods(self):
         return self.params.period1, self.params.period2
 
+    @property
+    def limits(self):
+        """((lo1, hi1), (lo2, hi2)): the open coordinate box where the chart is regular (a pole, an
+        axis or an apex lies on its boundary); unbounded by default. Graphics draw inside it."""
+        return (-math.inf, math.inf), (-math.inf, math.inf)
+
     def at(self, xi, xi3=0.0):
         """Surface quantities at chart coordinates xi."""
         xi = check_vector("xi", xi, 2)

@@ -60,6 +60,15 @@ class Cone(Surface):
         super().__init__(ConeParams(*placement("Cone", axis_point, axis_direction), sign, TWO_PI, 0.0,
                                     self.radius, math.tan(a)))
 
+    @property
+    def limits(self):
+        """z on the side of the apex r(z) = 0 where r > 0 (all z for zero taper)."""
+        t = self.params.slope
+        if t == 0.0:
+            return (-math.inf, math.inf), (-math.inf, math.inf)
+        z_apex = -self.radius / t
+        return (-math.inf, math.inf), ((z_apex, math.inf) if t > 0.0 else (-math.inf, z_apex))
+
     def __repr__(self):
         p = self.params
         return (f"Cone(half_angle={self.half_angle}, radius={self.radius}, axis_point={list(p.origin)}, "

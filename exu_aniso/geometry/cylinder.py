@@ -41,7 +41,6 @@ class Cylinder(Surface):
     (a hole: slave inside, n towards the axis) or "outside" (a shaft)."""
 
     name = "Cylinder"
-    kind = "cylinder"       # the drawing rule of exu_aniso.graphics (axis_point, axes, radius, side)
 
     def __init__(self, radius, axis_point=(0.0, 0.0, 0.0), axis_direction=(0.0, 0.0, 1.0), side="inside"):
         self.radius = check_positive("radius", radius)

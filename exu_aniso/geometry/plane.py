@@ -51,7 +51,6 @@ class Plane(Surface):
     coordinates: "cartesian" -> xi = (x, y); "polar" -> xi = (r, phi) about the origin."""
 
     name = "Plane"
-    kind = "plane"          # the drawing rule of exu_aniso.graphics
 
     def __init__(self, coordinates="cartesian", side="front"):
         if coordinates not in ("cartesian", "polar"):
@@ -65,6 +64,10 @@ class Plane(Surface):
             super().__init__(CartesianPlaneParams(*frame, sign, 0.0, 0.0))
         else:
             super().__init__(PolarPlaneParams(*frame, sign, 0.0, TWO_PI))
+
+    @property
+    def limits(self):
+        return ((0.0, math.inf), (-math.inf, math.inf)) if self.coordinates == "polar" else super().limits
 
     def __repr__(self):
         return f"Plane(coordinates={self.coordinates!r}, side={self.side!r})"

@@ -56,6 +56,10 @@ class Sphere(Surface):
         super().__init__(SphereParams(*placement("Sphere", center, axis_direction), sign, TWO_PI, 0.0,
                                       self.radius))
 
+    @property
+    def limits(self):
+        return (-math.inf, math.inf), (0.0, math.pi)      # the chart's poles
+
     def __repr__(self):
         p = self.params
         return f"Sphere(radius={self.radius}, center={list(p.origin)}, axis_direction={list(p.ez)}, side={self.side!r})"
