@@ -1,9 +1,10 @@
-"""The compiled contact kernel (exu_aniso.fastpath) is held equal to the numpy route.
+"""The compiled route is held equal to the Python route.
 
-Three levels: one contact point against ContactLaw.evaluate (force, tangent, history) over
-surfaces, fields, maps and random states; a whole contact set on every node kind against the
-numpy glue (generalized force, Jacobian, history candidate); and whole Exudyn runs of both scenes
-with implementation="compiled" against implementation="numpy".
+Three levels: the compiled point kernel (exu_aniso.kernel.contact_point) against its plain-Python
+twin (the same source run by the interpreter: force, tangent, history) over surfaces, fields,
+maps and random states; a whole compiled contact set (exu_aniso.fastpath.evaluate_set) on every
+node kind against the numpy glue (generalized force, Jacobian, history candidate); and whole
+Exudyn runs of both scenes with implementation="compiled" against implementation="numpy".
 """
 import math
 import os
@@ -16,7 +17,7 @@ import pytest
 from exu_aniso import Adhesion, Friction
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.contact import ContactLaw
-from exu_aniso import fastpath as fpk
+from exu_aniso import kernel
 
 
 def _laws():
@@ -46,7 +47,7 @@ def _states(law, rng, n=12):
     s = law.surface
     out = []
     for _ in range(n):
-        if s.kind == "plane":
+        if isinstance(s, Plane):
             x = np.array([rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6), rng.uniform(-3e-5, 1e-5)])
             u_old = x[:2] + rng.normal(scale=2e-4, size=2)
         else:
@@ -69,31 +70,31 @@ def _states(law, rng, n=12):
 
 
 @pytest.mark.parametrize("name,law", LAWS, ids=[n for n, _ in LAWS])
-def test_point_kernel_equals_contact_law(name, law):
+def test_compiled_point_kernel_equals_its_plain_python_source(name, law):
+    """numba's machine code and the interpreter run the same source to the same numbers (to
+    round-off: fused multiply-adds and libm may differ in the last bits)."""
     rng = np.random.default_rng(abs(hash(name)) % 2**32)
-    sp, bp, fp, lp = fpk.pack_law(law)
-    f, Kx, Dv, hn = np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3)), np.zeros(9)
-    S = np.zeros((fpk.SCRATCH_SLOTS, 9, 9))
+    py = kernel.plain_python()
+    lp = kernel.LawParams(law.eps_N, law.d_N, law.d_T, kernel.MAP_CODES[law.return_map])
+    args = (law.surface.params, law._nets[0], law._nets[1], lp)
     statuses = set()
     for x, v, h in _states(law, rng):
         dt = float(rng.choice([0.0, 1e-3, 0.5]))     # no prediction, a resolved and an unresolved step
-        ref = law.evaluate(x[None], v[None], h[None], tangent=True, dt=dt or None)
-        st = fpk.contact_point(x, v, h, sp, bp, fp, lp, True, dt, f, Kx, Dv, hn, S)
+        out = []
+        for fn in (kernel.contact_point, py.contact_point):
+            f, Kx, Dv, hn = np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3)), np.zeros(9)
+            st, gap = fn(*args, x, v, h, dt, True, f, Kx, Dv, hn, np.zeros((3, 9, 9)))
+            out.append((st, gap, f, Kx, Dv, hn))
+        (st, gap, f, Kx, Dv, hn), ref = out
         statuses.add(st)
-        assert st == ref.status[0]
-        scale = max(1.0, np.abs(ref.force).max())
-        np.testing.assert_allclose(f, ref.force[0], rtol=0, atol=1e-9 * scale)
-        kscale = max(1.0, np.abs(ref.stiffness).max())
-        np.testing.assert_allclose(Kx, ref.stiffness[0], rtol=0, atol=1e-8 * kscale)
-        np.testing.assert_allclose(Dv, ref.damping[0], rtol=0, atol=1e-8 * max(1.0, np.abs(ref.damping).max()))
-        np.testing.assert_allclose(hn, ref.history[0], rtol=1e-9, atol=1e-12)
+        assert st == ref[0]
+        assert gap == pytest.approx(ref[1], rel=1e-12, abs=1e-15)
+        scale = max(1.0, np.abs(ref[2]).max())
+        np.testing.assert_allclose(f, ref[2], rtol=0, atol=1e-9 * scale)
+        np.testing.assert_allclose(Kx, ref[3], rtol=0, atol=1e-8 * max(1.0, np.abs(ref[3]).max()))
+        np.testing.assert_allclose(Dv, ref[4], rtol=0, atol=1e-8 * max(1.0, np.abs(ref[4]).max()))
+        np.testing.assert_allclose(hn, ref[5], rtol=1e-9, atol=1e-12)
     assert statuses >= {1, 2} or statuses >= {0, 2}, f"{name}: states did not cover stick/slip: {statuses}"
-
-
-def test_pack_law_rejects_chart_formulation():
-    law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5, formulation="chart")
-    with pytest.raises(ValueError, match="transport"):
-        fpk.pack_law(law)
 
 
 # --- whole contact sets on every node kind, against the numpy glue ------------------------------
@@ -182,9 +183,24 @@ def test_set_kernel_equals_numpy_glue(node_kind, lawname, q0, v0):
     assert np.any(np.abs(Q_plain) > 0)
 
 
-def test_compiled_requires_ground_master_and_transport():
+def _python_only_plane(u, v):         # a user surface numba cannot compile (a Python object inside)
+    h = PLANE_HEIGHT.z
+    return [u, v, h], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[[0.0] * 3] * 2] * 2
+
+
+class _Height:
+    z = 0.0
+
+
+PLANE_HEIGHT = _Height()
+
+
+def test_compiled_requires_ground_master_and_a_compiled_surface():
     from exu_aniso import exudyn_glue as glue
-    law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5, formulation="chart")
+    from exu_aniso.geometry import ParametricSurface
+    surface = ParametricSurface(_python_only_plane, bounds=((-1.0, 1.0), (-1.0, 1.0)))
+    assert not surface.compiled
+    law = ContactLaw(surface, Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)
     mbs, o = _mbs_with("RigidBody2D", law, None, [0, 0, 0], [0, 0, 0])
     with pytest.raises(ValueError, match="implementation='compiled' needs"):
         glue.CreateAnisotropicContact(mbs, o, [[0, 0, -1e-5]], contactLaw=law, implementation="compiled")
@@ -262,8 +278,9 @@ def test_first_compile_is_announced_once_and_cached(tmp_path):
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
     code = ("import numpy as np\nfrom exu_aniso import Adhesion, ContactLaw, Friction, Plane, fastpath\n"
             "law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)\n"
-            "pk = fastpath.PackedSet(law, 'RigidBody2D', np.zeros(3), [[0.0, 0.0, -1e-3]])\n"
-            "fastpath.evaluate_packed(0, np.zeros(3), np.zeros(3), 0.0, 0.0, 1e-3, pk.W, pk.P, pk.S, pk.I)\n"
+            "from exu_aniso.kernel import CovariantSet\n"
+            "pk = CovariantSet(law, 'RigidBody2D', np.zeros(3), [[0.0, 0.0, -1e-3]])\n"
+            "pk.evaluate(0, np.zeros(3), np.zeros(3), 0.0, 0.0, 1e-3)\n"
             "assert pk.Q[1] == 0.0 and pk.Q.shape == (3,)\n")
     first = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     second = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)

@@ -402,7 +402,10 @@ def test_traction_arrows_show_the_contact_force():
     x = contact["pointsAndMasterPose"](mbs, V)[0]
     T = H[:, [HISTORY_FIELDS.index("traction_1"), HISTORY_FIELDS.index("traction_2")]]
     N = H[:, HISTORY_FIELDS.index("normal")]
-    force = np.column_stack([T, -N])                       # plane: E = [e_x, e_y], n = e_z
+    # polar plane: T is stored in the frame (e_r, e_phi) of the contact point, n = e_z
+    e_r = x[:, :2] / np.linalg.norm(x[:, :2], axis=1)[:, None]
+    e_phi = np.column_stack([-e_r[:, 1], e_r[:, 0]])
+    force = np.column_stack([T[:, :1] * e_r + T[:, 1:] * e_phi, -N])
     for g, start, f in zip(arrows, x, force):
         pts = np.asarray(g["points"], float).reshape(-1, 3)
         tip = pts[np.argmax((pts - start) @ f)]
