@@ -85,6 +85,8 @@ class ContactLaw:
             raise TypeError("surface must be a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, "
                             f"SurfaceOfRevolution, ParametricSurface); got {surface!r}")
         self._nets = (net_of(adhesion, surface), net_of(friction, surface))
+        # the compiled kernel, or its plain-Python source for a user surface or field numba cannot compile
+        self.compiled = surface.compiled and all(f.pattern != "user" or f.cfunc is not None for f in (adhesion, friction))
         self.surface = surface
         self.adhesion = adhesion
         self.friction = friction
@@ -115,7 +117,7 @@ class ContactLaw:
     def _net_components(self, net, anchors):
         anchors = np.asarray(anchors, dtype=float)
         from . import kernel
-        net_at = kernel.net_at if self.surface.compiled else kernel.plain_python().net_at
+        net_at = kernel.net_at if self.compiled else kernel.plain_python().net_at
         out = np.empty((anchors.shape[0], 3))
         for k, (a1, a2) in enumerate(anchors):
             out[k] = net_at(self.surface.params, net, float(a1), float(a2))
@@ -171,7 +173,7 @@ class ContactLaw:
             (K, N_HISTORY))
         from . import kernel
         from .kernel import LawParams, MAP_CODES
-        contact_point = kernel.contact_point if self.surface.compiled else kernel.plain_python().contact_point
+        contact_point = kernel.contact_point if self.compiled else kernel.plain_python().contact_point
         K = x.shape[0]
         law = LawParams(self.eps_N, self.d_N, self.d_T, MAP_CODES[self.return_map])
         sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]

@@ -491,10 +491,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     if implementation not in ("auto", "compiled", "numpy"):
         raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
                          f"got {implementation!r}")
-    compiled_ok = master is None and contactLaw.surface.compiled
+    compiled_ok = master is None and contactLaw.compiled
     if implementation == "compiled" and not compiled_ok:
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a master fixed to ground "
-                         "(masterBodyNumber=None) and a surface numba can compile; use 'numpy' or 'auto'")
+                         "(masterBodyNumber=None) and a surface and fields numba can compile; use 'numpy' or 'auto'")
     use_compiled = compiled_ok and implementation != "numpy"
     cs = (_CompiledSet if use_compiled else _ContactSet)(mbs, contactLaw, slave, points, master)
     K = points.shape[0]

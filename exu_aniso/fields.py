@@ -18,6 +18,12 @@ Direction fields:
   ``(x x^T + r_c^2/2 I) / (|x|^2 + r_c^2)`` (smooth, SPD kept, isotropic mean at the origin,
   relative deviation from the exact field ~ (r_c/r)^2). With r_c = 0 evaluating at the origin
   raises ValueError;
+* ``field``:       the user's function of the surface coordinates, ``function(xi1, xi2) ->
+  (value_1, value_2, angle)``: stiffnesses eps_1, eps_2 [N/m] (adhesion) or coefficients mu_1,
+  mu_2 (friction) and the angle [rad] of e1 from the xi1 coordinate line towards xi2, as plain
+  floats. Compiled with numba when it can be (as ParametricSurface); otherwise the contact runs
+  in plain Python (``cfunc`` None, ``compile_error`` says why). Periodic coordinates arrive
+  unwrapped (an angle may exceed 2 pi): the function should be periodic in them;
 * ``spiral``:      any surface of revolution, e1 along the helix of constant lead (given by the
   lead, or by the helix angle alpha at the radius of a Cylinder or Cone: lead 2 pi R tan alpha);
   e1 = cos(alpha) e_phi + sin(alpha) e_z on a cylinder (papers' second example).
@@ -62,6 +68,54 @@ class TensorField:
     @property
     def is_constant(self):
         return self._const is not None
+
+
+_USER_SIGNATURE = None
+
+
+def _user(kind, function):
+    """A field from the user's function(xi1, xi2) -> (value_1, value_2, angle) (see the module docstring)."""
+    global _USER_SIGNATURE
+    from numba import types
+
+    from .geometry.revolution import compile_user_function, python_function
+    name = "Adhesion" if kind == _ADHESION else "Friction"
+    if not callable(function):
+        raise TypeError(f"{name}.field: function must be a function (xi1, xi2) -> (value_1, value_2, angle); "
+                        f"got {function!r}")
+    if _USER_SIGNATURE is None:
+        _USER_SIGNATURE = types.UniTuple(types.float64, 3)(types.float64, types.float64)
+    f = TensorField(kind, "user", None, angle=None,
+                    label=f"field({getattr(function, '__name__', function)})")
+    f.function = function
+    f.cfunc, f.compile_error = compile_user_function(function, _USER_SIGNATURE, _user_adaptor)
+    f.python = _checked_user(name, python_function(function))
+    return f
+
+
+def _user_adaptor(fn):
+    def triple(xi1, xi2):
+        try:
+            v = fn(xi1, xi2)
+        except Exception:       # a cfunc cannot raise: NaN, and the net raises
+            return math.nan, math.nan, math.nan
+        if len(v) != 3:
+            return math.nan, math.nan, math.nan
+        return float(v[0]), float(v[1]), float(v[2])
+    return triple
+
+
+def _checked_user(name, function):
+    """The user function for the plain Python path: three floats, or a ValueError naming it."""
+    def triple(xi1, xi2):
+        try:
+            v = function(xi1, xi2)
+            a, b, c = (float(x) for x in v)
+        except Exception as e:
+            raise ValueError(f"{name}.field: function(xi1, xi2) must return 3 numbers (value_1, value_2, angle); "
+                             f"at xi = ({xi1!r}, {xi2!r}) it gave {e!r}") from e
+        return a, b, c
+    return triple
 
 
 def _pair(kind, n1, v1, n2, v2):
@@ -121,6 +175,12 @@ class Adhesion:
         return _spiral(_ADHESION, "eps_1", eps_1, "eps_2", eps_2, helix_angle, lead)
 
     @staticmethod
+    def field(function):
+        """A field of the user's: function(xi1, xi2) -> (eps_1, eps_2, angle) [N/m, N/m, rad] at
+        every surface point, angle of e1 from the xi1 coordinate line towards xi2."""
+        return _user(_ADHESION, function)
+
+    @staticmethod
     def from_matrix(B):
         """Constant B given by its 2x2 transport-frame components, papers' sign (negative definite)."""
         b = check_spd("B", B, sign=-1.0)
@@ -151,6 +211,12 @@ class Friction:
     def spiral(mu_1, mu_2, helix_angle=None, lead=None):
         """Spiral friction net, as Adhesion.spiral (mu_1 along the helix, mu_2 across)."""
         return _spiral(_FRICTION, "mu_1", mu_1, "mu_2", mu_2, helix_angle, lead)
+
+    @staticmethod
+    def field(function):
+        """A field of the user's: function(xi1, xi2) -> (mu_1, mu_2, angle) at every surface point,
+        angle [rad] of e1 from the xi1 coordinate line towards xi2."""
+        return _user(_FRICTION, function)
 
     @staticmethod
     def from_matrix(F):

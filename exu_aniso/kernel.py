@@ -112,8 +112,8 @@ def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
     s1, s2 = _core.transport(sp, xn1 + 0.5 * d1, xn2 + 0.5 * d2, 0.5 * d1, 0.5 * d2, d1, d2)
     w = add(scale(s1, r1), scale(s2, r2))
     S1, S2 = dot(w, a1), dot(w, a2)
-    c11, c12, c22 = physical(netB, r, r1, r2)
-    f11, f12, f22 = physical(netF, r, r1, r2)
+    c11, c12, c22 = physical(netB, xi1, xi2, r, r1, r2)
+    f11, f12, f22 = physical(netF, xi1, xi2, r, r1, r2)
     # G = E^T rho A^-1 rho^T
     M11, M12, M22, _, _, _ = _A_inv(r1, r2, r11, r12, r22, n, xi3)
     e11, e12 = dot(a1, r1), dot(a1, r2)
@@ -134,7 +134,7 @@ def net_at(sp, net, xi1, xi2):
     """Components (p11, p12, p22) of a net's positive tensor (C = -B or F) in the tangent frame at
     (xi1, xi2)."""
     r, r1, r2, _, _, _ = local_chart(sp, xi1, xi2)
-    return physical(net, r, r1, r2)
+    return physical(net, xi1, xi2, r, r1, r2)
 
 
 @njit(cache=True)
@@ -143,7 +143,7 @@ def _release(sp, netB, h, hn):
     if not h[4] > 0.5:
         return
     r, r1, r2, _, _, _ = local_chart(sp, h[2], h[3])
-    c11, c12, c22 = physical(netB, r, r1, r2)
+    c11, c12, c22 = physical(netB, h[2], h[3], r, r1, r2)
     det = c11 * c22 - c12 * c12
     hn[5] += 0.5 * (c22 * h[0] * h[0] - 2.0 * c12 * h[0] * h[1] + c11 * h[1] * h[1]) / det
 
@@ -376,15 +376,19 @@ _PLAIN = None
 
 
 def plain_python():
-    """This module's kernel as plain Python, for a user surface numba cannot compile
-    (``surface.compiled`` False): every compiled function here runs its Python source, calling
-    the plain-Python twin of the surface protocol; nets and return maps stay compiled (their
-    arguments are numbers). Same formulas, much slower."""
+    """This module's kernel as plain Python, for a user surface or field numba cannot compile
+    (``ContactLaw.compiled`` False): every compiled function here runs its Python source, calling
+    the plain-Python twins of the surface protocol and of the nets (the built-in nets' principal
+    functions stay compiled: their arguments are numbers); the return maps stay compiled. Same
+    formulas, much slower."""
     global _PLAIN
     if _PLAIN is None:
         import sys
 
+        from . import nets
         from .geometry._base import _CORE_PYTHON, _plain_python
+        nets_python = _plain_python(nets, own_only=True)
         _PLAIN = _plain_python(sys.modules[__name__], own_only=True,
-                               overrides={"_core": _CORE_PYTHON, "local_chart": _CORE_PYTHON.local_chart})
+                               overrides={"_core": _CORE_PYTHON, "local_chart": _CORE_PYTHON.local_chart,
+                                          "physical": nets_python.physical, "tangent_frame": nets_python.tangent_frame})
     return _PLAIN

@@ -1,16 +1,16 @@
 """Tensor fields on any surface of the protocol (exu_aniso.geometry): principal values and the
 direction of principal axis 1 as functions of the surface point, relative to the coordinate lines.
 
-A field is a namedtuple of parameters; its compiled function ``principal(f, r, r1, r2)`` takes the
-local chart data at the contact point C (rho, rho_1, rho_2 in the surface's local frame) and
-returns ``(lambda_1, lambda_2, c, s)``: the principal values of the positive tensor (C = -B for
+A field is a namedtuple of parameters; its compiled function ``principal(f, xi1, xi2, r, r1, r2)``
+takes the surface coordinates of the contact point C and the local chart data there (rho, rho_1,
+rho_2 in the surface's local frame) and returns ``(lambda_1, lambda_2, c, s)``: the principal values of the positive tensor (C = -B for
 adhesion, F for friction) and the direction e_1 = c a_1 + s a_2 in the orthonormal tangent frame
 of C,
 
     a_1 = rho_1 / |rho_1|,  a_2 = nu x a_1,  nu = rho_1 x rho_2 / |rho_1 x rho_2|
 
 (a_2 lies on the side of rho_2, whatever side of the surface the slave is on). Components in that
-frame: ``physical(f, r, r1, r2) = (p11, p12, p22)``. Registry dispatch by the parameter type, as for
+frame: ``physical(f, xi1, xi2, r, r1, r2) = (p11, p12, p22)``. Registry dispatch by the parameter type, as for
 the surfaces (``geometry._core``).
 
 Fields:
@@ -24,7 +24,12 @@ Fields:
 * ``SpiralNet(l1, l2, lead)``: a constant-lead spiral on a surface whose first coordinate is the
   angle about an axis (cylinder, cone, sphere, torus, any surface of revolution): e_1 along
   w = rho_1 + lead / (2 pi) rho_2, the curve that advances ``lead`` in xi2 per turn. On a cylinder
-  of radius R with helix angle alpha: lead = 2 pi R tan(alpha).
+  of radius R with helix angle alpha: lead = 2 pi R tan(alpha);
+* ``UserNet(function, inverse_square)``: the user's ``function(xi1, xi2) -> (value_1, value_2,
+  angle)`` (``Adhesion.field`` / ``Friction.field``): principal values (stiffnesses, or friction
+  coefficients when inverse_square: lambda = 1 / mu^2) and e_1 at ``angle`` [rad] from the xi1
+  coordinate line towards xi2, at every point. Compiled to a numba cfunc when numba can (once, when
+  the field is made); otherwise ``PythonUserNet`` runs it as plain Python (and the contact with it).
 """
 from __future__ import annotations
 
@@ -37,6 +42,8 @@ from numba.extending import overload
 from .geometry._core import cross, dot
 
 IsotropicNet = namedtuple("IsotropicNet", ("l1", "l2"))
+UserNet = namedtuple("UserNet", ("function", "inverse_square"))
+PythonUserNet = namedtuple("PythonUserNet", ("function", "inverse_square"))
 OrthotropicNet = namedtuple("OrthotropicNet", ("l1", "l2", "angle"))
 PolarNet = namedtuple("PolarNet", ("l1", "l2", "rc2"))
 SpiralNet = namedtuple("SpiralNet", ("l1", "l2", "lead"))
@@ -48,15 +55,16 @@ def register(params_type, principal):
     _PRINCIPAL[params_type] = principal
 
 
-def principal(f, r, r1, r2):
-    """(lambda_1, lambda_2, c, s) of field f at the chart point (r, r1, r2); dispatch by type."""
-    return _PRINCIPAL[type(f)](f, r, r1, r2)
+def principal(f, xi1, xi2, r, r1, r2):
+    """(lambda_1, lambda_2, c, s) of field f at the chart point xi with chart data (r, r1, r2);
+    dispatch by type."""
+    return _PRINCIPAL[type(f)](f, xi1, xi2, r, r1, r2)
 
 
 @overload(principal)
-def _principal(f, r, r1, r2):
+def _principal(f, xi1, xi2, r, r1, r2):
     fn = _PRINCIPAL[f.instance_class]
-    return lambda f, r, r1, r2: fn(f, r, r1, r2)
+    return lambda f, xi1, xi2, r, r1, r2: fn(f, xi1, xi2, r, r1, r2)
 
 
 @njit(cache=True)
@@ -71,17 +79,17 @@ def tangent_frame(r1, r2):
 
 
 @njit(cache=True)
-def _isotropic(f, r, r1, r2):
+def _isotropic(f, xi1, xi2, r, r1, r2):
     return f.l1, f.l2, 1.0, 0.0
 
 
 @njit(cache=True)
-def _orthotropic(f, r, r1, r2):
+def _orthotropic(f, xi1, xi2, r, r1, r2):
     return f.l1, f.l2, math.cos(f.angle), math.sin(f.angle)
 
 
 @njit(cache=True)
-def _polar(f, r, r1, r2):
+def _polar(f, xi1, xi2, r, r1, r2):
     rho2 = r[0] * r[0] + r[1] * r[1]
     d = rho2 + f.rc2
     if not d > 0.0:
@@ -100,7 +108,7 @@ def _polar(f, r, r1, r2):
 
 
 @njit(cache=True)
-def _spiral(f, r, r1, r2):
+def _spiral(f, xi1, xi2, r, r1, r2):
     k = f.lead / (2.0 * math.pi)
     w = (r1[0] + k * r2[0], r1[1] + k * r2[1], r1[2] + k * r2[2])
     a1, a2, nu = tangent_frame(r1, r2)
@@ -109,16 +117,29 @@ def _spiral(f, r, r1, r2):
     return f.l1, f.l2, c / nw, s / nw
 
 
+@njit(cache=True)
+def _user(f, xi1, xi2, r, r1, r2):
+    v1, v2, angle = f.function(xi1, xi2)
+    if not (v1 > 0.0 and v2 > 0.0 and v1 < math.inf and v2 < math.inf and abs(angle) < math.inf):
+        raise ValueError("user field: function(xi1, xi2) must return (value_1, value_2, angle) with finite "
+                         "values > 0 and a finite angle [rad] (or it raised) at the contact point")
+    if f.inverse_square:
+        return 1.0 / (v1 * v1), 1.0 / (v2 * v2), math.cos(angle), math.sin(angle)
+    return v1, v2, math.cos(angle), math.sin(angle)
+
+
 register(IsotropicNet, _isotropic)
+register(UserNet, _user)
+register(PythonUserNet, _user.py_func)
 register(OrthotropicNet, _orthotropic)
 register(PolarNet, _polar)
 register(SpiralNet, _spiral)
 
 
 @njit(cache=True)
-def physical(f, r, r1, r2):
+def physical(f, xi1, xi2, r, r1, r2):
     """Components (p11, p12, p22) of the positive tensor in the frame (a_1, a_2)."""
-    l1, l2, c, s = principal(f, r, r1, r2)
+    l1, l2, c, s = principal(f, xi1, xi2, r, r1, r2)
     return l1 * c * c + l2 * s * s, (l1 - l2) * c * s, l1 * s * s + l2 * c * c
 
 
@@ -143,6 +164,9 @@ def net_of(field, surface):
         if type(surface).__name__ != "Plane":
             raise ValueError(f"{field!r}: polar orthotropy is defined on a Plane only; got {surface!r}")
         return PolarNet(l1, l2, float(field.core_radius) ** 2)
+    if pattern == "user":
+        flag = field.kind == "friction"
+        return UserNet(field.cfunc, flag) if field.cfunc is not None else PythonUserNet(field.python, flag)
     if pattern == "spiral":
         lead = getattr(field, "lead", None)
         if lead is None:
