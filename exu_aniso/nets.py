@@ -170,8 +170,9 @@ def net_of(field, surface):
     if pattern == "spiral":
         lead = getattr(field, "lead", None)
         if lead is None:
+            from .geometry import Cone, Cylinder
             radius = getattr(surface, "radius", None)
-            if radius is None or surface.periods[0] == 0.0:
+            if not isinstance(surface, (Cylinder, Cone)):
                 raise ValueError(f"{field!r}: a spiral given by its helix angle needs a Cylinder or a Cone "
                                  f"(the lead is 2 pi r tan(helix_angle)); give lead= for {surface!r}")
             lead = 2.0 * math.pi * radius * math.tan(field.angle)

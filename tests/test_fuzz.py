@@ -198,7 +198,13 @@ def check_projection(surface, x):
     assert abs(np.linalg.norm(p.n) - 1.0) <= 4 * EPS
     np.testing.assert_allclose(p.point + p.xi3 * p.n, x, rtol=0, atol=1e-13 * scale)
     if isinstance(surface, Plane):
-        assert p.point[2] == 0.0 and np.array_equal(p.n, [0.0, 0.0, 1.0]) and p.xi3 == x[2]
+        assert p.point[2] == 0.0
+        if surface.coordinates == "cartesian":      # xi3 is z itself, n = e_z exactly
+            assert np.array_equal(p.n, [0.0, 0.0, 1.0]) and p.xi3 == x[2]
+        else:   # the polar chart normalises rho_1 x rho_2 = r (c^2 + s^2) e_z and forms xi3 through the
+            #     rotation by phi: a few ulp (n_z = 1 - eps, xi3 = 0.75 -> 0.7499999999999999 seen)
+            np.testing.assert_allclose(p.n, [0.0, 0.0, 1.0], rtol=0, atol=4 * EPS)
+            assert abs(p.xi3 - x[2]) <= 4 * EPS * scale
         np.testing.assert_array_equal(p.h, np.zeros((2, 2)))
     else:
         R = surface.radius
@@ -592,6 +598,9 @@ def check_contact_tangent(law, x, v, H):
 @st.composite
 def _two_steps(draw):
     law, x, v, H = draw(_contact_case(("cartesian", "polar")))
+    # the fields that do not depend on the chart (an orthotropic angle is measured from the xi1 line)
+    adh, fri = (draw(fields(kind, "plane", ["isotropic", "polar"]))[0] for kind in ("adhesion", "friction"))
+    law = ContactLaw(law.surface, adh, fri, law.eps_N, law.d_N, law.return_map)
     dx = np.array([[draw(unit()) for _ in range(3)] for _ in range(x.shape[0])])
     dx *= draw(log_uniform(-6, -2))
     return law, x, x + dx, v
@@ -606,21 +615,23 @@ def check_polar_vs_cartesian(law, x0, x1, v):
     assume(np.all(r > 1e-3))
     s_a, s_b = law.evaluate(x0, v, None, False), other.evaluate(x0, v, None, False)
     np.testing.assert_array_equal(s_a.status, s_b.status)
-    np.testing.assert_array_equal(s_a.force, s_b.force)        # first contact: no traction, same N
+    # first contact: no traction, the same N (to the few ulp of the polar chart's xi3 and n)
+    np.testing.assert_allclose(s_a.force, s_b.force, rtol=0, atol=16 * EPS * np.abs(s_a.force).max() + 1e-300)
     r_a, r_b = law.evaluate(x1, v, s_a.history, False), other.evaluate(x1, v, s_b.history, False)
     # the state may differ only for a trial on the yield surface to the chart's difference; skip those
     assume(np.array_equal(r_a.status, r_b.status))
     # The polar chart's slip (midpoint d xi, transported) differs from the chord at O(|dx|^3 / r^2)
     # (the Cartesian chart is exact), so the tangential force differs by (|dx| / r)^2 of itself
-    # times a constant < 1 (largest ratio seen in 10^4 cases: see the comment at CHART_CONSTANT)
+    # times a constant (CHART_CONSTANT); and the polar increment dr = r_1 - r_0 loses eps r / |dx| of
+    # itself to cancellation (4e-11 of the force seen at |dx| / r = 1e-6)
     ratio = np.linalg.norm(x1[:, :2] - x0[:, :2], axis=1) / r
+    rel = 1e-12 + CHART_CONSTANT * ratio ** 2 + 4 * EPS / np.maximum(ratio, 1e-300)
     scale = np.abs(r_a.force).max(axis=1) + 1e-300
-    tol = (1e-12 + CHART_CONSTANT * ratio ** 2) * scale
-    assert np.all(np.abs(r_a.force - r_b.force).max(axis=1) <= tol), (np.abs(r_a.force - r_b.force).max(axis=1) / scale / ratio**2)
-    np.testing.assert_allclose(r_a.dissipation, r_b.dissipation, rtol=0,
-                               atol=1e-12 * np.abs(r_a.dissipation).max() + (CHART_CONSTANT * ratio ** 2 * np.abs(r_a.dissipation)).max() + 1e-300)
+    assert np.all(np.abs(r_a.force - r_b.force).max(axis=1) <= rel * scale)
+    assert np.all(np.abs(r_a.dissipation - r_b.dissipation) <= rel * np.abs(r_a.dissipation) + 1e-300)
 
 
+# the largest (difference / force) / (|dx| / r)^2 seen in 10^3 generated cases was 0.032: a bound of 1
 CHART_CONSTANT = 1.0
 
 

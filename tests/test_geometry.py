@@ -229,9 +229,6 @@ def test_fields_refuse_the_wrong_surface():
         ContactLaw(Plane(), Adhesion.isotropic(1), Friction.spiral(0.1, 0.2, 0.1), 1.0)
 
 
-@pytest.mark.xfail(strict=True, reason="defect: net_of takes any surface with a .radius attribute (a Sphere: "
-                   "lead 2 pi R tan(alpha) at the equator), although its docstring, fields.py and its own "
-                   "error message say a helix angle needs a Cylinder or a Cone")
 def test_spiral_by_helix_angle_is_refused_on_a_sphere():
     with pytest.raises(ValueError, match="helix angle needs a Cylinder or a Cone"):
         ContactLaw(Sphere(1.0), Adhesion.isotropic(1), Friction.spiral(0.1, 0.2, 0.1), 1.0)
