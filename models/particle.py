@@ -43,7 +43,7 @@ def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoIn
     mbs = SC.AddSystem()
     x0, v0 = initial_state(p)
     r = 0.02 * p.radius
-    oPoint = mbs.CreateMassPoint(referencePosition=x0.tolist(), initialVelocity=v0.tolist(), physicsMass=p.mass,
+    oPoint = mbs.CreateMassPoint(referencePosition=x0.tolist(), initialVelocity=v0.tolist(), mass=p.mass,
                                  gravity=gravity_vector(p).tolist(),
                                  graphicsDataList=[graphics.Sphere(radius=r, color=graphics.color.red, nTiles=12)])
     nPoint = mbs.GetObject(oPoint)["nodeNumber"]
