@@ -95,3 +95,25 @@ def incline_acceleration(mu, slope, gravity):
     whose axis is inclined by ``slope`` [rad]: N = m g cos(slope), a = g (sin(slope) - mu cos(slope))
     while it slides downhill (uphill the friction adds: -g (sin + mu cos) in the uphill sense)."""
     return float(gravity) * (math.sin(slope) - float(mu) * math.cos(slope))
+
+
+def startup_impulse_error(case, mu, radius, gravity, speed, dt):
+    """The first-order start-up error of the particle oracles (exu_aniso.scene_particle) that both
+    engines share: a point that starts sliding at t = 0 starts with the history of
+    CreateAnisotropicContact(initializeHistory=True), sticking with T = 0, so its initial acceleration
+    carries no friction, and the trapezoidal rule, which averages a_0 into the first step, misses half
+    a step of the friction impulse, mu |N0| dt / 2 (from the second step on friction is full). The
+    point then moves as if launched faster by dv = mu |N0| dt / (2 m):
+
+    * departure: d theta_d = (d theta_d / d v0) dv [rad], the derivative of ``departure_angle`` by
+      central differences, |N0| / m = g - v0^2 / R;
+    * cavity: the speed ratio v / v0 is too high by dv / v0 = mu v0 dt / (2 R).
+    Returns that error (the simulation minus the textbook value) to first order in dt."""
+    if case == "departure":
+        dv = mu * (gravity - speed * speed / radius) * dt / 2.0
+        h = 1e-4 * speed
+        slope = (departure_angle(mu, radius, gravity, speed + h) - departure_angle(mu, radius, gravity, speed - h)) / (2 * h)
+        return slope * dv
+    if case == "cavity":
+        return mu * speed * dt / (2.0 * radius)
+    raise ValueError(f"startup_impulse_error: case must be 'departure' or 'cavity'; got {case!r}")

@@ -28,10 +28,13 @@ Cases (``case``)
 * ``departure``: a point slides from the top of a rough sphere (sphere, revolution or parametric,
   side outside, tilt 0): it starts at (0, 0, radius - m (g - speed^2 / radius) / eps_n) (the
   penetration that carries its normal force) with velocity (0, speed, 0). Measured: the polar angle
-  from the top, atan2(y, z), where the gap last crosses 0 before the point leaves for good
-  (interpolated linearly between the two samples around that crossing; "for good" = the gap stays
-  >= 0 to the end of the run and exceeds 1e-4 radius). Theory: ``oracles.departure_angle`` with mu
-  along the path (mu_1: the path runs along the xi1 lines).
+  from the top, theta = atan2(y, z), where the normal force |N| reaches 0: a quadratic fitted to
+  |N| against theta over the samples of its last descent from 0.25 |N(0)| to the last sample in
+  contact, and its zero next to that sample. (The gap's own crossing of 0 is a kink, linear before
+  and quadratic after, that linear interpolation misses by a share of a step, and the penalty's
+  normal vibration rides on it; the fit averages both out.) The point must have left for good: the
+  gap stays >= 0 after that sample and exceeds 1e-4 radius at the end. Theory:
+  ``oracles.departure_angle`` with mu along the path (mu_1: the path runs along the xi1 lines).
 * ``cavity``: a point coasts inside a spherical cavity (side inside) without gravity (gravity 0):
   it starts at (0, radius + m speed^2 / (radius eps_n), 0) with velocity (0, 0, speed), along a
   great circle of the y-z plane. Measured: the speed ratio v_end / speed and the largest relative
@@ -74,6 +77,7 @@ SURFACES = ("plane", "cylinder", "cone", "sphere", "torus", "revolution", "param
 SPHERES = ("sphere", "revolution", "parametric")
 CASES = ("free", "departure", "cavity", "incline")
 LEAVE_GAP = 1e-4          # departure: the point has left for good once its gap exceeds this * radius
+DEPARTURE_FIT = 0.25      # departure: |N| is fitted over its last descent below this share of |N(0)|
 
 PARTICLE_PARAMS = {
     "case": ("departure", "-", "textbook oracle measured (free: none; the others set the initial state)", CASES),
@@ -326,17 +330,27 @@ def particle_energy(p, traj, law, H):
                         potential=potential, stored=stored, dissipated=diss), traj, "particle run")
 
 
-def _departure(p, traj, undefined):
+def _departure(p, traj):
+    """(angle [deg], None) or (None, reason): see the module docstring."""
     gap = np.asarray(traj["gap"], float)
-    R = p.radius
+    N = np.asarray(traj["normal_force"], float)
     theta = np.arctan2(np.asarray(traj["y"], float), np.asarray(traj["z"], float))
-    off = np.nonzero(gap < 0.0)[0]
-    last = off[-1] if off.size else -1
-    if last < 0 or last + 1 >= len(gap) or not gap[-1] > LEAVE_GAP * R:
+    pressed = np.nonzero(gap < 0.0)[0]
+    if not pressed.size or pressed[-1] + 1 >= len(gap) or not gap[-1] > LEAVE_GAP * p.radius:
         return None, "the point did not leave the sphere within t_end (or never pressed on it)"
-    k = last                                         # gap[k] < 0 <= gap[k + 1]: the last crossing
-    w = -gap[k] / (gap[k + 1] - gap[k])
-    return math.degrees(theta[k] + w * (theta[k + 1] - theta[k])), None
+    k = pressed[-1]                                  # the last sample in contact before leaving for good
+    sel = np.nonzero((N[:k + 1] > 0.0) & (N[:k + 1] < DEPARTURE_FIT * N[0]))[0]
+    sel = sel[sel > np.nonzero(N[:k + 1] >= DEPARTURE_FIT * N[0])[0][-1]] if np.any(N[:k + 1] >= DEPARTURE_FIT * N[0]) \
+        else sel
+    if sel.size < 5:
+        return None, (f"fewer than 5 samples with 0 < |N| < {DEPARTURE_FIT:g} |N(0)| before the point left "
+                      f"({sel.size}): refine dt")
+    c = np.polyfit(theta[sel], N[sel], 2)
+    roots = np.roots(c)
+    roots = roots[np.isreal(roots)].real
+    if not roots.size:
+        return None, "the fit of |N| against the angle has no zero"
+    return math.degrees(roots[np.argmin(np.abs(roots - theta[k]))]), None
 
 
 def _cavity(p, traj):
@@ -365,8 +379,8 @@ def particle_summary(traj, params, wall_s, steps, newton_iterations):
     mu, why_mu = path_mu(p) if p.case != "free" else (None, None)
     measured = theory = None
     if p.case == "departure":
-        measured, why = _departure(p, traj, undefined)
-        if why is None and mu is not None:
+        measured, why = _departure(p, traj)
+        if mu is not None:
             theory = math.degrees(oracles.departure_angle(mu, p.radius, p.gravity, p.speed))
         s["departure_angle_deg"], s["departure_angle_theory_deg"] = measured, theory
         if why:
