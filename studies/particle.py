@@ -80,16 +80,16 @@ def main(argv=None):
     rows = [[T[c][i] for c in COLS] for i in range(len(cases))]
     p0 = params("departure", *LEVELS[0])
     body = f"""
-Scene: `exu-aniso run particle` (`exu_aniso/scene_particle.py`; Exudyn model `models/particle.py`), a mass point
+Scene: `exu_aniso/scene_particle.py` (ParticleParams; Exudyn model `models/particle.py`), a mass point
 of {p0.mass:g} kg with the exact return map and isotropic friction; the oracles are `exu_aniso/oracles.py`:
 
-* **departure** (`--set case=departure`): from the top of a rough sphere of radius {p0.radius:g} m at
+* **departure** (`case=departure`): from the top of a rough sphere of radius {p0.radius:g} m at
   {p0.speed:g} m/s, mu = {p0.mu_1:g}: the angle where the normal force vanishes (textbook ODE
   v' = g sin(theta) - mu N / m, N = m (g cos(theta) - v^2 / R), solved with scipy); measured from a quadratic fit
   of |N| against the angle (theory {T["theory [-]"][0]:.6g} deg);
-* **cavity** (`--set case=cavity --set side=inside --set gravity=0`): coasting at 2 m/s along a great circle of
+* **cavity** (`case=cavity side=inside gravity=0`): coasting at 2 m/s along a great circle of
   a spherical cavity, mu = 0.3: v = v0 exp(-mu psi); measured v_end / v0 against exp(-mu psi_end);
-* **incline** (`--set case=incline --set surface=cylinder --set tilt=30`): along the top line of a cylinder whose
+* **incline** (`case=incline surface=cylinder tilt=30`): along the top line of a cylinder whose
   axis is inclined by 30 deg, mu = 0.3: a = g (sin(a) - mu cos(a)), measured by a straight-line fit of the
   velocity.
 
