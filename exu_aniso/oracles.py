@@ -67,7 +67,8 @@ def departure_angle(mu, radius, gravity, speed):
         raise ValueError(f"departure_angle: needs radius > 0, gravity > 0, mu >= 0, speed >= 0; got "
                          f"{radius!r}, {gravity!r}, {mu!r}, {speed!r}")
     if v0 * v0 >= g * R:
-        raise ValueError(f"departure_angle: speed^2 = {v0 * v0:.6g} >= g R = {g * R:.6g}: the point leaves at the top")
+        raise ValueError(f"departure_angle: speed^2 = {v0 * v0:.6g} >= g R = {g * R:.6g}: the point leaves at "
+                         "the top")
 
     def rhs(t, y):
         th, v = y
@@ -112,7 +113,8 @@ def startup_impulse_error(case, mu, radius, gravity, speed, dt):
     if case == "departure":
         dv = mu * (gravity - speed * speed / radius) * dt / 2.0
         h = 1e-4 * speed
-        slope = (departure_angle(mu, radius, gravity, speed + h) - departure_angle(mu, radius, gravity, speed - h)) / (2 * h)
+        slope = (departure_angle(mu, radius, gravity, speed + h)
+                 - departure_angle(mu, radius, gravity, speed - h)) / (2 * h)
         return slope * dv
     if case == "cavity":
         return mu * speed * dt / (2.0 * radius)

@@ -313,7 +313,8 @@ def finish_trajectory(traj, law, H):
 def particle_motion(traj):
     """energy.RigidMotion of the point (no rotation)."""
     n = len(traj["t"])
-    return energy.RigidMotion(np.column_stack([traj["x"], traj["y"], traj["z"]]), np.broadcast_to(np.eye(3), (n, 3, 3)),
+    return energy.RigidMotion(np.column_stack([traj["x"], traj["y"], traj["z"]]),
+                              np.broadcast_to(np.eye(3), (n, 3, 3)),
                               np.column_stack([traj["vx"], traj["vy"], traj["vz"]]), np.zeros((n, 3)))
 
 
@@ -326,7 +327,8 @@ def particle_energy(p, traj, law, H):
     X, V = energy.point_motion(motion, np.zeros((1, 3)))
     stored, diss = energy.contact_energy(law, X, V, np.asarray(H, dtype=float).reshape(len(traj["t"]), 1, -1))
     potential = -p.mass * (motion.position - motion.position[0]) @ gravity_vector(p)
-    return _energy(dict(work_in=np.zeros(len(traj["t"])), kinetic=0.5 * p.mass * np.sum(motion.velocity ** 2, axis=1),
+    return _energy(dict(work_in=np.zeros(len(traj["t"])),
+                        kinetic=0.5 * p.mass * np.sum(motion.velocity ** 2, axis=1),
                         potential=potential, stored=stored, dissipated=diss), traj, "particle run")
 
 
@@ -339,9 +341,9 @@ def _departure(p, traj):
     if not pressed.size or pressed[-1] + 1 >= len(gap) or not gap[-1] > LEAVE_GAP * p.radius:
         return None, "the point did not leave the sphere within t_end (or never pressed on it)"
     k = pressed[-1]                                  # the last sample in contact before leaving for good
-    sel = np.nonzero((N[:k + 1] > 0.0) & (N[:k + 1] < DEPARTURE_FIT * N[0]))[0]
-    sel = sel[sel > np.nonzero(N[:k + 1] >= DEPARTURE_FIT * N[0])[0][-1]] if np.any(N[:k + 1] >= DEPARTURE_FIT * N[0]) \
-        else sel
+    above = np.nonzero(N[:k + 1] >= DEPARTURE_FIT * N[0])[0]
+    sel = np.arange(above[-1] + 1 if above.size else 0, k + 1)      # the last descent below the share
+    sel = sel[N[sel] > 0.0]
     if sel.size < 5:
         return None, (f"fewer than 5 samples with 0 < |N| < {DEPARTURE_FIT:g} |N(0)| before the point left "
                       f"({sel.size}): refine dt")

@@ -80,7 +80,8 @@ def RunParticle(p: ParticleParams = None, progress=False, snapshot=None, solutio
         StoreSolution(model["simulationSettings"], solutionFile)
     try:
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=[model["contact"]], progress=make_progress(progress, "particle"))
+                                              contacts=[model["contact"]],
+                                              progress=make_progress(progress, "particle"))
     except SimulationFailure as failure:        # keep the trajectory up to the failure
         traj, _ = ParticleTrajectory(model)
         failure.partial = Result(traj, particle_summary(traj, p, float("nan"), failure.steps,

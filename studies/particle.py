@@ -50,7 +50,8 @@ def run_case(c):
     s = r.summary
     m, t = s["oracle_measured"], s["oracle_theory"]
     if c["case"] == "departure":
-        startup = math.degrees(oracles.startup_impulse_error("departure", p.mu_1, p.radius, p.gravity, p.speed, p.dt))
+        startup = math.degrees(oracles.startup_impulse_error("departure", p.mu_1, p.radius, p.gravity, p.speed,
+                                                             p.dt))
     elif c["case"] == "cavity":
         startup = oracles.startup_impulse_error("cavity", p.mu_1, p.radius, p.gravity, p.speed, p.dt) * t
     else:
@@ -101,7 +102,8 @@ mu |N0| dt / 2. That is a first-order error of the start, the same on both engin
 `oracles.startup_impulse_error` predicts from the textbook solution itself ("startup_term"); "error_after_startup"
 is what is left. Departure: the start-up term is all of the first-order error; the rest (2e-6 to 7e-6) is the
 penalty's normal vibration (omega dt = 1.6 at every level here) in the fit of |N|, and it does not fall under
-this refinement (at eps_n = 1e6 and dt = 1.25e-4 s, omega dt = 0.4, it is 2.5e-7); cavity: the rest falls faster than dt; incline: the fit of a constant
+this refinement (at eps_n = 1e6 and dt = 1.25e-4 s, omega dt = 0.4, it is 2.5e-7); cavity: the rest falls faster
+than dt; incline: the fit of a constant
 acceleration is exact to round-off (the start only shifts the velocity). Exudyn runs with Newton tolerance
 {EXUDYN_NEWTON_TOLERANCE:g} here (at the finest level the round-off of the stiff contact force lies above the models'
 1e-10, see the script); Exudyn and the reference agree to the digits shown.

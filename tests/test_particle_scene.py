@@ -19,7 +19,6 @@ from __future__ import annotations
 import math
 import warnings
 
-import numpy as np
 import pytest
 
 from exu_aniso import oracles
@@ -33,7 +32,7 @@ DEPARTURE = dict(case="departure", t_end=0.8)
 
 
 def engines():
-    exu = pytest.importorskip("exudyn")  # noqa: F841
+    pytest.importorskip("exudyn")
     from exu_aniso.models.particle import RunParticle
     return [("reference", simulate_particle), ("exudyn", RunParticle)]
 
@@ -153,7 +152,8 @@ def test_cavity_converges():
         for k, dt in enumerate((1e-3, 5e-4, 2.5e-4, 1.25e-4)):
             eps = 2.5e5 * 4 ** k
             s = run(ParticleParams(dt=dt, eps_n=eps, eps_1=eps / 10, **CAVITY)).summary
-            rest.append(abs(s["cavity_speed_error"] - oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)))
+            startup = oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)
+            rest.append(abs(s["cavity_speed_error"] - startup))
         assert all(b < 0.35 * a for a, b in zip(rest, rest[1:])), (name, rest)
 
 
@@ -203,7 +203,7 @@ def test_plot_draws_path_and_oracle(case):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    kw = {"departure": dict(DEPARTURE), "cavity": dict(CAVITY), "incline": dict(INCLINE), "free": dict(case="free")}[case]
+    kw = dict({"departure": DEPARTURE, "cavity": CAVITY, "incline": INCLINE, "free": dict(case="free")}[case])
     kw["t_end"] = 0.05
     p = ParticleParams(dt=1e-3, **kw)
     with warnings.catch_warnings():
@@ -225,4 +225,5 @@ def test_particle_study_quick(tmp_path, quick_study):
     for c, rest, ok in zip(T["case [-]"], T["error_after_startup [-]"], T["energy_ok [-]"]):
         assert ok == "yes"
         assert abs(rest) < {"departure": 1e-5, "cavity": 2e-5, "incline": 1e-9}[c], (c, rest)
-    assert (tmp_path / "particle.png").exists() and "python studies/particle.py" in (tmp_path / "report.md").read_text()
+    assert (tmp_path / "particle.png").exists()
+    assert "python studies/particle.py" in (tmp_path / "report.md").read_text()

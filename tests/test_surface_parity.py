@@ -23,7 +23,6 @@ opens the ledger (which says so); that is sensitivity, not a defect, and is left
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -241,7 +240,8 @@ def _moving_master_run(p, velocity, omega, master_mass=1e9):
                              nodeType=exu.NodeType.RotationRotationVector, gravity=[0.0, 0.0, 0.0])
     nM = mbs.GetObject(oM)["nodeNumber"]
     x0, v0 = initial_state(p)
-    oP = mbs.CreateMassPoint(referencePosition=(c0 + x0).tolist(), initialVelocity=(V + v0 + np.cross(W, x0)).tolist(),
+    oP = mbs.CreateMassPoint(referencePosition=(c0 + x0).tolist(),
+                             initialVelocity=(V + v0 + np.cross(W, x0)).tolist(),
                              mass=p.mass, gravity=[0.0, 0.0, 0.0])
     nP = mbs.GetObject(oP)["nodeNumber"]
     g = gravity_vector(p)
