@@ -15,6 +15,9 @@ Models (state = configuration + velocity; generalized coordinates in brackets)
   the screw axis stays on the hole axis. Inertia J_axial = m r^2 / 2, m.
 * screw "full"    6-DOF rigid cylinder (J_axial = m r^2/2, J_transverse = m (3 r^2 + L^2)/12) in the
   hole (axis z), no gravity; axial_load along +z.
+* particle        mass point (x, y, z) on any surface of the protocol (exu_aniso.scene_particle),
+  gravity m g as a constant force, the initial state of the scene (the history of t = 0 is
+  evaluated with the initial velocity, as the Exudyn glue does).
 
 Drives: block "force" P (cos a, sin a, 0) at the COM; block "displacement": spring along the drive
 direction d only, F = k (s t - d.(r - r0)) d. Screw "torque": constant tau about +z; "rotation":
@@ -292,6 +295,38 @@ class _BlockFull(_Rigid6):
                     tilt=math.acos(max(-1.0, min(1.0, R[2, 2]))), drive_force=float(F @ self.d))
 
 
+class _MassPoint(_Model):
+    """Mass point: q = x (3,) in the master frame, v = dx/dt; one contact point at x."""
+
+    n = 3
+    K = 1
+
+    def __init__(self, p, law):
+        from .scene_particle import gravity_vector, initial_state
+        self.p, self.law = p, law
+        self.mass = np.full(3, p.mass)
+        self.row_scale = np.ones(3)
+        self.dof_scale = np.full(3, p.radius)
+        self.q0, self.v0 = initial_state(p)
+        self.weight = p.mass * gravity_vector(p)
+
+    def points0(self, q, v):
+        return q[None, :], v[None, :]
+
+    def evaluate(self, q, v, t, H, tangent=True, dt=None):
+        st = self.law.evaluate(q[None, :], v[None, :], H, tangent, dt)
+        g = st.force[0] + self.weight
+        if not tangent:
+            return g, None, None, st
+        return g, st.stiffness[0].copy(), st.damping[0].copy(), st
+
+    def motion(self, q, v):
+        return q.copy(), np.eye(3), v.copy(), np.zeros(3)
+
+    def record(self, q, v, t, st):
+        return dict(x=q[0], y=q[1], z=q[2], vx=v[0], vy=v[1], vz=v[2])
+
+
 def _screw_drive(p, psi, z, t):
     """Drive torque about +z, its d/dpsi; axial force along +z, its d/dz."""
     tau, dtau, Fz, dFz = 0.0, 0.0, p.axial_load, 0.0
@@ -440,6 +475,8 @@ class _Stepper:
 
     def _points0(self, q, v):
         m = self.m
+        if hasattr(m, "points0"):
+            return m.points0(q, v)
         if isinstance(m, _BlockPlanar):
             X, V, _ = m.points(q, v)
             return X, V
@@ -690,4 +727,28 @@ def simulate_screw(params=None, **options):
     traj, wall, iters, steps, info, motion, H = _run(model, p, floor=floor, **options)
     summary = screw_summary(traj, wall, steps, iters)
     summary.update(screw_energy(p, traj, motion, model.s, model.law, H))
+    return Result(traj, summary, p, info)
+
+
+def simulate_particle(params=None, **options):
+    """Particle scene (exu_aniso.scene_particle) with the reference integrator; params:
+    ParticleParams (defaults if None). Options as for simulate_block, law: a ContactLaw replacing
+    the scene's (e.g. on a surface of one's own). Returns Result with the trajectory keys of
+    scene_particle.COLUMNS (plus h, newton_iterations) and particle_summary with the energy ledger."""
+    from .scene_particle import ParticleParams, finish_trajectory, particle_contact_law, particle_energy, \
+        particle_summary
+    p = ParticleParams() if params is None else params
+    if not isinstance(p, ParticleParams):
+        raise TypeError(f"params must be ParticleParams; got {type(p).__name__}")
+    check_keywords("simulate_particle", options, _RUN_OPTIONS + ("law",))
+    law = options.pop("law", None)
+    if law is not None:
+        check_instance("law", law, ContactLaw)
+    model = _MassPoint(p, particle_contact_law(p) if law is None else law)
+    floor = 1e-6 * p.eps_n * p.radius
+    traj, wall, iters, steps, info, motion, H = _run(model, p, floor=floor, **options)
+    finish_trajectory(traj, model.law, H)
+    summary = particle_summary(traj, p, wall, steps, iters)
+    summary.update(particle_energy(p, traj, model.law, H))
+    info.update(engine="reference")
     return Result(traj, summary, p, info)
