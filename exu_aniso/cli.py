@@ -1,8 +1,10 @@
 """Command line: ``exu-aniso run SCENE`` and ``exu-aniso params SCENE``.
 
-    exu-aniso run block|screw|all [--engine exudyn|reference] [--set NAME=VALUE ...] [--out DIR]
-                                  [--quiet] [--snapshot] [--view]
-    exu-aniso params block|screw
+    exu-aniso run SCENE|all [--engine exudyn|reference] [--set NAME=VALUE ...] [--out DIR]
+                            [--quiet] [--snapshot] [--view]
+    exu-aniso params SCENE
+
+SCENE: one of the scene catalog (``exu_aniso.scene_catalog``: block, screw, particle, capstan).
 
 ``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
 summary.json), DIR/summary.json

@@ -78,6 +78,12 @@ def _screw():
                  ("advance_per_rev", "torque_mean"), _plot_screw, "screw", simulate_screw, (6.0, 6.5))
 
 
-_ENTRIES = (_block, _screw)
+def _particle():
+    from .scene_particle import COLUMNS, TITLE_KEYS, ParticleParams, PlotParticle, simulate_particle
+    return Scene("particle", ParticleParams, COLUMNS, TITLE_KEYS, PlotParticle, "particle", simulate_particle,
+                 (6.0, 6.5))
+
+
+_ENTRIES = (_block, _screw, _particle)
 
 SCENES = {s.name: s for s in (entry() for entry in _ENTRIES)}
