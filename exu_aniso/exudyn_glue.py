@@ -237,12 +237,12 @@ class _LinearSlave:
         self.objects = list(objects)
         if self.kind in _MASS_POINTS:
             node_type, self.dim = _MASS_POINTS[self.kind]
-            self.elements = [[mbs.GetObject(objects[0])["nodeNumber"]]]
+            self.elements = [[int(mbs.GetObject(objects[0])["nodeNumber"])]]
             self.lengths = [0.0]
             self.kind = node_type                       # the node type, as the rigid kinds
         else:
             node_type, self.dim = _CABLES[self.kind]
-            self.elements = [list(mbs.GetObject(o)["nodeNumbers"]) for o in objects]
+            self.elements = [[int(nd) for nd in mbs.GetObject(o)["nodeNumbers"]] for o in objects]
             self.lengths = [float(mbs.GetObject(o)["length"]) for o in objects]
         self.nodes = []
         for el in self.elements:
@@ -581,7 +581,12 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     """Add anisotropic frictional contact between body-fixed points and an analytical surface.
 
     bodyNumber: slave body (ObjectRigidBody, ObjectRigidBody2D for a planar model, ObjectMassPoint or
-    ObjectMassPoint2D); localPoints: (K, 3) body-local contact points [m]; surface: a surface of
+    ObjectMassPoint2D), or an ANCF cable: one ObjectANCFCable2D / ObjectANCFCable element or a list of
+    them (one contact set over all their distinct nodes, e.g. a whole rope); localPoints: (K, 3)
+    body-local contact points [m]; for cables element-local points [x, 0, 0] with 0 <= x <= element
+    length, applied to every element of the list (points ordered element by element: K = elements x
+    points; x = Exudyn's Hermite shape functions, linear in the node coordinates, so the analytic
+    Jacobian has no geometric terms); surface: a surface of
     exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution, ParametricSurface) in the
     master frame; adhesion / friction: exu_aniso Adhesion / Friction fields; normalStiffness
     eps_N [N/m per point]; normalDamping d_N [N s/m per point, default 0]; tangentialDamping d_T
@@ -594,8 +599,9 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     initializeHistory: True -> points already in contact at the initial configuration start
     sticking there (anchor = initial contact point, T = 0), as in the reference engine; False ->
     they start as a new contact in the first step.
-    Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, or a NodeGenericODE2
-    with 2 coordinates (psi about z [rad], z [m]) for a reduced screw-joint model.
+    Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, NodePoint, NodePoint2D,
+    NodePoint2DSlope1 / NodePointSlope1 (cables), or a NodeGenericODE2 with 2 coordinates (psi about
+    z [rad], z [m]) for a reduced screw-joint model.
     implementation: "compiled" (the numba kernel of exu_aniso.fastpath: one compiled call per user
     function; ground master and the transport formulation), "numpy" (ContactLaw.evaluate with
     numpy; any configuration) or "auto" (compiled where it applies, numpy otherwise). Both give
@@ -608,7 +614,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     read-only functions of (mbs, configuration=None) (an exu.ConfigurationType; None: the initial
     coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
     (K, 3), master position (3,), master rotation (3, 3)), 'historyAt' -> history (K, 9) and
-    'bodyPosition' -> global position (3,) of the slave body's local origin.
+    'bodyPosition' -> global position (3,) of the slave body's local origin (a cable: the start of
+    its first element).
     """
     if contactLaw is None:
         if normalStiffness is None:

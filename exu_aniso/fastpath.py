@@ -815,7 +815,7 @@ class PackedSet:
     def __init__(self, law, node_kind, ref, points):
         """node_kind: a rigid node kind (NODE_KINDS) with body-local points (K, 3), or a LinearMap
         (points: ignored, the map holds the K points)."""
-        announce_compile()
+        announce_compile(entry=evaluate_packed_linear if isinstance(node_kind, LinearMap) else None)
         sp, bp, fp, lp = pack_law(law)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
         if self.linear is not None:

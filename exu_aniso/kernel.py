@@ -359,7 +359,7 @@ class CovariantSet:
 
     def __init__(self, contact_law, node_kind, ref, points):
         from .fastpath import NODE_COORDINATES, NODE_KINDS, SCRATCH_SLOTS, announce_compile
-        announce_compile(entry=evaluate_covariant)
+        announce_compile(entry=evaluate_covariant_linear if isinstance(node_kind, LinearMap) else evaluate_covariant)
         nB, nF = contact_law._nets
         self.law = CovariantLaw(contact_law.surface.params, nB, nF,
                                 LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
