@@ -177,13 +177,19 @@ def CapstanTrajectory(model):
     d_in, d_out = model["directions"]
     u_in = -(Q[0, :, 1:3] @ d_in)                     # towards the drum (the in-force pulls along d_in)
     u_out = Q[-1, :, 1:3] @ d_out                     # away from the drum
-    T_in, T_out = tension_in(p, t), tension_out(p, t)
+    F_in, F_out = tension_in(p, t), tension_out(p, t)            # applied by the loading devices
+    # tensions at the rope's ends: the applied force less the device's dashpot (c v along the force)
+    T_in = F_in - p.end_damping * (V[0, :, 1:3] @ d_in)
+    T_out = F_out - p.end_damping * (V[-1, :, 1:3] @ d_out)
     H = [HistoryOutputs(mbs, c)[2] for c in model["contacts"]]
     Hall = np.concatenate(H, axis=1)
+    # points loaded now and in the sample before: a point that has just come into contact (the rope
+    # moving onto the drum) starts sticking by definition and does not count
     loaded = Hall[:, :, _NORMAL] < 0.0
+    loaded[1:] &= loaded[:-1]
     sliding = loaded & (Hall[:, :, _STATUS] == 2.0)
     n_loaded = loaded.sum(axis=1)
-    traj = dict(t=t, tension_in=T_in, tension_out=T_out,
+    traj = dict(t=t, force_in=F_in, force_out=F_out, tension_in=T_in, tension_out=T_out,
                 tension_ratio=np.divide(T_out, T_in, out=np.ones(n), where=T_in > 0.0),
                 u_in=u_in - u_in[0], u_out=u_out - u_out[0],
                 slip_fraction=np.divide(sliding.sum(axis=1), n_loaded, out=np.zeros(n), where=n_loaded > 0),
@@ -205,8 +211,8 @@ def CapstanLedger(model, traj, q, qt, H):
     nc = 4
     X_in, X_out = q[:, 0:2], q[:, -nc:-nc + 2]
     V_in, V_out = qt[:, 0:2], qt[:, -nc:-nc + 2]
-    work = (work_trapezoid(traj["tension_in"][:, None] * d_in[None, :], X_in)
-            + work_trapezoid(traj["tension_out"][:, None] * d_out[None, :], X_out))
+    work = (work_trapezoid(traj["force_in"][:, None] * d_in[None, :], X_in)
+            + work_trapezoid(traj["force_out"][:, None] * d_out[None, :], X_out))
     end_diss = p.end_damping * (work_trapezoid(V_in, X_in) + work_trapezoid(V_out, X_out))
     # contact points of every set per sample (the sets' constant point Jacobians: x = c + Jp q_total)
     Xs, Vs = [], []
