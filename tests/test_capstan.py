@@ -2,9 +2,9 @@
 until it slips as a whole, against Euler-Eytelwein T_out / T_in = exp(mu_1 phi).
 
 Tolerance of the ratio: 1e-3 relative. What it covers (measured on these runs, see
-scene_capstan's docstring): the quasi-static lag of the ramp (the error falls with ramp_rate:
-tests below, slow) and the ramp's time resolution (ramp_rate dt = 1e-3 of T_in per step); measured
-errors 1e-4 (180 deg) and 3.4e-4 (90 deg). The orthotropic net with mu_2 != mu_1 must give
+scene_capstan's docstring): the ramp's time resolution (ramp_rate dt = 1e-3 of T_in per step: 4e-4
+of the ratio at 180 deg) and the quasi-static lag of the ramp (visible at fast ramps: slow test
+below); measured errors -1.2e-4 (180 deg) and +3.8e-4 (90 deg). The orthotropic net with mu_2 != mu_1 must give
 exp(mu_1 phi): mu_2 acts across the rope, along the drum axis, where nothing slides.
 There is no reference-engine model of the rope (a documented decision): the oracle is analytic.
 """
@@ -72,7 +72,7 @@ def test_cross_friction_mu2_does_not_change_the_ratio(wrap):
 def test_energy_ledger_closes(kw):
     s = run(**kw).summary
     assert s["energy_ok"], s["energy"]
-    assert s["energy"]["residual"] < 1e-3                           # measured 6.7e-5 and 3.1e-4
+    assert s["energy"]["residual"] < 1e-3                           # measured 1.1e-4 and 1.7e-4
     e = s["energy"]
     assert e["dissipated"] > 0.5 * e["work_in"]                     # the slip dissipates most of the work
     assert e["potential"] > 0.0                                     # the rope's stretch (Exudyn's cable energy)
@@ -125,11 +125,15 @@ def test_analytic_jacobian_needs_no_more_newton_iterations():
 
 
 @pytest.mark.slow
-def test_ratio_converges_as_the_ramp_slows():
-    """Quasi-static limit: the error against exp(mu phi) falls with the ramp rate."""
-    errors = [abs(run(ramp_rate=r, t_end=t, dt=dt).summary["tension_ratio_error"])
-              for r, t, dt in ((2.0, 1.2, 5e-4), (1.0, 2.0, 1e-3), (0.5, 4.0, 2e-3))]
-    assert errors[-1] < RATIO_RTOL and errors[0] > errors[-1], errors
+def test_ratio_as_the_ramp_slows():
+    """Quasi-static limit, ramp_rate dt held at 1e-3 (the same resolution of the ratio, 4e-4 of it):
+    a fast ramp (4/s) is late (measured +4.7e-4); at 2, 1 and 0.5/s the error stays below the
+    resolution (measured -1.1e-4, -1.2e-4, -6.7e-5)."""
+    errors = [run(ramp_rate=r, t_end=t, dt=dt).summary["tension_ratio_error"]
+              for r, t, dt in ((4.0, 0.7, 2.5e-4), (2.0, 1.2, 5e-4), (1.0, 2.0, 1e-3), (0.5, 4.0, 2e-3))]
+    resolution = 1e-3 / math.exp(0.3 * math.pi)
+    assert errors[0] > resolution, errors
+    assert all(abs(e) < resolution for e in errors[1:]), errors
 
 
 @pytest.mark.slow
@@ -137,11 +141,14 @@ def test_ratio_converges_as_the_ramp_slows():
                                 dict(elements=48, points=2)], ids=["6x3", "24x3", "12x6", "48x2"])
 def test_ratio_under_refinement(kw):
     """Refining the rope (elements, points per element) keeps the ratio within the tolerance; the
-    difference between refinements is at the ramp's resolution (measured 1e-4 .. 3e-4)."""
+    difference between refinements is at the ramp's resolution (measured errors -9.7e-5 for 6 x 3,
+    +1.4e-4 for 24 x 3). The ledger closes at every refinement (6 x 3: 6e-5, once the rope starts
+    without penetration, models/capstan.ArcLift)."""
     s = run(**kw).summary
     assert abs(s["tension_ratio_error"]) < RATIO_RTOL, s["tension_ratio_error"]
     base = run().summary["tension_ratio"]
     assert abs(s["tension_ratio"] / base - 1.0) < RATIO_RTOL
+    assert s["energy_ok"] and s["energy"]["residual"] < 1e-3
 
 
 @pytest.mark.slow
