@@ -114,7 +114,9 @@ def test_undefined_ratio_when_the_rope_does_not_slip():
 
 def test_analytic_jacobian_needs_no_more_newton_iterations():
     """The capstan's settling and loading (0.2 s, coarse rope): analytic contact Jacobian against
-    Exudyn's numerical one; both runs take the same steps."""
+    Exudyn's numerical one; both runs take the same steps (measured 318 steps, 1161 against 1165
+    iterations, 0.16 s against 1.25 s; the default rope over 0.3 s: 1324 against 1341, 0.33 s
+    against 3.9 s)."""
     from exu_aniso.models.block import SolveTimed
     out = {}
     for jac in ("analytic", "numerical"):
