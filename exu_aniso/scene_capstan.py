@@ -31,8 +31,9 @@ any more (quasi-static Euler theory: the slip zone grows from the out-end and re
 T_out = T_in exp(mu phi)). The criterion, on the converged history: the first sample of the last
 uninterrupted run of samples, ending at the end of the run, in which every contact point loaded
 (N < 0) in this sample and the one before has status slip (a point that has just come onto the
-drum starts sticking by definition: it does not count); the run itself stops (``stop_displacement``) once the in-end has moved
-that far towards the drum, so that run of gross slip is established. Flickers of "all slip"
+drum starts sticking by definition: it does not count); the run itself stops once the in-end
+has moved ``stop_displacement`` towards the drum (counted from t_load), so that run of gross slip
+is established. Flickers of "all slip"
 before (e.g. while the rope settles) do not count. ``tension_ratio`` = T_out / T_in there, with
 the tensions at the rope's ends: the applied force less the end dashpot's force (columns
 ``tension_in``, ``tension_out``; the applied forces are ``force_in``, ``force_out``: measured
@@ -66,7 +67,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import energy
-from .contact import HISTORY_FIELDS, ContactLaw
+from .contact import ContactLaw
 from .fields import Adhesion, Friction
 from .geometry import Cylinder
 from .law import RETURN_MAPS
@@ -151,7 +152,8 @@ class CapstanParams(_ParamsMixin):
 
 
 # trajectory columns -> SI unit (CSV order)
-COLUMNS = {"t": "s", "force_in": "N", "force_out": "N", "tension_in": "N", "tension_out": "N", "tension_ratio": "-", "u_in": "m", "u_out": "m",
+COLUMNS = {"t": "s", "force_in": "N", "force_out": "N", "tension_in": "N", "tension_out": "N", "tension_ratio": "-",
+           "u_in": "m", "u_out": "m",
            "slip_fraction": "-", "contact_fraction": "-", "dissipated_energy": "J",
            **{k: "J" for k in ENERGY_COLUMNS}}
 
@@ -287,6 +289,3 @@ def PlotCapstan(traj, params, fig):
     a2.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper left")
     return a1, a2
 
-
-STATUS = HISTORY_FIELDS.index("status")
-NORMAL = HISTORY_FIELDS.index("normal")

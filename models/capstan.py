@@ -28,10 +28,10 @@ import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import (LoadForceVector, MarkerBodyPosition, MarkerNodePosition, NodePoint2DSlope1,
                                   ObjectANCFCable2D, ObjectConnectorCartesianSpringDamper, ObjectGround,
-                                  SensorBody, SensorNode)
+                                  SensorBody, SensorNode, VObjectConnectorCartesianSpringDamper)
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
+from exu_aniso.contact import HISTORY_FIELDS
 from exu_aniso.energy import work_trapezoid
 from exu_aniso.exudyn_glue import hermite_shape_functions
 from exu_aniso.failure import SimulationFailure
@@ -93,7 +93,7 @@ def RopeGeometry(p):
 
 
 def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", newtonTolerance=1e-8,
-                 rhoInf=0.8, stop=True):
+                 rhoInf=0.8, stop=True, show=True):
     """Build the capstan scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nodes, elements, contact (dict of CreateAnisotropicContact), sensors (dict), directions (in, out:
     unit vectors of the end forces) and the loads.
@@ -103,7 +103,8 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
     residual has a round-off floor near 1e-9 with fine elements, where a tighter tolerance makes
     Newton fail and Exudyn cut the step again and again: 48 elements, 1e-10, measured); rhoInf: spectral
     radius of generalized-alpha (solver="generalized_alpha"); stop: stop the run at
-    stop_displacement (pre-step function)."""
+    stop_displacement (pre-step function); show: renderer graphics of the drum and the contact points
+    (mbs.CreateAnisotropicContact(show=...); drawn only when a scene is rendered)."""
     check_instance("p", p, CapstanParams)
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
@@ -131,7 +132,9 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
             x0 = mbs.GetNodeOutput(node, exu.OutputVariableType.Position, configuration=exu.ConfigurationType.Reference)
             mG = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oGround, localPosition=list(x0)))
             mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mG, mNode], stiffness=[0.0, 0.0, 0.0],
-                                                               damping=[p.end_damping, p.end_damping, 0.0]))
+                                                               damping=[p.end_damping, p.end_damping, 0.0],
+                                                               visualization=VObjectConnectorCartesianSpringDamper(
+                                                                   show=False)))
     Lmin = float(lengths.min())
     L_arc = float(lengths[p.tail_elements])
     # contact points at (i + 1/2) / points of every element; arc and tail elements differ in length:
@@ -143,12 +146,12 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
             contacts.append(mbs.CreateAnisotropicContact(
                 name=f"drum{len(contacts)}", bodyNumber=els,
                 localPoints=[[(i + 0.5) * L / p.points, 0.0, 0.0] for i in range(p.points)],
-                contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=False))
+                contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show))
     else:
         contacts = [mbs.CreateAnisotropicContact(
             name="drum", bodyNumber=elements, localPoints=[[(i + 0.5) * L_arc / p.points, 0.0, 0.0]
                                                            for i in range(p.points)],
-            contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=False)]
+            contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show)]
     sensors = dict(
         sCoordinates=[mbs.AddSensor(SensorNode(nodeNumber=n, storeInternal=True,
                                                outputVariableType=exu.OutputVariableType.Coordinates))

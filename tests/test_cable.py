@@ -237,7 +237,8 @@ def _rope_on_incline(angle, mu, t_end, dt=2e-4, implementation="auto", jacobian=
             markerNumber=mbs.AddMarker(exu.itemInterface.MarkerBodyMass(bodyNumber=o)), loadVector=[0, -g, 0]))
     c = glue.CreateAnisotropicContact(mbs, elements, [[(i + 0.5) * Lel / n_points, 0, 0] for i in range(n_points)],
                                       surface=tilted_plane(angle), adhesion=Adhesion.isotropic(1e4),
-                                      friction=Friction.isotropic(mu), normalStiffness=eps_N, normalDamping=normalDamping,
+                                      friction=Friction.isotropic(mu), normalStiffness=eps_N,
+                                      normalDamping=normalDamping,
                                       implementation=implementation, jacobian=jacobian)
     sN = [mbs.AddSensor(SensorNode(nodeNumber=n, outputVariableType=exu.OutputVariableType.Coordinates,
                                    storeInternal=True)) for n in nodes]
