@@ -81,13 +81,14 @@ class _BodyKinematics:
     def __init__(self, mbs, node_number):
         self.node = node_number
         self.kind = mbs.GetNode(node_number)["nodeType"]
-        kinds = {"RigidBody2D": 3, "RigidBodyRotVecLG": 6, "RigidBodyEP": 7, "GenericODE2": 2, "Point": 3,
-                 "Point2D": 2}
+        self.nodes = [node_number]
+        kinds = {"RigidBody2D": 3, "RigidBodyRotVecLG": 6, "RigidBodyEP": 7, "GenericODE2": 2}
         if self.kind not in kinds:
             raise ValueError(f"CreateAnisotropicContact: body node {node_number} has type {self.kind!r}; supported "
                              f"are NodeRigidBody2D, NodeRigidBodyRotVecLG (RotationRotationVector), NodeRigidBodyEP, "
-                             f"NodePoint and NodePoint2D (mass points) and a 2-coordinate NodeGenericODE2 (screw "
-                             f"joint: rotation about z, translation along z)")
+                             f"NodePoint and NodePoint2D (mass points), NodePoint2DSlope1 and NodePointSlope1 (ANCF "
+                             f"cables) and a 2-coordinate NodeGenericODE2 (screw joint: rotation about z, translation "
+                             f"along z)")
         self.n = kinds[self.kind]
         self.ref = np.asarray(mbs.GetNodeParameter(node_number, "referenceCoordinates"), dtype=float)
         if self.ref.shape != (self.n,):   # only a NodeGenericODE2 can have another size
@@ -98,6 +99,15 @@ class _BodyKinematics:
         v0 = mbs.GetNodeParameter(node_number, "initialCoordinates_t" if self.kind == "GenericODE2"
                                   else "initialVelocities")
         self.v0 = np.asarray(v0, dtype=float) if len(v0) else np.zeros(self.n)
+
+    linear = False
+
+    def number_of_points(self, b):
+        return b.shape[0]
+
+    def coordinates(self, mbs, variable, configuration):
+        """The node's coordinates (variable: exu.OutputVariableType.Coordinates or Coordinates_t)."""
+        return np.asarray(mbs.GetNodeOutput(self.node, variable, configuration=configuration), dtype=float)
 
     def points(self, q, q_t, b):
         """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) of local points b, and
@@ -113,16 +123,6 @@ class _BodyKinematics:
             J[:, 0, 0] = J[:, 1, 1] = 1.0
             J[:, 0, 2] = -ay
             J[:, 1, 2] = ax
-            return x, v, J, None
-        if self.kind in ("Point", "Point2D"):          # mass point: x = q + b (2D: in the plane z = 0)
-            nd = self.n
-            x = np.array(b, dtype=float)
-            x[:, :nd] += q[:nd]
-            v = np.zeros((K, 3))
-            v[:, :nd] = q_t[:nd]
-            J = np.zeros((K, 3, nd))
-            for i in range(nd):
-                J[:, i, i] = 1.0
             return x, v, J, None
         if self.kind == "GenericODE2":                 # screw joint: q = (psi, z)
             ax, ay = _rotate_z(q[0], b)
@@ -158,8 +158,6 @@ class _BodyKinematics:
         q = self.ref + np.asarray(q, dtype=float)
         K = b.shape[0]
         dJ = np.zeros((K, 3, self.n, self.n))
-        if self.kind in ("Point", "Point2D"):          # Jp = I: constant
-            return dJ
         if self.kind in ("RigidBody2D", "GenericODE2"):
             r = 2 if self.kind == "RigidBody2D" else 0
             ax, ay = _rotate_z(q[r], b)
@@ -204,6 +202,115 @@ class _BodyKinematics:
         return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
 
 
+def hermite_shape_functions(x, L):
+    """Exudyn's cubic Hermite shape functions of an ANCF cable element of length L at the local
+    position x in [0, L]: r(x) = S1 r0 + S2 r0' + S3 r1 + S4 r1' (node 0 at x = 0, node 1 at x = L;
+    r' the slope coordinates; tests/test_cable.py checks them against Exudyn's output)."""
+    xi = x / L
+    return np.array([1.0 - 3.0 * xi ** 2 + 2.0 * xi ** 3, L * (xi - 2.0 * xi ** 2 + xi ** 3),
+                     3.0 * xi ** 2 - 2.0 * xi ** 3, L * (-xi ** 2 + xi ** 3)])
+
+
+_CABLES = {"ANCFCable2D": ("Point2DSlope1", 2), "ANCFCable": ("PointSlope1", 3)}   # object: (node type, dim)
+_MASS_POINTS = {"MassPoint": ("Point", 3), "MassPoint2D": ("Point2D", 2)}
+
+
+class _LinearSlave:
+    """A slave whose points are linear in its node coordinates: x_k = c_k + S_k q_total, with a
+    constant point Jacobian Jp_k = S_k (so dJp/dq = 0 and v_k = S_k q_t).
+
+    * mass points (ObjectMassPoint, ObjectMassPoint2D): S = I over the node's coordinates
+      (2D: x, y in the plane z = 0), c = the local point b;
+    * ANCF cables (ObjectANCFCable2D with NodePoint2DSlope1 (x, y, x', y') in the plane z = 0;
+      ObjectANCFCable with NodePointSlope1 (x, y, z, x', y', z')): a list of elements, every local
+      point [x, 0, 0] (0 <= x <= element length) on every element, S = Exudyn's Hermite shape
+      functions (``hermite_shape_functions``), c = 0.
+
+    The set's coordinates are those of the distinct nodes in order of first appearance; points are
+    ordered element by element (K = number of elements x number of local points)."""
+
+    linear = True
+
+    def __init__(self, mbs, objects):
+        types = [mbs.GetObject(o)["objectType"] for o in objects]
+        self.kind = types[0]
+        self.objects = list(objects)
+        if self.kind in _MASS_POINTS:
+            node_type, self.dim = _MASS_POINTS[self.kind]
+            self.elements = [[int(mbs.GetObject(objects[0])["nodeNumber"])]]
+            self.lengths = [0.0]
+            self.kind = node_type                       # the node type, as the rigid kinds
+        else:
+            node_type, self.dim = _CABLES[self.kind]
+            self.elements = [[int(nd) for nd in mbs.GetObject(o)["nodeNumbers"]] for o in objects]
+            self.lengths = [float(mbs.GetObject(o)["length"]) for o in objects]
+        self.nodes = []
+        for el in self.elements:
+            for nd in el:
+                if nd not in self.nodes:
+                    self.nodes.append(nd)
+        self.node = self.nodes[0]
+        self.nc = len(mbs.GetNodeParameter(self.nodes[0], "referenceCoordinates"))   # coordinates per node
+        self.n = self.nc * len(self.nodes)
+        self.ref, self.q0, self.v0 = (np.concatenate([self._node_vector(mbs, nd, name) for nd in self.nodes])
+                                      for name in ("referenceCoordinates", "initialCoordinates", "initialVelocities"))
+
+    def _node_vector(self, mbs, node, name):
+        v = mbs.GetNodeParameter(node, name)
+        return np.asarray(v, dtype=float) if len(v) else np.zeros(self.nc)
+
+    def number_of_points(self, b):
+        return b.shape[0] * len(self.elements)
+
+    def coordinates(self, mbs, variable, configuration):
+        return np.concatenate([np.asarray(mbs.GetNodeOutput(nd, variable, configuration=configuration), dtype=float)
+                               for nd in self.nodes])
+
+    def linear_map(self, b):
+        """(idx (K, m), S (K, 3, m), c (K, 3)) of local points b: x_k = c_k + S_k q_total[idx_k]."""
+        b = np.asarray(b, dtype=float)
+        d = self.dim
+        if self.kind in ("Point", "Point2D"):
+            K = b.shape[0]
+            idx = np.tile(np.arange(d), (K, 1))
+            S = np.zeros((K, 3, d))
+            for i in range(d):
+                S[:, i, i] = 1.0
+            return idx, S, b.copy()
+        rows = []
+        for el, L in zip(self.elements, self.lengths):
+            cols = np.concatenate([self.nodes.index(nd) * self.nc + np.arange(2 * d) for nd in el])
+            for x in b[:, 0]:
+                h = hermite_shape_functions(x, L)          # (4,): r0, r0', r1, r1'
+                S = np.zeros((3, 4 * d))
+                for j in range(4):
+                    S[:d, j * d:(j + 1) * d] = h[j] * np.eye(d)
+                rows.append((cols, S))
+        idx = np.array([r[0] for r in rows], dtype=np.int64)
+        S = np.array([r[1] for r in rows])
+        return idx, S, np.zeros((len(rows), 3))
+
+    def jacobian_matrix(self, b):
+        """Dense point Jacobians Jp (K, 3, n) and offsets c (K, 3) of local points b."""
+        idx, S, c = self.linear_map(b)
+        Jp = np.zeros((idx.shape[0], 3, self.n))
+        for k in range(idx.shape[0]):
+            Jp[k][:, idx[k]] += S[k]
+        return Jp, c
+
+    def points(self, q, q_t, b):
+        """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) of local points b and None."""
+        Jp, c = self.jacobian_matrix(b)
+        q = self.ref + np.asarray(q, dtype=float)
+        return c + Jp @ q, Jp @ np.asarray(q_t, dtype=float), Jp, None
+
+    def point_derivatives(self, q, b):
+        return None                                     # dJp/dq = 0
+
+    def position_jacobian(self, q, b, Jp):
+        return Jp
+
+
 class _PointTangent(NamedTuple):
     """q-derivatives of the slave point kinematics for the Jacobian: dx (K, 3, n) = dx/dq,
     dJp (K, 3, n, n) = dJp/dq (_BodyKinematics.point_derivatives), dv (K, 3, n) = dv/dq at fixed
@@ -224,7 +331,7 @@ class _ContactSet:
         self.slave = slave
         self.points = points
         self.master = master
-        self.K = points.shape[0]
+        self.K = slave.number_of_points(points)
         self.nData = None
         self.ltg = None
 
@@ -241,7 +348,9 @@ class _ContactSet:
         if self.master is None:
             st = self.law.evaluate(x, v, history, tangent, dt)
             tg = None
-            if tangent:
+            if tangent and self.slave.linear:          # Jp constant: dx/dq = Jp, dJp/dq = 0
+                tg = _PointTangent(Jp, None, None, st.damping)
+            elif tangent:
                 dJ = self.slave.point_derivatives(qs, self.points)
                 tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), dJ, np.einsum("kiac,a->kic", dJ, np.asarray(vs, dtype=float)), st.damping)
             return st, Jp, st.force, None, tg
@@ -276,8 +385,7 @@ class _ContactSet:
         def coordinates(nd):
             if configuration is None:
                 return nd.q0
-            return np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates,
-                                                configuration=configuration), dtype=float)
+            return nd.coordinates(mbs, exu.OutputVariableType.Coordinates, configuration)
         x = self.slave.points(coordinates(self.slave), np.zeros(self.slave.n), self.points)[0]
         if self.master is None:
             return x, np.zeros(3), np.eye(3)
@@ -286,10 +394,10 @@ class _ContactSet:
 
     def body_position(self, mbs, configuration=None):
         """Global position (3,) of the slave body's local origin (node reference point; the joint
-        origin of a screw-joint node) in a configuration (None: initial coordinates)."""
-        q = self.slave.q0 if configuration is None else np.asarray(
-            mbs.GetNodeOutput(self.slave.node, exu.OutputVariableType.Coordinates, configuration=configuration),
-            dtype=float)
+        origin of a screw-joint node; the start of the first element of a cable) in a configuration
+        (None: initial coordinates)."""
+        q = self.slave.q0 if configuration is None else self.slave.coordinates(
+            mbs, exu.OutputVariableType.Coordinates, configuration)
         return self.slave.points(q, np.zeros(self.slave.n), np.zeros((1, 3)))[0][0]
 
     @staticmethod
@@ -320,7 +428,9 @@ class _ContactSet:
 
         the first (law stiffness) is in Kq already; the second is the lever arms turning at fixed
         point forces (the reference's geometric term), the third the point velocities turning
-        with the body (nonzero only with normal damping: Dv = df/dv)."""
+        with the body (nonzero only with normal damping: Dv = df/dv). A linear slave has none."""
+        if tg.dJp is None:
+            return
         Kq += np.einsum("kiac,ki->ac", tg.dJp, F)
         if np.any(tg.damping):
             Kq += np.einsum("kia,kij,kjc->ac", Jp, tg.damping, tg.dv)
@@ -329,10 +439,8 @@ class _ContactSet:
         """Evaluate at the converged state (time t) and write the history candidate to Current.
         Returns False (nothing written) when a contact point's motion in the step is unresolved."""
         nodes = [self.slave] + ([self.master] if self.master is not None else [])
-        q = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates,
-                                                         configuration=_CUR)) for nd in nodes])
-        q_t = np.concatenate([np.asarray(mbs.GetNodeOutput(nd.node, exu.OutputVariableType.Coordinates_t,
-                                                           configuration=_CUR)) for nd in nodes])
+        q = np.concatenate([nd.coordinates(mbs, exu.OutputVariableType.Coordinates, _CUR) for nd in nodes])
+        q_t = np.concatenate([nd.coordinates(mbs, exu.OutputVariableType.Coordinates_t, _CUR) for nd in nodes])
         H = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))[0].history
         return self._write_candidate(mbs, H)
 
@@ -357,8 +465,11 @@ class _CompiledSet(_ContactSet):
 
     def __init__(self, mbs, law, slave, points, master):
         super().__init__(mbs, law, slave, points, master)
+        from .fastpath import LinearMap
         from .kernel import CovariantSet
-        self.pk = CovariantSet(law, slave.kind, slave.ref, points)
+        # a linear slave (mass points, cables) goes to fastpath.evaluate_linear, a rigid one to evaluate_set
+        kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
+        self.pk = CovariantSet(law, kind, slave.ref, points)
         self._H_time = None
         self._dt = 0.0
 
@@ -382,10 +493,9 @@ class _CompiledSet(_ContactSet):
         return self.pk.J
 
     def commit_candidate(self, mbs, t):
-        node = self.slave.node
         self._load_history(mbs, t)            # usually loaded already by this Newton solve's residuals
-        self._eval(2, mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates, configuration=_CUR),
-                   mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates_t, configuration=_CUR))
+        self._eval(2, self.slave.coordinates(mbs, exu.OutputVariableType.Coordinates, _CUR),
+                   self.slave.coordinates(mbs, exu.OutputVariableType.Coordinates_t, _CUR))
         self._H_time = None                   # the next Newton solve reads the history afresh
         return self._write_candidate(mbs, self.pk.Hn)
 
@@ -400,6 +510,47 @@ def _body_node(mbs, bodyNumber):
         raise ValueError(f"CreateAnisotropicContact: body {bodyNumber} ({obj.get('objectType')}) must have exactly one "
                          f"node; got nodeNumbers={nodes}")
     return nodes[0]
+
+
+def _slave_kinematics(mbs, bodyNumber, nObjects):
+    """The slave kinematics of bodyNumber: one body, or a list of ANCF cable elements (one set)."""
+    many = isinstance(bodyNumber, (list, tuple, np.ndarray))
+    objects = list(bodyNumber) if many else [bodyNumber]
+    if many and not objects:
+        raise ValueError("CreateAnisotropicContact: bodyNumber is an empty list; give a body or a list of ANCF cable "
+                         "elements")
+    for i, o in enumerate(objects):
+        check_index(f"bodyNumber[{i}]" if many else "bodyNumber", o, nObjects, "object")
+    types = [mbs.GetObject(o)["objectType"] for o in objects]
+    cables = [t in _CABLES for t in types]
+    if many and not all(cables):
+        bad = [f"bodyNumber[{i}] = {o} is Object{t}" for i, (o, t, c) in enumerate(zip(objects, types, cables))
+               if not c]
+        raise ValueError("CreateAnisotropicContact: a list in bodyNumber must hold ANCF cable elements only "
+                         "(ObjectANCFCable2D or ObjectANCFCable, all of one type); " + "; ".join(bad))
+    if many and len(set(types)) > 1:
+        raise ValueError(f"CreateAnisotropicContact: the cable elements in bodyNumber must be all ObjectANCFCable2D or "
+                         f"all ObjectANCFCable; got {sorted(set(types))}")
+    if many and len(set(int(o) for o in objects)) < len(objects):
+        raise ValueError(f"CreateAnisotropicContact: bodyNumber lists a cable element more than once; got {objects}")
+    if cables[0] or types[0] in _MASS_POINTS:
+        return _LinearSlave(mbs, objects)
+    return _BodyKinematics(mbs, _body_node(mbs, bodyNumber))
+
+
+def _check_cable_points(slave, points):
+    """localPoints of a cable: [x, 0, 0] with 0 <= x <= the length of every listed element."""
+    if slave.kind in ("Point", "Point2D") or not slave.linear:
+        return
+    Lmin = min(slave.lengths)
+    for k, b in enumerate(points):
+        if b[1] != 0.0 or b[2] != 0.0:
+            raise ValueError(f"CreateAnisotropicContact: localPoints of ANCF cable elements are [x, 0, 0] (a point on "
+                             f"the cable's axis); got localPoints[{k}] = {b.tolist()}")
+        if not 0.0 <= b[0] <= Lmin:
+            raise ValueError(f"CreateAnisotropicContact: localPoints x of an ANCF cable element must lie in [0, L] "
+                             f"with L = {Lmin:g} m (the shortest element listed in bodyNumber); got localPoints[{k}] "
+                             f"= {b.tolist()}")
 
 
 # Step reduction asked for when a contact point's motion in a step is unresolved (see
@@ -426,7 +577,12 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     """Add anisotropic frictional contact between body-fixed points and an analytical surface.
 
     bodyNumber: slave body (ObjectRigidBody, ObjectRigidBody2D for a planar model, ObjectMassPoint or
-    ObjectMassPoint2D); localPoints: (K, 3) body-local contact points [m]; surface: a surface of
+    ObjectMassPoint2D), or an ANCF cable: one ObjectANCFCable2D / ObjectANCFCable element or a list of
+    them (one contact set over all their distinct nodes, e.g. a whole rope); localPoints: (K, 3)
+    body-local contact points [m]; for cables element-local points [x, 0, 0] with 0 <= x <= element
+    length, applied to every element of the list (points ordered element by element: K = elements x
+    points; x = Exudyn's Hermite shape functions, linear in the node coordinates, so the analytic
+    Jacobian has no geometric terms); surface: a surface of
     exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution, ParametricSurface) in the
     master frame; adhesion / friction: exu_aniso Adhesion / Friction fields; normalStiffness
     eps_N [N/m per point]; normalDamping d_N [N s/m per point, default 0]; tangentialDamping d_T
@@ -439,8 +595,9 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     initializeHistory: True -> points already in contact at the initial configuration start
     sticking there (anchor = initial contact point, T = 0), as in the reference engine; False ->
     they start as a new contact in the first step.
-    Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, or a NodeGenericODE2
-    with 2 coordinates (psi about z [rad], z [m]) for a reduced screw-joint model.
+    Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, NodePoint, NodePoint2D,
+    NodePoint2DSlope1 / NodePointSlope1 (cables), or a NodeGenericODE2 with 2 coordinates (psi about
+    z [rad], z [m]) for a reduced screw-joint model.
     implementation: "compiled" (the numba kernel of exu_aniso.fastpath: one compiled call per user
     function; ground master and a compiled surface), "numpy" (ContactLaw.evaluate with
     numpy; any configuration) or "auto" (compiled where it applies, numpy otherwise). Both give
@@ -453,7 +610,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     read-only functions of (mbs, configuration=None) (an exu.ConfigurationType; None: the initial
     coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
     (K, 3), master position (3,), master rotation (3, 3)), 'historyAt' -> history (K, 9) and
-    'bodyPosition' -> global position (3,) of the slave body's local origin.
+    'bodyPosition' -> global position (3,) of the slave body's local origin (a cable: the start of
+    its first element).
     """
     if contactLaw is None:
         if normalStiffness is None:
@@ -473,16 +631,17 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     check_instance("mbs", mbs, exu.MainSystem, "MainSystem of Exudyn (SC.AddSystem())")
     check_instance("contactLaw", contactLaw, ContactLaw)
     nObjects = mbs.systemData.NumberOfObjects()
-    if (masterBodyNumber is not None and check_index("masterBodyNumber", masterBodyNumber, nObjects, "object")
-            == check_index("bodyNumber", bodyNumber, nObjects, "object")):
-        raise ValueError(f"CreateAnisotropicContact: masterBodyNumber must differ from bodyNumber; got both {bodyNumber}")
-    check_index("bodyNumber", bodyNumber, nObjects, "object")
+    slave = _slave_kinematics(mbs, bodyNumber, nObjects)
+    if masterBodyNumber is not None and check_index("masterBodyNumber", masterBodyNumber, nObjects, "object") in (
+            [int(o) for o in (bodyNumber if isinstance(bodyNumber, (list, tuple, np.ndarray)) else [bodyNumber])]):
+        raise ValueError(f"CreateAnisotropicContact: masterBodyNumber must differ from bodyNumber; got both "
+                         f"{masterBodyNumber}")
     check_bool("initializeHistory", initializeHistory)
     check_bool("storeSensors", storeSensors)
     if jacobian not in ("analytic", "numerical"):
         raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
     points = check_points("localPoints", localPoints)
-    slave = _BodyKinematics(mbs, _body_node(mbs, bodyNumber))
+    _check_cable_points(slave, points)
     master = None
     if masterBodyNumber is not None:
         master = _BodyKinematics(mbs, _body_node(mbs, masterBodyNumber))
@@ -497,7 +656,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
                          "(masterBodyNumber=None) and a surface and fields numba can compile; use 'numpy' or 'auto'")
     use_compiled = compiled_ok and implementation != "numpy"
     cs = (_CompiledSet if use_compiled else _ContactSet)(mbs, contactLaw, slave, points, master)
-    K = points.shape[0]
+    K = cs.K
     h0 = np.zeros(K * N_HISTORY)
     if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
         nodes = [slave] + ([master] if master is not None else [])
@@ -505,7 +664,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
                       None, tangent=False)[0]
         h0 = st.history.ravel()
     cs.nData = mbs.AddNode(NodeGenericData(initialCoordinates=h0.tolist(), numberOfDataCoordinates=K * N_HISTORY))
-    nodes = [slave.node] + ([master.node] if master is not None else [])
+    nodes = slave.nodes + (master.nodes if master is not None else [])
     n = slave.n + (master.n if master is not None else 0)
     kw = {}
     if jacobian == "analytic" and master is None:

@@ -8,9 +8,10 @@ covariant kernel of ``exu_aniso.kernel``, bound at compile time by the type of t
 the generalized quantities of the node. ``tests/test_fastpath.py`` holds this route equal to the
 numpy glue (``exudyn_glue._ContactSet``).
 
-Node kinds (the slave's Exudyn node type): 0 ``NodeRigidBody2D``, 1 screw joint
-(``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``, 4 ``NodePoint``
-(``ObjectMassPoint``), 5 ``NodePoint2D`` (``ObjectMassPoint2D``, in the plane z = 0).
+Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): 0 ``NodeRigidBody2D``,
+1 screw joint (``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``.
+Linear slaves (``evaluate_linear``): every point linear in the coordinates, x = c + S q_total with
+a constant S (mass points: S = I; ANCF cables: Hermite shape functions), so Jp = S and dJp/dq = 0.
 This module needs no Exudyn.
 """
 from __future__ import annotations
@@ -18,11 +19,11 @@ from __future__ import annotations
 import math
 import sys
 
+import numpy as np
 from numba import njit
 
-NODE_KINDS = {"RigidBody2D": 0, "GenericODE2": 1, "RigidBodyRotVecLG": 2, "RigidBodyEP": 3, "Point": 4,
-              "Point2D": 5}
-NODE_COORDINATES = (3, 2, 6, 7, 3, 2)
+NODE_KINDS = {"RigidBody2D": 0, "GenericODE2": 1, "RigidBodyRotVecLG": 2, "RigidBodyEP": 3}
+NODE_COORDINATES = (3, 2, 6, 7)
 SCRATCH_SLOTS = 19   # (slots, 9, 9) scratch: 0-8 point kernel, 9-17 set kernel, 18 Jacobian
 
 
@@ -123,14 +124,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     ncontact = 0
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-        if kind >= 4:                          # mass point (3D, or 2D in the plane z = 0): x = q + b
-            for i in range(3):
-                for j in range(nq):
-                    Jp[i, j] = 1.0 if i == j else 0.0
-            x[0], x[1] = qt[0] + bx, qt[1] + by
-            v[0], v[1] = q_t[0], q_t[1]
-            x[2], v[2] = (qt[2] + bz, q_t[2]) if kind == 4 else (bz, 0.0)
-        elif kind == 0 or kind == 1:
+        if kind == 0 or kind == 1:
             r = 2 if kind == 0 else 0
             c, s = math.cos(qt[r]), math.sin(qt[r])
             ax, ay = c * bx - s * by, s * bx + c * by
@@ -207,7 +201,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             for j in range(3):
                 if Dv[i, j] != 0.0:
                     damped = True
-        if damped and kind < 4:                # (a mass point's velocity does not depend on q)
+        if damped:
             u0 = u1 = u2 = 0.0
             if kind >= 2:                      # u = omega_local x b
                 u0, u1, u2 = wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx
@@ -281,7 +275,71 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     return ncontact
 
 
-# layout of the packed call: parameters in one float array W (offsets in I), points, history and
+@njit(cache=True)
+def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S):
+    """A contact set on a linear slave: point k at x_k = c_k + S_k q_total[idx_k], velocity
+    v_k = S_k q_t[idx_k], with constant S_k (3, m) over the m set coordinates idx_k (K, m) (a mass
+    point: S = I over its own coordinates, c = b; an ANCF cable: the Hermite shape functions of its
+    element at the point). q, q_t, ref: the set's coordinates; H (K, 9) converged history; dt time
+    since H; S scratch (SCRATCH_SLOTS, 9, 9), slots 0-8 belong to the point law.
+    mode 0: Q (n,) = sum S_k^T f_k; mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) with
+    dQ/dq = sum S^T Kx S and dQ/dq_t = sum S^T Dv S (Jp = S is constant: no geometric terms);
+    mode 2: Hn (K, 9) = history candidate. Returns the number of points in contact."""
+    K, m = idx.shape[0], idx.shape[1]
+    n = q.shape[0]
+    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
+    Kx, Dv = S[12, :3, :3], S[13, :3, :3]
+    tangent = mode == 1
+    if mode == 0:
+        for i in range(n):
+            Q[i] = 0.0
+    elif mode == 1:
+        for i in range(n):
+            for j in range(n):
+                J[i, j] = 0.0
+    ncontact = 0
+    for k in range(K):
+        for i in range(3):
+            xi, vi = c[k, i], 0.0
+            for a in range(m):
+                g = idx[k, a]
+                xi += Sm[k, i, a] * (ref[g] + q[g])
+                vi += Sm[k, i, a] * q_t[g]
+            x[i], v[i] = xi, vi
+        st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
+        if st > 0:
+            ncontact += 1
+        if mode == 2:
+            for i in range(9):
+                Hn[k, i] = hn[i]
+        elif mode == 0:
+            for a in range(m):
+                Q[idx[k, a]] += Sm[k, 0, a] * f[0] + Sm[k, 1, a] * f[1] + Sm[k, 2, a] * f[2]
+        elif st > 0:
+            # J[idx_a, idx_b] -= S_a^T (fq Kx + fv Dv) S_b
+            for a in range(m):
+                for b in range(m):
+                    s_ab = 0.0
+                    for i in range(3):
+                        if Sm[k, i, a] == 0.0:
+                            continue
+                        for j in range(3):
+                            s_ab += Sm[k, i, a] * (fq * Kx[i, j] + fv * Dv[i, j]) * Sm[k, j, b]
+                    J[idx[k, a], idx[k, b]] -= s_ab
+    return ncontact
+
+
+class LinearMap:
+    """The kinematics of a linear slave for the compiled kernels: idx (K, m) int64 set-coordinate
+    indices, S (K, 3, m) constant point Jacobians, c (K, 3) offsets; n set coordinates."""
+
+    def __init__(self, idx, S, c, n):
+        self.idx = np.ascontiguousarray(idx, dtype=np.int64)
+        self.S = np.ascontiguousarray(S, dtype=float)
+        self.c = np.ascontiguousarray(c, dtype=float)
+        self.n = int(n)
+
+
 _announced = False
 
 

@@ -41,7 +41,7 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from .fastpath import evaluate_set
+from .fastpath import LinearMap, evaluate_linear, evaluate_set
 from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
 from .geometry._core import add, dot, local_chart, scale, sub
@@ -346,29 +346,47 @@ def evaluate_covariant(mode, q, q_t, fq, fv, dt, ref, law, P, S, kind):
                         S[18, :nq, :nq], P[2], S)
 
 
+@njit(cache=True)
+def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, ref, law, P, S, idx, Sm, c, Q, J):
+    """fastpath.evaluate_linear (a linear slave: mass points, ANCF cables) with the covariant kernel."""
+    return evaluate_linear(q, q_t, ref, idx, Sm, c, P[1], law, mode, fq, fv, dt, Q, J, P[2], S)
+
+
 class CovariantSet:
     """A contact set on the covariant kernel packed for the compiled call: the law bundle (surface, nets, law parameters; named tuples), points,
     history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
 
     def __init__(self, contact_law, node_kind, ref, points):
         from .fastpath import NODE_COORDINATES, NODE_KINDS, SCRATCH_SLOTS, announce_compile
-        announce_compile(entry=evaluate_covariant)
+        announce_compile(entry=evaluate_covariant_linear if isinstance(node_kind, LinearMap) else evaluate_covariant)
         nB, nF = contact_law._nets
         self.law = CovariantLaw(contact_law.surface.params, nB, nF,
                                 LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
                                           MAP_CODES[contact_law.return_map]))
-        self.kind = NODE_KINDS[node_kind]
-        nq = NODE_COORDINATES[self.kind]
-        b = np.asarray(points, dtype=float)
+        self.linear = node_kind if isinstance(node_kind, LinearMap) else None
+        if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
+            self.kind, nq = -1, self.linear.n
+            b = np.zeros((self.linear.idx.shape[0], 3))
+        else:
+            self.kind = NODE_KINDS[node_kind]
+            nq = NODE_COORDINATES[self.kind]
+            b = np.asarray(points, dtype=float)
         self.ref = np.asarray(ref, dtype=float)
         self.P = np.zeros((3, b.shape[0], 9))
         self.P[0, :, :3] = b
         self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
         self.H, self.Hn = self.P[1], self.P[2]
-        self.Q = self.S[17, 6, :nq]
-        self.J = self.S[18, :nq, :nq]
+        if self.linear is not None:
+            self.Q, self.J = np.zeros(nq), np.zeros((nq, nq))
+        else:
+            self.Q = self.S[17, 6, :nq]
+            self.J = self.S[18, :nq, :nq]
 
     def evaluate(self, mode, q, q_t, fq, fv, dt):
+        if self.linear is not None:
+            lm = self.linear
+            return evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, self.ref, self.law, self.P, self.S, lm.idx,
+                                             lm.S, lm.c, self.Q, self.J)
         return evaluate_covariant(mode, q, q_t, fq, fv, dt, self.ref, self.law, self.P, self.S, self.kind)
 
 

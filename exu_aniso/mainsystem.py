@@ -45,9 +45,11 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         name: name string of the contact object; its history node gets name+'History', its sensors
             name+'HistorySensor' and name+'DissipationSensor'
         bodyNumber: slave body (ObjectIndex): ObjectRigidBody (EP or rotation-vector node), ObjectRigidBody2D,
-            ObjectMassPoint or ObjectMassPoint2D (localPoints=[[0, 0, 0]]), or an ObjectGenericODE2 with a
-            2-coordinate node (psi, z) for a reduced screw joint
-        localPoints: list of K body-local contact points, each a 3D list or numpy array [m]
+            ObjectMassPoint or ObjectMassPoint2D (localPoints=[[0, 0, 0]]), an ObjectGenericODE2 with a
+            2-coordinate node (psi, z) for a reduced screw joint, or ANCF cable elements: one
+            ObjectANCFCable2D / ObjectANCFCable or a list of them (one contact set for a whole rope)
+        localPoints: list of K body-local contact points, each a 3D list or numpy array [m]; for cable
+            elements [x, 0, 0] with 0 <= x <= element length, applied to every element in bodyNumber
         surface: a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution,
             ParametricSurface), in the frame of the master (ground or masterBodyNumber)
         adhesion: exu_aniso Adhesion field (B), stiffness per point [N/m]

@@ -84,6 +84,11 @@ def _particle():
                  (6.0, 6.5))
 
 
-_ENTRIES = (_block, _screw, _particle)
+def _capstan():     # no reference-engine model of the ANCF rope: the oracle is Euler-Eytelwein
+    from .scene_capstan import COLUMNS, TITLE_KEYS, CapstanParams, PlotCapstan
+    return Scene("capstan", CapstanParams, COLUMNS, TITLE_KEYS, PlotCapstan, "capstan", None, (6.0, 6.5))
+
+
+_ENTRIES = (_block, _screw, _particle, _capstan)
 
 SCENES = {s.name: s for s in (entry() for entry in _ENTRIES)}
