@@ -157,3 +157,23 @@ def test_ratio_under_refinement(kw):
 def test_wrap_beyond_half_a_turn():
     s = run(wrap_angle=300.0, mu_1=0.2, mu_2=0.2, t_end=2.5).summary
     assert abs(s["tension_ratio_error"]) < RATIO_RTOL, s
+
+
+def test_capstan_study_quick(tmp_path, quick_study):
+    """studies/capstan.py --quick (90 deg: isotropic, orthotropic mu_2 = 0.8, the net turned by 90 deg):
+    the ratios within the tolerance of exp(mu phi) along the rope, mu_2 across the rope without effect,
+    the ledger closed in every run, the report and the figure written."""
+    from exu_aniso.output import read_table
+    quick_study("capstan", tmp_path, timeout=120)
+    W = read_table(tmp_path / "wrap.csv")
+    assert W["wrap_angle [deg]"] == [90.0] and abs(W["error [-]"][0]) < RATIO_RTOL
+    O = read_table(tmp_path / "orthotropic.csv")
+    assert abs(O["ratio/isotropic_ratio-1 [-]"][0]) < 1e-9                  # mu_2 across: measured 2.8e-13
+    it = O["turn [deg]"].index(90.0)
+    assert O["mu_along_rope [-]"][it] == 0.8 and abs(O["error [-]"][it]) < RATIO_RTOL
+    assert O["tension_ratio [-]"][it] > 2.0 * W["tension_ratio [-]"][0]      # mu_2 = 0.8 now acts along the rope
+    L = read_table(tmp_path / "ledger.csv")
+    assert len(L["run [-]"]) == 3 and set(L["energy_ok [-]"]) == {"yes"}
+    report = (tmp_path / "report.md").read_text()
+    assert "python studies/capstan.py --quick" in report and "](./capstan.png)" in report
+    assert (tmp_path / "capstan.png").exists()
