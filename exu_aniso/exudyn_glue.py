@@ -28,7 +28,7 @@ from typing import NamedTuple
 
 import exudyn as exu
 import numpy as np
-from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode, SensorUserFunction
+from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
 
 from .contact import HISTORY_FIELDS, N_HISTORY, UNRESOLVED, ContactLaw
 from .validation import check_bool, check_index, check_instance, check_points
@@ -37,6 +37,7 @@ _SETS_KEY = "exu_aniso_contact_sets"
 _UNRESOLVED_KEY = "exu_aniso_unresolved_time"   # time of the last step rejected as unresolved
 _SOS = exu.ConfigurationType.StartOfStep
 _STATUS = HISTORY_FIELDS.index("status")
+_DISSIPATED = HISTORY_FIELDS.index("dissipated_energy")
 _CUR = exu.ConfigurationType.Current
 
 
@@ -451,8 +452,10 @@ class _ContactSet:
             return False
         if self.ltg is None:
             self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
+            self.ltgTotal = int(mbs.systemData.GetNodeLTGData(self.nTotal)[0])
         data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
         data[self.ltg] = H.ravel()
+        data[self.ltgTotal] = float(H[:, _DISSIPATED].sum())
         mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
         return True
 
@@ -603,7 +606,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     numpy; any configuration) or "auto" (compiled where it applies, numpy otherwise). Both give
     the same results to round-off (tests/test_fastpath.py).
 
-    Returns a dict with 'oContact' (ObjectGenericODE2), 'nData' (NodeGenericData, the history:
+    Returns a dict with 'oContact' (ObjectGenericODE2), 'nDissipation' (NodeGenericData with the set's
+    total dissipated energy [J], written with the history), 'nData' (NodeGenericData, the history:
     9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history), 'sDissipation'
     (sensor of the total dissipated energy [J]), 'law', 'points' and 'implementation' (the one used),
     and for graphics and post-processing: 'bodyNumber', 'masterBodyNumber' (as given), and three
@@ -664,6 +668,9 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
                       None, tangent=False)[0]
         h0 = st.history.ravel()
     cs.nData = mbs.AddNode(NodeGenericData(initialCoordinates=h0.tolist(), numberOfDataCoordinates=K * N_HISTORY))
+    # the set's total dissipated energy, written with the history: a C++ sensor reads it (no Python per step)
+    cs.nTotal = mbs.AddNode(NodeGenericData(initialCoordinates=[float(h0[_DISSIPATED::N_HISTORY].sum())],
+                                            numberOfDataCoordinates=1))
     nodes = slave.nodes + (master.nodes if master is not None else [])
     n = slave.n + (master.n if master is not None else 0)
     kw = {}
@@ -675,25 +682,19 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         mbs.variables[_SETS_KEY] = []
         mbs.SetPostNewtonUserFunction(_post_newton)
     mbs.variables[_SETS_KEY].append(cs)
-    out = {"oContact": oContact, "nData": cs.nData, "law": contactLaw, "points": points,
+    out = {"oContact": oContact, "nData": cs.nData, "nDissipation": cs.nTotal, "law": contactLaw, "points": points,
            "implementation": "compiled" if use_compiled else "numpy",
            # read-only views (exu_aniso.graphics); functions of (mbs, configuration=None), see _ContactSet
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
            "bodyPosition": cs.body_position}
     if storeSensors:
-        sHistory = mbs.AddSensor(SensorNode(nodeNumber=cs.nData, outputVariableType=exu.OutputVariableType.Coordinates,
-                                            storeInternal=True))
-        col = HISTORY_FIELDS.index("dissipated_energy")
-
-        def total_dissipation(mbs, t, sensorNumbers, factors, configuration):
-            h = mbs.GetSensorValues(sensorNumbers[0], configuration=configuration)
-            return [float(sum(h[col::N_HISTORY]))]
-
-        out["sHistory"] = sHistory
-        out["sDissipation"] = mbs.AddSensor(SensorUserFunction(sensorNumbers=[sHistory], factors=[1.0],
-                                                               sensorUserFunction=total_dissipation,
-                                                               storeInternal=True))
+        out["sHistory"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nData,
+                                                   outputVariableType=exu.OutputVariableType.Coordinates,
+                                                   storeInternal=True))
+        out["sDissipation"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nTotal,
+                                                       outputVariableType=exu.OutputVariableType.Coordinates,
+                                                       storeInternal=True))
     return out
 
 

@@ -62,6 +62,11 @@ def test_moving_master_gets_the_reaction_momentum_is_conserved(return_map):
     P1, L1 = momenta(mbs, [plate, block])
     diss = mbs.GetSensorValues(h["sDissipation"])
     assert float(np.ravel(diss)[0]) > 1e-3                   # the block slid on the plate
+    # the total (a C++ sensor of the set's dissipation node) is the sum over the points' history, every step
+    D, Hs = mbs.GetSensorStoredData(h["sDissipation"]), mbs.GetSensorStoredData(h["sHistory"])
+    col = 1 + HISTORY_FIELDS.index("dissipated_energy")
+    np.testing.assert_allclose(D[:, 1], Hs[:, col::len(HISTORY_FIELDS)].sum(axis=1), rtol=1e-14, atol=0)
+    assert D.shape[0] == Hs.shape[0] > 10                     # every sensor period (10 ms) of 0.3 s
     np.testing.assert_allclose(P1, P0, atol=1e-9 * 0.5)       # internal forces only: exact pairs
     np.testing.assert_allclose(L1, L0, atol=2e-3 * np.linalg.norm(L0))  # moment of the tangential pair: xi3 n x T
 
