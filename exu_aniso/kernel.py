@@ -382,12 +382,38 @@ class CovariantSet:
             self.Q = self.S[17, 6, :nq]
             self.J = self.S[18, :nq, :nq]
 
-    def evaluate(self, mode, q, q_t, fq, fv, dt):
         if self.linear is not None:
             lm = self.linear
-            return evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, self.ref, self.law, self.P, self.S, lm.idx,
-                                             lm.S, lm.c, self.Q, self.J)
-        return evaluate_covariant(mode, q, q_t, fq, fv, dt, self.ref, self.law, self.P, self.S, self.kind)
+            self._fn, self._tail = evaluate_covariant_linear, (self.ref, self.law, self.P, self.S, lm.idx, lm.S, lm.c,
+                                                                self.Q, self.J)
+        else:
+            self._fn, self._tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.kind)
+        self._entry = None
+
+    def evaluate(self, mode, q, q_t, fq, fv, dt):
+        """One compiled call (mode: see evaluate_covariant); q, q_t: the set's coordinates."""
+        q = np.ascontiguousarray(q, dtype=np.float64)
+        q_t = np.ascontiguousarray(q_t, dtype=np.float64)
+        args = (int(mode), q, q_t, float(fq), float(fv), float(dt)) + self._tail
+        if self._entry is None:
+            self._entry = _entry_point(self._fn, args)
+        return self._entry(*args)
+
+
+def _entry_point(fn, args):
+    """The compiled function of the numba dispatcher fn for the types of args, called directly.
+
+    numba's type dispatch of every call costs ~2 us here, most of it typing the nested named tuple
+    of the law bundle (studies/levers.py); the types of a set's arguments never change (the caller
+    passes C-contiguous float64 arrays, floats and ints), so the dispatch is done once. Falls back to
+    the dispatcher if numba's API for it is not there."""
+    from numba import typeof
+    try:
+        sig = tuple(typeof(a) for a in args)
+        fn.compile(sig)
+        return fn.overloads[sig].entry_point
+    except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
+        return fn
 
 
 _PLAIN = None

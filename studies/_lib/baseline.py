@@ -30,6 +30,18 @@ baseline is *our law in pure stick with isotropic adhesion*, which is a linear s
   (exact for points on the x and y axes, off-diagonal coupling dropped elsewhere: the cheapest C++
   spring per point; it starts with the interference preload like our normal penalty).
 
+The floor: the same C++ springs plus the Exudyn items of one contact set with user functions that
+do nothing (``_empty_callbacks``): an ``ObjectGenericODE2`` on the body's node whose force and
+Jacobian user functions return zeros, the history data nodes with their two C++ sensors and a
+post-Newton function that accepts the step. It costs what the callbacks cost without any
+contact computation, so ours - floor is the contact itself and floor - C++ is Exudyn's price of
+calling Python.
+
+Settings: every row is measured at the package's solver settings ("package": full Newton,
+relative and absolute tolerance 1e-10, ``SimulationSettingsFor``) and at Exudyn's defaults
+("exudyn": the Newton settings of a fresh ``exu.SimulationSettings()``: modified Newton, relative
+tolerance 1e-8, absolute 1e-10), the same step and integrator for ours, the floor and the C++ model.
+
 The scenes themselves are built by ``BuildBlock`` / ``BuildScrew`` (their ``contactBuilder`` hook
 puts the springs where the anisotropic contact would go), so bodies, loads, drives, sensors and
 settings are the same items: C++ loads for "force"/"torque", the same Python ``AddNodeDrive`` for
@@ -43,8 +55,12 @@ import time
 
 import numpy as np
 from exu_aniso.models.block import SolveTimed
+import exudyn as exu
 from exudyn.itemInterface import (
     MarkerBodyPosition,
+    NodeGenericData,
+    ObjectGenericODE2,
+    SensorNode,
     MarkerNodeCoordinate,
     NodePointGround,
     ObjectConnectorCartesianSpringDamper,
@@ -67,10 +83,48 @@ def _cartesian_springs(mbs, bodyNumber, localPoints, anchors, stiffness):
     return dict(springs=springs, points=np.asarray(localPoints))
 
 
-def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.8, newtonTolerance=1e-10):
+def _empty_callbacks(mbs, node, K):
+    """The Exudyn items of one contact set of K points on node with user functions that do nothing
+    (the floor; module doc)."""
+    from exu_aniso.contact import N_HISTORY
+    n = len(mbs.GetNodeParameter(node, "referenceCoordinates"))
+    zq, zJ = np.zeros(n), np.zeros((n, n))
+
+    def force(mbs, t, itemNumber, q, q_t):
+        return zq
+
+    def jacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        return zJ
+
+    mbs.AddObject(ObjectGenericODE2(nodeNumbers=[node], massMatrix=zJ, forceUserFunction=force,
+                                    jacobianUserFunction=jacobian))
+    for size in (K * N_HISTORY, 1):
+        nd = mbs.AddNode(NodeGenericData(initialCoordinates=[0.0] * size, numberOfDataCoordinates=size))
+        mbs.AddSensor(SensorNode(nodeNumber=nd, outputVariableType=exu.OutputVariableType.Coordinates,
+                                 storeInternal=True))
+    mbs.SetPostNewtonUserFunction(lambda mbs, t: [0.0, -1.0])
+
+
+def apply_settings(model, settings):
+    """Newton settings of a built model: "package" (as built) or "exudyn" (a fresh
+    exu.SimulationSettings()'s Newton settings; module doc)."""
+    if settings == "package":
+        return model
+    if settings != "exudyn":
+        raise ValueError(f"settings must be 'package' or 'exudyn'; got {settings!r}")
+    d, n = exu.SimulationSettings().timeIntegration.newton, model["simulationSettings"].timeIntegration.newton
+    n.useModifiedNewton = d.useModifiedNewton
+    n.relativeTolerance = d.relativeTolerance
+    n.absoluteTolerance = d.absoluteTolerance
+    n.maxIterations = d.maxIterations
+    return model
+
+
+def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
+                       emptyCallbacks=False):
     """The block scene of ``BuildBlock`` (same body, loads, drive, sensors, settings) with C++
-    Cartesian spring-dampers at the contact points (see module doc). Returns BuildBlock's dict
-    plus 'springs'."""
+    Cartesian spring-dampers at the contact points (see module doc); emptyCallbacks: plus the
+    floor's do-nothing contact items. Returns BuildBlock's dict plus 'springs'."""
     from exu_aniso.models.block import BuildBlock
 
     def springs(mbs, oBlock, local):
@@ -82,6 +136,8 @@ def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.
         else:                     # anchor on the plane: the normal spring starts with the static penetration
             anchors = np.column_stack([local[:, 0] + p.x0, local[:, 1] + p.y0, np.zeros(K)])
             k = [kt, kt, kn]
+        if emptyCallbacks:
+            _empty_callbacks(mbs, mbs.GetObject(oBlock)["nodeNumber"], K)
         return _cartesian_springs(mbs, oBlock, local, anchors, [k] * K)
 
     model = BuildBlock(p, nodeType=nodeType, solverType=solverType, rhoInf=rhoInf, newtonTolerance=newtonTolerance,
@@ -91,7 +147,7 @@ def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.
 
 
 def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
-                       symmetry=True):
+                       symmetry=True, emptyCallbacks=False):
     """The screw scene of ``BuildScrew`` with C++ spring-dampers per evaluated contact point (see
     module doc; symmetry as in BuildScrew, reduced model only). Returns BuildScrew's dict plus
     'springs'."""
@@ -104,6 +160,9 @@ def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rho
     def springs(mbs, oScrew, local):
         K = len(local)
         kt, kn = p.eps_1 / K, p.eps_n / K
+        if emptyCallbacks:
+            obj = mbs.GetObject(oScrew)
+            _empty_callbacks(mbs, obj["nodeNumber"] if "nodeNumber" in obj else obj["nodeNumbers"][0], K)
         if p.model == "reduced":  # coordinate springs on (psi, z), one pair per evaluated point
             node = mbs.GetObject(oScrew)["nodeNumbers"][0]
             mPsi, mZ = (mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=node, coordinate=i)) for i in (0, 1))
@@ -126,11 +185,12 @@ def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rho
     return model
 
 
-def RunBaseline(scene, p, **options):
-    """Build and solve a baseline model; returns (model, cpu_s, steps, newton_iterations) with the
+def RunBaseline(scene, p, settings="package", **options):
+    """Build and solve a baseline model (options: Build*Baseline's, e.g. emptyCallbacks=True for the
+    floor; settings: apply_settings); returns (model, cpu_s, steps, newton_iterations) with the
     process CPU time of SolveDynamic (model building excluded)."""
     build = {"block": BuildBlockBaseline, "screw": BuildScrewBaseline}[scene]
-    model = build(p, **options)
+    model = apply_settings(build(p, **options), settings)
     c0 = time.process_time()
     _, steps, iters, _ = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
     return model, time.process_time() - c0, steps, iters
@@ -166,61 +226,72 @@ RATIO_SCENES = [
 
 
 def ratio_case(case):
-    """One ratio-table row: median CPU time per step of ours and of the baseline (process CPU
-    time of SolveDynamic; interleaved repeats)."""
+    """One ratio-table row: median CPU time per step of ours, of the floor and of the C++ baseline
+    at case["settings"] (process CPU time of SolveDynamic; the three interleaved in every repeat)."""
     from exu_aniso.models.block import BuildBlock
     from exu_aniso.models.screw import BuildScrew
 
     P = BlockParams if case["scene"] == "block" else ScrewParams
     p = P(**case["params"])
     build = BuildBlock if case["scene"] == "block" else BuildScrew
+    settings = case.get("settings", "package")
     base_opts = {k: v for k, v in case.get("options", {}).items() if k == "symmetry"}
     warm = p.with_overrides(t_end=5 * p.dt)           # first-call costs (imports, numba cache) untimed
     SolveTimed(*[build(warm, **case.get("options", {}))[k] for k in ("mbs", "simulationSettings", "solverType")])
     RunBaseline(case["scene"], warm, **base_opts)
-    ours, base = [], []
+    ours, base, floor = [], [], []
     for _ in range(case["repeats"]):
-        model = build(p, **case.get("options", {}))
+        model = apply_settings(build(p, **case.get("options", {})), settings)
         c0 = time.process_time()
         _, s, it, _ = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
         ours.append((time.process_time() - c0, s, it))
         impl = model["contact"].get("implementation", "numpy")
         K_eval = len(model["contact"]["points"])          # points ours evaluates (1 under screw symmetry)
-        _, c, s, it = RunBaseline(case["scene"], p, **base_opts)
+        _, c, s, it = RunBaseline(case["scene"], p, settings, **base_opts)
         base.append((c, s, it))
-    o, b = np.array(ours, dtype=float), np.array(base, dtype=float)
-    o_step, b_step = np.median(o[:, 0] / o[:, 1]), np.median(b[:, 0] / b[:, 1])
-    o_it, b_it = np.median(o[:, 0] / o[:, 2]), np.median(b[:, 0] / b[:, 2])
-    return dict(scene=case["scene"], model=p.model, drive=case["drive"], contact=impl, K=K_eval,
-                ours_step_s=float(o_step), base_step_s=float(b_step), ratio_step=float(o_step / b_step),
+        _, c, s, it = RunBaseline(case["scene"], p, settings, emptyCallbacks=True, **base_opts)
+        floor.append((c, s, it))
+    o, b, f = (np.array(x, dtype=float) for x in (ours, base, floor))
+    o_step, b_step, f_step = (float(np.median(x[:, 0] / x[:, 1])) for x in (o, b, f))
+    o_it, b_it, f_it = (float(np.median(x[:, 0] / x[:, 2])) for x in (o, b, f))
+    return dict(scene=case["scene"], model=p.model, drive=case["drive"], settings=settings, contact=impl, K=K_eval,
+                ours_step_s=o_step, base_step_s=b_step, floor_step_s=f_step, ratio_step=o_step / b_step,
+                floor_ratio_step=f_step / b_step,
                 ours_newton_per_step=float(np.median(o[:, 2] / o[:, 1])),
                 base_newton_per_step=float(np.median(b[:, 2] / b[:, 1])),
-                ratio_per_newton=float(o_it / b_it))
+                ratio_per_newton=o_it / b_it, floor_ratio_per_newton=f_it / b_it)
 
 
 def ratio_cases(quick, repeats, extra_options=None):
     t_end, dt = (0.05, 1e-3) if quick else (0.2, 1e-3)
     return [dict(scene=s, params=dict(model=m, t_end=t_end, dt=dt, **ov), options={**(extra_options or {}), **opts},
-                 repeats=repeats, drive=drv) for s, m, ov, drv, opts in RATIO_SCENES]
+                 repeats=repeats, drive=drv, settings=st)
+            for st in SETTINGS for s, m, ov, drv, opts in RATIO_SCENES]
 
+
+SETTINGS = ("package", "exudyn")
 
 # columns of baseline.csv (benchmarks.py and baseline.py)
-BASE_COLUMNS = ["scene [-]", "model [-]", "drive [-]", "contact_impl [-]", "K [-]", "ours_per_step [s]", "baseline_per_step [s]",
-                "ours_over_baseline [-]", "ours_newton_per_step [-]", "baseline_newton_per_step [-]",
-                "ours_over_baseline_per_newton [-]"]
+BASE_COLUMNS = ["scene [-]", "model [-]", "drive [-]", "settings [-]", "contact_impl [-]", "K [-]",
+                "ours_per_step [s]", "floor_per_step [s]", "baseline_per_step [s]", "ours_over_baseline [-]",
+                "floor_over_baseline [-]", "ours_newton_per_step [-]", "baseline_newton_per_step [-]",
+                "ours_over_baseline_per_newton [-]", "floor_over_baseline_per_newton [-]"]
 
 
 def table_rows(rows):
     """Rows of baseline.csv (BASE_COLUMNS) from ratio_case results."""
-    return [[r["scene"], r["model"], r["drive"], r["contact"], r["K"], r["ours_step_s"], r["base_step_s"], r["ratio_step"],
-             r["ours_newton_per_step"], r["base_newton_per_step"], r["ratio_per_newton"]] for r in rows]
+    return [[r["scene"], r["model"], r["drive"], r["settings"], r["contact"], r["K"], r["ours_step_s"], r["floor_step_s"],
+             r["base_step_s"], r["ratio_step"], r["floor_ratio_step"], r["ours_newton_per_step"],
+             r["base_newton_per_step"], r["ratio_per_newton"], r["floor_ratio_per_newton"]] for r in rows]
 
 
 def print_ratio_table(rows, file=None):
     file = sys.stdout if file is None else file
-    print(f"{'scene':6s} {'model':8s} {'drive':24s} {'contact':8s} {'K':>3s} {'ours CPU/step [ms]':>18s} {'C++ CPU/step [ms]':>17s} "
-          f"{'ours/C++':>9s} {'Newton/step ours':>17s} {'C++':>5s} {'ratio per Newton it.':>21s}", file=file)
+    print(f"{'scene':6s} {'model':8s} {'drive':24s} {'settings':8s} {'K':>3s} {'ours us/step':>12s} "
+          f"{'floor':>8s} {'C++':>8s} {'ours/C++':>9s} {'floor/C++':>10s} {'Newton/step ours':>17s} {'C++':>5s}",
+          file=file)
     for r in rows:
-        print(f"{r['scene']:6s} {r['model']:8s} {r['drive']:24s} {r['contact']:8s} {r['K']:3d} {r['ours_step_s'] * 1e3:18.3f} {r['base_step_s'] * 1e3:17.3f} "
-              f"{r['ratio_step']:9.2f} {r['ours_newton_per_step']:17.2f} {r['base_newton_per_step']:5.2f} "
-              f"{r['ratio_per_newton']:21.2f}", file=file)
+        print(f"{r['scene']:6s} {r['model']:8s} {r['drive']:24s} {r['settings']:8s} {r['K']:3d} "
+              f"{r['ours_step_s'] * 1e6:12.1f} {r['floor_step_s'] * 1e6:8.1f} {r['base_step_s'] * 1e6:8.1f} "
+              f"{r['ratio_step']:9.2f} {r['floor_ratio_step']:10.2f} {r['ours_newton_per_step']:17.2f} "
+              f"{r['base_newton_per_step']:5.2f}", file=file)
