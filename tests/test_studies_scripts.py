@@ -85,8 +85,9 @@ def test_bench_kernels_quick(tmp_path, quick_study):
 def test_baseline_quick(tmp_path, quick_study):
     quick_study("baseline", tmp_path, timeout=120)
     B = read_table(tmp_path / "baseline.csv")
-    assert len(B["scene [-]"]) == 8
+    assert len(B["scene [-]"]) == 16 and sorted(set(B["settings [-]"])) == ["exudyn", "package"]
     assert all(v > 0 for v in B["ours_over_baseline [-]"]) and "ours/C++" in (tmp_path / "report.md").read_text()
+    assert all(v > 0 for v in B["floor_per_step [s]"])
 
 
 def test_run_all_quick_assembles_the_document(tmp_path, quick_study):
