@@ -207,7 +207,7 @@ def test_solution_viewer_state_is_drawn(tmp_path):
     mbs.SolveDynamic(ss, solverType=exu.DynamicSolverType.TrapezoidalIndex2)
     H = mbs.GetSensorStoredData(contact["sHistory"])         # every step, stored apart from the file
     sol = LoadSolutionFile(str(tmp_path / "solution.txt"), verbose=False)
-    assert sol["columnsExported"][6] == len(LOCAL) * N_HISTORY
+    assert sol["columnsExported"][6] == len(LOCAL) * N_HISTORY + 1       # history and the set's total dissipation
     seen = set()
     start = None
     for row in range(sol["nRows"]):
