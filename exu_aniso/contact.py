@@ -95,6 +95,11 @@ class ContactLaw:
         self.d_T = check_nonnegative("tangential_damping", tangential_damping)
         self.return_map = check_return_map(return_map)
 
+    @property
+    def nets(self):
+        """(adhesion net, friction net): the fields as the kernel evaluates them (exu_aniso.nets)."""
+        return self._nets
+
     def __repr__(self):
         return (f"ContactLaw({self.surface!r}, {self.adhesion!r}, {self.friction!r}, "
                 f"normal_stiffness={self.eps_N}, normal_damping={self.d_N}, tangential_damping={self.d_T}, "

@@ -43,15 +43,12 @@ from typing import NamedTuple
 import numpy as np
 
 from .contact import HISTORY_FIELDS, N_HISTORY
-from .law import elastic_energy_batch
 
 ENERGY_TOLERANCE = 1e-2
 """Relative residual above which a run's ledger does not close (``energy_ok`` false, warning)."""
 
 LEDGER_KEYS = ("work_in", "kinetic", "potential", "stored", "dissipated", "residual")
 
-_T = [HISTORY_FIELDS.index("traction_1"), HISTORY_FIELDS.index("traction_2")]
-_A = [HISTORY_FIELDS.index("anchor_1"), HISTORY_FIELDS.index("anchor_2")]
 _ACTIVE = HISTORY_FIELDS.index("active")
 _NORMAL = HISTORY_FIELDS.index("normal")
 _DISS = HISTORY_FIELDS.index("dissipated_energy")
@@ -122,12 +119,7 @@ def stored_tangential(H, law):
     points in contact, C = -B at the stored contact point."""
     H = _history(H)
     n, K, _ = H.shape
-    rows = H.reshape(n * K, N_HISTORY)
-    active = rows[:, _ACTIVE] > 0.5
-    E = np.zeros(n * K)
-    if np.any(active):
-        E[active] = elastic_energy_batch(rows[active][:, _T], law.adhesion_components(rows[active][:, _A]))
-    return E.reshape(n, K).sum(axis=1)
+    return law.released_energy(H.reshape(n * K, N_HISTORY)).reshape(n, K).sum(axis=1)
 
 
 def stored_normal(H, law):

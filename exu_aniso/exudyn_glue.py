@@ -483,7 +483,7 @@ class _CompiledSet(_ContactSet):
             self._dt = self.step_time(mbs, t)
 
     def _eval(self, mode, q, q_t, fq=0.0, fv=0.0):
-        self.pk.evaluate(mode, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), fq, fv, self._dt)
+        self.pk.evaluate(mode, q, q_t, fq, fv, self._dt)
 
     def force(self, mbs, t, itemNumber, q, q_t):
         self._load_history(mbs, t)

@@ -51,7 +51,6 @@ class TensorField:
         self.lam = lam                  # eigenvalues of the positive tensor (C or F)
         self.angle = angle
         self.core_radius = core_radius
-        self.sign = -1.0 if kind == _ADHESION else 1.0
         self.label = label
         if matrix is not None:          # constant components given directly (positive tensor)
             self._const = np.array(matrix, dtype=float)
@@ -64,10 +63,6 @@ class TensorField:
 
     def __repr__(self):
         return f"{'Adhesion' if self.kind == _ADHESION else 'Friction'}.{self.label}"
-
-    @property
-    def is_constant(self):
-        return self._const is not None
 
 
 _USER_SIGNATURE = None

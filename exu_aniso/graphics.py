@@ -180,7 +180,7 @@ def _net_field(law):
     xi1 coordinate line: plane e_x, cylinder e_phi), from the nets the kernel evaluates."""
     from .nets import OrthotropicNet, PolarNet, SpiralNet
     surf = law.surface
-    nets = law._nets
+    nets = law.nets
     if any(isinstance(n, PolarNet) for n in nets):
         return "polar", 0.0
     for n in nets:

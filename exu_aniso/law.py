@@ -294,27 +294,31 @@ def return_map_point(T_tr, N_abs, B, F, method="exact", tangent=True):
     check_nonnegative("N_abs", N_abs)
     check_definite_components("B", B, sign=-1.0)
     check_definite_components("F", F)
-    r = return_map_batch(np.reshape(np.asarray(T_tr, dtype=float), (1, 2)), [float(N_abs)], [B], [F], method,
-                         tangent, _checked=True)
+    r = _return_map_rows(np.reshape(np.asarray(T_tr, dtype=float), (1, 2)), [float(N_abs)], [B], [F], method,
+                         tangent)
     return LawResult(r.T[0], int(r.state[0]), r.slip[0], float(r.dissipation[0]), float(r.kappa[0]),
                      float(r.phi_trial[0]), None if r.dT is None else r.dT[0])
 
 
-def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True, _checked=False):
+def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True):
     """Return map for K points at once. Shapes: T_tr (K, 2), N_abs (K,), B and F (K, 3).
 
     Same function as return_map_point, one compiled loop; a point with |N| = 0 and a non-zero
     trial traction returns T = 0 (sliding without load).
     Bad input raises ValueError/TypeError naming the argument, as in return_map_point.
     """
-    if not _checked:
-        check_return_map(method, "method")
-        K = check_array("T_tr", T_tr, (None, 2)).shape[0]
-        N = check_array("N_abs", N_abs, (K,))
-        if np.any(N < 0.0):
-            raise ValueError(f"N_abs must be >= 0 (it is |N|); got {N[N < 0.0][:5].tolist()}")
-        check_definite_components("B", B, sign=-1.0, shape=(K, 3))
-        check_definite_components("F", F, shape=(K, 3))
+    check_return_map(method, "method")
+    K = check_array("T_tr", T_tr, (None, 2)).shape[0]
+    N = check_array("N_abs", N_abs, (K,))
+    if np.any(N < 0.0):
+        raise ValueError(f"N_abs must be >= 0 (it is |N|); got {N[N < 0.0][:5].tolist()}")
+    check_definite_components("B", B, sign=-1.0, shape=(K, 3))
+    check_definite_components("F", F, shape=(K, 3))
+    return _return_map_rows(T_tr, N_abs, B, F, method, tangent)
+
+
+def _return_map_rows(T_tr, N_abs, B, F, method, tangent):
+    """return_map_batch on checked inputs: one compiled loop over the rows."""
     T_tr = np.ascontiguousarray(T_tr, dtype=float)
     K = T_tr.shape[0]
     N = np.ascontiguousarray(N_abs, dtype=float).reshape(K)

@@ -115,13 +115,6 @@ def check_bool(name, value):
     return bool(value)
 
 
-def check_choice(name, value, choices):
-    """One of the given names (strings)."""
-    if not isinstance(value, str) or value not in choices:
-        raise ValueError(f"{name} must be one of {tuple(choices)}; got {value!r}")
-    return value
-
-
 def check_instance(name, value, cls, what=None):
     """An instance of cls (a class or a tuple of classes); what: how to name the expected type."""
     if not isinstance(value, cls):
