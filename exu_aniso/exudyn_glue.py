@@ -30,6 +30,7 @@ import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
 
+from .fastpath import stage_candidate
 from .contact import HISTORY_FIELDS, N_HISTORY, UNRESOLVED, ContactLaw
 from .validation import check_bool, check_index, check_instance, check_points
 
@@ -334,7 +335,6 @@ class _ContactSet:
         self.master = master
         self.K = slave.number_of_points(points)
         self.nData = None
-        self.ltg = None
 
     def _split(self, q, q_t):
         ns = self.slave.n
@@ -436,35 +436,47 @@ class _ContactSet:
         if np.any(tg.damping):
             Kq += np.einsum("kia,kij,kjc->ac", Jp, tg.damping, tg.dv)
 
-    def commit_candidate(self, mbs, t):
-        """Evaluate at the converged state (time t) and write the history candidate to Current.
-        Returns False (nothing written) when a contact point's motion in the step is unresolved."""
-        nodes = [self.slave] + ([self.master] if self.master is not None else [])
-        q = np.concatenate([nd.coordinates(mbs, exu.OutputVariableType.Coordinates, _CUR) for nd in nodes])
-        q_t = np.concatenate([nd.coordinates(mbs, exu.OutputVariableType.Coordinates_t, _CUR) for nd in nodes])
+    def candidate(self, mbs, t, q, q_t):
+        """The history candidate (K, 9) at the converged state q, q_t (the set's coordinates) at time
+        t, or None when a contact point's motion in the step is unresolved."""
         H = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))[0].history
-        return self._write_candidate(mbs, H)
+        return None if np.any(H[:, _STATUS] == UNRESOLVED) else H
 
-    def _write_candidate(self, mbs, H):
-        """Write the history candidate H (K, 9) to the Current data coordinates of the history node;
-        returns False and writes nothing if a point's status is UNRESOLVED."""
-        if np.any(H[:, _STATUS] == UNRESOLVED):
+    def stage(self, mbs, t, q, q_t, data):
+        """Put the history candidate at the converged state q, q_t (the set's coordinates) into the
+        data coordinates; False (nothing written) when a point's step is unresolved."""
+        H = self.candidate(mbs, t, q, q_t)
+        if H is None:
             return False
-        if self.ltg is None:
-            self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=int)
-            self.ltgTotal = int(mbs.systemData.GetNodeLTGData(self.nTotal)[0])
-        data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
         data[self.ltg] = H.ravel()
-        data[self.ltgTotal] = float(H[:, _DISSIPATED].sum())
-        mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+        data[self.ltgTotal] = H[:, _DISSIPATED].sum()
         return True
+
+    def locate(self, mbs, oContact):
+        """Remember where the set's coordinates and history live in the system vectors (after
+        Assemble): ODE2 indices of the contact object, data indices of the history and total."""
+        self.oContact = oContact
+        self.ltgODE2 = None
+
+    def _indices(self, mbs):
+        self.ltgODE2 = np.asarray(mbs.systemData.GetObjectLTGODE2(self.oContact), dtype=np.int64)
+        self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=np.int64)
+        self.ltgTotal = int(mbs.systemData.GetNodeLTGData(self.nTotal)[0])
 
 
 class _CompiledSet(_ContactSet):
     """The same contact set evaluated by the compiled kernel ``exu_aniso.fastpath`` (ground
     master, a surface numba compiles): one compiled call per user function on arrays packed once
-    (``kernel.CovariantSet``). The converged history is copied into the packed arrays once per
-    Newton solve (it only changes when a step is accepted)."""
+    (``kernel.CovariantSet``).
+
+    What is not recomputed:
+    * the converged history is copied into the packed arrays once per Newton solve (it changes only
+      when a step is accepted), from the candidate this set committed when Exudyn accepted that
+      step (the start-of-step time equals the commit time), else read from Exudyn (a rejected step,
+      the first step);
+    * every residual (mode 0) also leaves its history candidate and its state; the post-Newton commit
+      takes the candidate of the last residual when that state is the converged one (it is: Newton
+      stops after a residual), and evaluates afresh otherwise."""
 
     def __init__(self, mbs, law, slave, points, master):
         super().__init__(mbs, law, slave, points, master)
@@ -473,34 +485,65 @@ class _CompiledSet(_ContactSet):
         # a linear slave (mass points, cables) goes to fastpath.evaluate_linear, a rigid one to evaluate_set
         kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
         self.pk = CovariantSet(law, kind, slave.ref, points)
-        self._H_time = None
+        self._t = None                        # time of the Newton solve whose history pk.H holds
         self._dt = 0.0
+        self._committed = np.zeros_like(self.pk.Hn)   # the last candidate committed ...
+        self._committed_t = None                      # ... at this time
+        self.recomputed = 0                   # commits that had to evaluate afresh (diagnostics)
+        # the compiled function itself (numba's dispatch done once) and its packed arguments; Exudyn
+        # passes q, q_t as lists of floats (np.array makes them float64 arrays) and fODE2, fODE2_t as floats
+        self._entry, self._tail = self.pk.entry(), self.pk.tail
 
     def _load_history(self, mbs, t):
-        if t != self._H_time:
+        t0 = mbs.systemData.GetTime(_SOS)
+        if t0 == self._committed_t:           # the step this set committed was accepted
+            self.pk.H[:] = self._committed
+        else:
             self.pk.H[:] = self.history(mbs, _SOS)
-            self._H_time = t
-            self._dt = self.step_time(mbs, t)
-
-    def _eval(self, mode, q, q_t, fq=0.0, fv=0.0):
-        self.pk.evaluate(mode, q, q_t, fq, fv, self._dt)
+        self._t = t
+        self._dt = t - t0
 
     def force(self, mbs, t, itemNumber, q, q_t):
-        self._load_history(mbs, t)
-        self._eval(0, q, q_t)
+        if t != self._t:
+            self._load_history(mbs, t)
+        self._entry(0, np.array(q), np.array(q_t), 0.0, 0.0, self._dt, *self._tail)
         return self.pk.Q
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
-        self._load_history(mbs, t)
-        self._eval(1, q, q_t, fODE2, fODE2_t)
+        if t != self._t:
+            self._load_history(mbs, t)
+        self._entry(1, np.array(q), np.array(q_t), fODE2, fODE2_t, self._dt, *self._tail)
         return self.pk.J
 
-    def commit_candidate(self, mbs, t):
-        self._load_history(mbs, t)            # usually loaded already by this Newton solve's residuals
-        self._eval(2, self.slave.coordinates(mbs, exu.OutputVariableType.Coordinates, _CUR),
-                   self.slave.coordinates(mbs, exu.OutputVariableType.Coordinates_t, _CUR))
-        self._H_time = None                   # the next Newton solve reads the history afresh
-        return self._write_candidate(mbs, self.pk.Hn)
+    def stage(self, mbs, t, q, q_t, data):
+        if t != self._t:
+            self._load_history(mbs, t)
+        code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, data, self.ltg, self.ltgTotal, self._committed)
+        if code == 1:                         # the last residual was not at the converged state
+            self.recomputed += 1
+            self._entry(2, q, q_t, 0.0, 0.0, self._dt, *self._tail)
+            self.pk.X[0] = q                  # the candidate now belongs to this state
+            self.pk.X[1] = q_t
+            code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, data, self.ltg, self.ltgTotal, self._committed)
+        if code == 0:
+            self._committed_t = t
+        return code == 0
+
+
+def _commit(mbs, t, sets):
+    """Write the history candidates of the contact sets at the converged state of time t to the
+    Current data coordinates, with one read and one write of them for all sets. Returns False and
+    writes nothing when a set's step is unresolved."""
+    q = mbs.systemData.GetODE2Coordinates(configuration=_CUR)
+    q_t = mbs.systemData.GetODE2Coordinates_t(configuration=_CUR)
+    data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
+    for cs in sets:
+        if cs.ltgODE2 is None:
+            cs._indices(mbs)
+        if not cs.stage(mbs, t, q[cs.ltgODE2], q_t[cs.ltgODE2], data):
+            return False
+    mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+    return True
 
 
 def _body_node(mbs, bodyNumber):
@@ -565,11 +608,10 @@ def _post_newton(mbs, t):
     """Commit every contact set's history candidate; if any set saw an unresolved step, reject the
     step and ask Exudyn to repeat it with a quarter of the step size (Exudyn restores Current
     from StartOfStep, so sets already written leave no trace)."""
-    for cs in mbs.variables[_SETS_KEY]:
-        if not cs.commit_candidate(mbs, t):
-            h = t - mbs.systemData.GetTime(_SOS)
-            mbs.variables[_UNRESOLVED_KEY] = t
-            return [1.0, UNRESOLVED_STEP_FACTOR * h]
+    if not _commit(mbs, t, mbs.variables[_SETS_KEY]):
+        h = t - mbs.systemData.GetTime(_SOS)
+        mbs.variables[_UNRESOLVED_KEY] = t
+        return [1.0, UNRESOLVED_STEP_FACTOR * h]
     return [0.0, -1.0]
 
 
@@ -678,6 +720,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         kw["jacobianUserFunction"] = cs.jacobian
     oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, massMatrix=np.zeros((n, n)),
                                                forceUserFunction=cs.force, **kw))
+    cs.locate(mbs, oContact)
     if _SETS_KEY not in mbs.variables:
         mbs.variables[_SETS_KEY] = []
         mbs.SetPostNewtonUserFunction(_post_newton)

@@ -89,7 +89,9 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             dQ/dq = sum Jp^T Kx Jp + sum f . dJp/dq + sum Jp^T Dv (dJp/dq q_t), dQ/dq_t = sum Jp^T Dv Jp
             (lever arms and point velocities turning with the body; see exudyn_glue
             _BodyKinematics.point_derivatives; rotation-vector nodes by the local increment);
-    mode 2: Hn (K, 9) = history candidate. Returns the number of points in contact."""
+    mode 2: Hn (K, 9) = history candidate (mode 0 writes it too: the post-Newton commit takes it
+            from the last residual, evaluated at the converged state). Returns the number of points
+            in contact, or -1 when a point's motion in the step is unresolved (status 3)."""
     nq = q.shape[0]
     K = b.shape[0]
     # scratch views of S (slots 0-8 belong to contact_point)
@@ -122,6 +124,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             Q[i] = 0.0
     geo = 0.0
     ncontact = 0
+    unresolved = False
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
         if kind == 0 or kind == 1:
@@ -174,9 +177,12 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
         st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
         if st > 0:
             ncontact += 1
-        if mode == 2:
+        if st == 3:
+            unresolved = True
+        if mode != 1:
             for i in range(9):
                 Hn[k, i] = hn[i]
+        if mode == 2:
             continue
         if mode == 0:
             for j in range(nq):
@@ -272,7 +278,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
         for i in range(nq):
             for j in range(nq):
                 J[i, j] = -(fq * Kq[i, j] + fv * Dq[i, j])
-    return ncontact
+    return -1 if unresolved else ncontact
 
 
 @njit(cache=True)
@@ -284,7 +290,8 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
     since H; S scratch (SCRATCH_SLOTS, 9, 9), slots 0-8 belong to the point law.
     mode 0: Q (n,) = sum S_k^T f_k; mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) with
     dQ/dq = sum S^T Kx S and dQ/dq_t = sum S^T Dv S (Jp = S is constant: no geometric terms);
-    mode 2: Hn (K, 9) = history candidate. Returns the number of points in contact."""
+    mode 2: Hn (K, 9) = history candidate (mode 0 too). Returns the number of points in contact, or
+    -1 when a point's motion in the step is unresolved."""
     K, m = idx.shape[0], idx.shape[1]
     n = q.shape[0]
     x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
@@ -298,6 +305,7 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
             for j in range(n):
                 J[i, j] = 0.0
     ncontact = 0
+    unresolved = False
     for k in range(K):
         for i in range(3):
             xi, vi = c[k, i], 0.0
@@ -309,13 +317,15 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
         st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
         if st > 0:
             ncontact += 1
-        if mode == 2:
+        if st == 3:
+            unresolved = True
+        if mode != 1:
             for i in range(9):
                 Hn[k, i] = hn[i]
-        elif mode == 0:
+        if mode == 0:
             for a in range(m):
                 Q[idx[k, a]] += Sm[k, 0, a] * f[0] + Sm[k, 1, a] * f[1] + Sm[k, 2, a] * f[2]
-        elif st > 0:
+        elif mode == 1 and st > 0:
             # J[idx_a, idx_b] -= S_a^T (fq Kx + fv Dv) S_b
             for a in range(m):
                 for b in range(m):
@@ -326,7 +336,32 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
                         for j in range(3):
                             s_ab += Sm[k, i, a] * (fq * Kx[i, j] + fv * Dv[i, j]) * Sm[k, j, b]
                     J[idx[k, a], idx[k, b]] -= s_ab
-    return ncontact
+    return -1 if unresolved else ncontact
+
+
+@njit(cache=True)
+def stage_candidate(X, q, q_t, Hn, data, ltg, ltg_total, kept):
+    """Post-Newton commit of one contact set, compiled (numpy calls on arrays of a few numbers cost
+    more than the work): if the state (q, q_t) of the last residual, X (2, n), is the converged
+    state q, q_t, and no point's step is unresolved (status 3 in column 7), copy the candidate Hn
+    (K, 9) into the data coordinates at ltg (K * 9 indices) and kept, and its total dissipation
+    (column 5) into data[ltg_total]. Returns 0 (written), 1 (the last residual was at another
+    state: evaluate the candidate afresh, nothing written) or -1 (unresolved, nothing written)."""
+    for i in range(q.shape[0]):
+        if X[0, i] != q[i] or X[1, i] != q_t[i]:
+            return 1
+    K = Hn.shape[0]
+    for k in range(K):
+        if Hn[k, 7] == 3.0:
+            return -1
+    total = 0.0
+    for k in range(K):
+        for j in range(9):
+            data[ltg[9 * k + j]] = Hn[k, j]
+            kept[k, j] = Hn[k, j]
+        total += Hn[k, 5]
+    data[ltg_total] = total
+    return 0
 
 
 class LinearMap:

@@ -338,17 +338,29 @@ def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
 
 
 @njit(cache=True)
-def evaluate_covariant(mode, q, q_t, fq, fv, dt, ref, law, P, S, kind):
+def _remember(mode, q, q_t, X):
+    """Mode 0 (a residual) keeps its state in X (2, n): the candidate in P[2] belongs to it."""
+    if mode == 0:
+        for i in range(q.shape[0]):
+            X[0, i] = q[i]
+            X[1, i] = q_t[i]
+
+
+@njit(cache=True)
+def evaluate_covariant(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, kind):
     """fastpath.evaluate_set (modes 0 force, 1 Jacobian, 2 history candidate) with the covariant
-    kernel at every point. P (3, K, 9): body-local points, converged history, candidate."""
+    kernel at every point. P (3, K, 9): body-local points, converged history, candidate; X (2, n):
+    the state (q, q_t) of the last mode-0 call, whose candidate P[2] holds."""
     nq = q.shape[0]
+    _remember(mode, q, q_t, X)
     return evaluate_set(kind, q, q_t, ref, P[0, :, :3], P[1], law, mode, fq, fv, dt, S[17, 6, :nq],
                         S[18, :nq, :nq], P[2], S)
 
 
 @njit(cache=True)
-def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, ref, law, P, S, idx, Sm, c, Q, J):
+def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, idx, Sm, c, Q, J):
     """fastpath.evaluate_linear (a linear slave: mass points, ANCF cables) with the covariant kernel."""
+    _remember(mode, q, q_t, X)
     return evaluate_linear(q, q_t, ref, idx, Sm, c, P[1], law, mode, fq, fv, dt, Q, J, P[2], S)
 
 
@@ -376,6 +388,7 @@ class CovariantSet:
         self.P[0, :, :3] = b
         self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
         self.H, self.Hn = self.P[1], self.P[2]
+        self.X = np.full((2, nq), np.nan)          # state of the last residual (mode 0)
         if self.linear is not None:
             self.Q, self.J = np.zeros(nq), np.zeros((nq, nq))
         else:
@@ -384,20 +397,27 @@ class CovariantSet:
 
         if self.linear is not None:
             lm = self.linear
-            self._fn, self._tail = evaluate_covariant_linear, (self.ref, self.law, self.P, self.S, lm.idx, lm.S, lm.c,
-                                                                self.Q, self.J)
+            self._fn, self.tail = evaluate_covariant_linear, (self.ref, self.law, self.P, self.S, self.X, lm.idx,
+                                                                lm.S, lm.c, self.Q, self.J)
         else:
-            self._fn, self._tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.kind)
+            self._fn, self.tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.X, self.kind)
         self._entry = None
 
     def evaluate(self, mode, q, q_t, fq, fv, dt):
-        """One compiled call (mode: see evaluate_covariant); q, q_t: the set's coordinates."""
+        """One compiled call (mode: see evaluate_covariant); q, q_t: the set's coordinates. Returns
+        the number of points in contact, or -1 when a point's motion in the step is unresolved."""
         q = np.ascontiguousarray(q, dtype=np.float64)
         q_t = np.ascontiguousarray(q_t, dtype=np.float64)
-        args = (int(mode), q, q_t, float(fq), float(fv), float(dt)) + self._tail
+        return self.entry()(int(mode), q, q_t, float(fq), float(fv), float(dt), *self.tail)
+
+    def entry(self):
+        """The compiled function for this set's argument types (``_entry_point``): callers that
+        pass C-contiguous float64 q, q_t, an int mode and float fq, fv, dt may call
+        ``entry()(mode, q, q_t, fq, fv, dt, *tail)`` directly (the Exudyn glue does)."""
         if self._entry is None:
-            self._entry = _entry_point(self._fn, args)
-        return self._entry(*args)
+            z = np.zeros(self.X.shape[1])
+            self._entry = _entry_point(self._fn, (0, z, z, 0.0, 0.0, 0.0) + self.tail)
+        return self._entry
 
 
 def _entry_point(fn, args):
