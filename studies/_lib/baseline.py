@@ -40,7 +40,9 @@ calling Python.
 Settings: every row is measured at the package's solver settings ("package": full Newton,
 relative and absolute tolerance 1e-10, ``SimulationSettingsFor``) and at Exudyn's defaults
 ("exudyn": the Newton settings of a fresh ``exu.SimulationSettings()``: modified Newton, relative
-tolerance 1e-8, absolute 1e-10), the same step and integrator for ours, the floor and the C++ model.
+tolerance 1e-8, absolute 1e-10) and at Exudyn's defaults with a fresh Jacobian at every step
+("jacobian_per_step": ``newton.modifiedNewtonJacUpdatePerStep = True``), the same step and
+integrator for ours, the floor and the C++ model.
 
 The scenes themselves are built by ``BuildBlock`` / ``BuildScrew`` (their ``contactBuilder`` hook
 puts the springs where the anisotropic contact would go), so bodies, loads, drives, sensors and
@@ -106,17 +108,23 @@ def _empty_callbacks(mbs, node, K):
 
 
 def apply_settings(model, settings):
-    """Newton settings of a built model: "package" (as built) or "exudyn" (a fresh
-    exu.SimulationSettings()'s Newton settings; module doc)."""
+    """Newton settings of a built model (module doc): "package" (as built), "exudyn" (a fresh
+    exu.SimulationSettings()'s Newton settings), "jacobian_per_step" (Exudyn's, with the modified
+    Newton's Jacobian computed afresh at every step: modifiedNewtonJacUpdatePerStep) or
+    "full_newton_1e-8" (full Newton at Exudyn's tolerances)."""
     if settings == "package":
         return model
-    if settings != "exudyn":
-        raise ValueError(f"settings must be 'package' or 'exudyn'; got {settings!r}")
+    if settings not in SETTINGS + ("full_newton_1e-8",):
+        raise ValueError(f"settings must be one of {SETTINGS + ('full_newton_1e-8',)}; got {settings!r}")
     d, n = exu.SimulationSettings().timeIntegration.newton, model["simulationSettings"].timeIntegration.newton
     n.useModifiedNewton = d.useModifiedNewton
     n.relativeTolerance = d.relativeTolerance
     n.absoluteTolerance = d.absoluteTolerance
     n.maxIterations = d.maxIterations
+    if settings == "jacobian_per_step":
+        n.modifiedNewtonJacUpdatePerStep = True
+    elif settings == "full_newton_1e-8":
+        n.useModifiedNewton = False
     return model
 
 
@@ -253,9 +261,12 @@ def ratio_case(case):
         floor.append((c, s, it))
     o, b, f = (np.array(x, dtype=float) for x in (ours, base, floor))
     o_step, b_step, f_step = (float(np.median(x[:, 0] / x[:, 1])) for x in (o, b, f))
+    # per simulated second: the whole solve (rejected steps included) over t_end
+    o_sim, b_sim, f_sim = (float(np.median(x[:, 0])) / p.t_end for x in (o, b, f))
     o_it, b_it, f_it = (float(np.median(x[:, 0] / x[:, 2])) for x in (o, b, f))
     return dict(scene=case["scene"], model=p.model, drive=case["drive"], settings=settings, contact=impl, K=K_eval,
                 ours_step_s=o_step, base_step_s=b_step, floor_step_s=f_step, ratio_step=o_step / b_step,
+                ours_sim_s=o_sim, base_sim_s=b_sim, floor_sim_s=f_sim,
                 floor_ratio_step=f_step / b_step,
                 ours_newton_per_step=float(np.median(o[:, 2] / o[:, 1])),
                 base_newton_per_step=float(np.median(b[:, 2] / b[:, 1])),
@@ -269,29 +280,32 @@ def ratio_cases(quick, repeats, extra_options=None):
             for st in SETTINGS for s, m, ov, drv, opts in RATIO_SCENES]
 
 
-SETTINGS = ("package", "exudyn")
+SETTINGS = ("package", "exudyn", "jacobian_per_step")
 
 # columns of baseline.csv (benchmarks.py and baseline.py)
 BASE_COLUMNS = ["scene [-]", "model [-]", "drive [-]", "settings [-]", "contact_impl [-]", "K [-]",
                 "ours_per_step [s]", "floor_per_step [s]", "baseline_per_step [s]", "ours_over_baseline [-]",
                 "floor_over_baseline [-]", "ours_newton_per_step [-]", "baseline_newton_per_step [-]",
-                "ours_over_baseline_per_newton [-]", "floor_over_baseline_per_newton [-]"]
+                "ours_over_baseline_per_newton [-]", "floor_over_baseline_per_newton [-]",
+                "ours_per_simulated_second [s/s]", "floor_per_simulated_second [s/s]",
+                "baseline_per_simulated_second [s/s]"]
 
 
 def table_rows(rows):
     """Rows of baseline.csv (BASE_COLUMNS) from ratio_case results."""
     return [[r["scene"], r["model"], r["drive"], r["settings"], r["contact"], r["K"], r["ours_step_s"], r["floor_step_s"],
              r["base_step_s"], r["ratio_step"], r["floor_ratio_step"], r["ours_newton_per_step"],
-             r["base_newton_per_step"], r["ratio_per_newton"], r["floor_ratio_per_newton"]] for r in rows]
+             r["base_newton_per_step"], r["ratio_per_newton"], r["floor_ratio_per_newton"], r["ours_sim_s"],
+             r["floor_sim_s"], r["base_sim_s"]] for r in rows]
 
 
 def print_ratio_table(rows, file=None):
     file = sys.stdout if file is None else file
     print(f"{'scene':6s} {'model':8s} {'drive':24s} {'settings':8s} {'K':>3s} {'ours us/step':>12s} "
-          f"{'floor':>8s} {'C++':>8s} {'ours/C++':>9s} {'floor/C++':>10s} {'Newton/step ours':>17s} {'C++':>5s}",
-          file=file)
+          f"{'floor':>8s} {'C++':>8s} {'ours/C++':>9s} {'floor/C++':>10s} {'Newton/step ours':>17s} {'C++':>5s} "
+          f"{'ours s/sim s':>12s}", file=file)
     for r in rows:
         print(f"{r['scene']:6s} {r['model']:8s} {r['drive']:24s} {r['settings']:8s} {r['K']:3d} "
               f"{r['ours_step_s'] * 1e6:12.1f} {r['floor_step_s'] * 1e6:8.1f} {r['base_step_s'] * 1e6:8.1f} "
               f"{r['ratio_step']:9.2f} {r['floor_ratio_step']:10.2f} {r['ours_newton_per_step']:17.2f} "
-              f"{r['base_newton_per_step']:5.2f}", file=file)
+              f"{r['base_newton_per_step']:5.2f} {r['ours_sim_s']:12.4f}", file=file)
