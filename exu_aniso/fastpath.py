@@ -78,6 +78,147 @@ def point_law(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
     raise NotImplementedError("point_law is resolved at compile time")
 
 
+# --- the slave node's kinematics, shared by evaluate_set (ground master) and evaluate_pair -------
+
+@njit(cache=True)
+def _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt):
+    """Total coordinates qt = ref + q of a rigid node and, for the 3D kinds, A and G (_rotation);
+    with tangent, for Euler parameters also dA/de and G(e_t) (_ep_derivatives)."""
+    for i in range(q.shape[0]):
+        qt[i] = ref[i] + q[i]
+    if kind == 2 or kind == 3:
+        _rotation(kind, qt, A, G)
+    if tangent and kind == 3:
+        _ep_derivatives(qt, q_t, dA, Gt)
+
+
+@njit(cache=True)
+def _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):
+    """Position x, velocity v and virtual-work Jacobian Jp (3, nq) of the body-local point b of a
+    rigid node (kinds 0-3) at total coordinates qt; with tangent, for Euler parameters also the
+    position Jacobian Jx = dx/dq (dx/de_m = dA/de_m b, not Jp along e; see exudyn_glue._PointTangent);
+    wl (3): the local angular velocity of a 3D node."""
+    nq = Jp.shape[1]
+    nr = nq - 3
+    if kind == 0 or kind == 1:
+        r = 2 if kind == 0 else 0
+        c, s = math.cos(qt[r]), math.sin(qt[r])
+        ax, ay = c * bx - s * by, s * bx + c * by
+        w = q_t[r]
+        for i in range(3):
+            for j in range(nq):
+                Jp[i, j] = 0.0
+        if kind == 0:
+            x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
+            v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
+            Jp[0, 0] = 1.0
+            Jp[1, 1] = 1.0
+            Jp[0, 2] = -ay
+            Jp[1, 2] = ax
+        else:
+            x[0], x[1], x[2] = ax, ay, bz + qt[1]
+            v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
+            Jp[0, 0] = -ay
+            Jp[1, 0] = ax
+            Jp[2, 1] = 1.0
+        return
+    # omega_local = G q_t_rot; x = p + A b; v = p_t + A (omega_local x b); Jp_rot = -A [b]x G
+    for i in range(3):
+        wl[i] = 0.0
+        for j in range(nr):
+            wl[i] += G[i, j] * q_t[3 + j]
+    cb = (wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx)
+    for i in range(3):
+        x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
+        v[i] = q_t[i] + A[i, 0] * cb[0] + A[i, 1] * cb[1] + A[i, 2] * cb[2]
+    # [b]x G
+    for j in range(nr):
+        s0 = -bz * G[1, j] + by * G[2, j]
+        s1 = bz * G[0, j] - bx * G[2, j]
+        s2 = -by * G[0, j] + bx * G[1, j]
+        for i in range(3):
+            Jp[i, 3 + j] = -(A[i, 0] * s0 + A[i, 1] * s1 + A[i, 2] * s2)
+    for i in range(3):
+        for j in range(3):
+            Jp[i, j] = 1.0 if i == j else 0.0
+    if tangent and kind == 3:          # dx/de_m = dA/de_m b (Euler parameters: not Jp along e)
+        for i in range(3):
+            for j in range(3):
+                Jx[i, j] = Jp[i, j]
+            for m in range(4):
+                Jx[i, 3 + m] = dA[m, 3 * i] * bx + dA[m, 3 * i + 1] * by + dA[m, 3 * i + 2] * bz
+
+
+@njit(cache=True)
+def _rotation_columns(kind, nq):
+    """(first, number) of the rotation coordinates of a rigid node of kind with nq coordinates."""
+    if kind == 0:
+        return 2, 1
+    if kind == 1:
+        return 0, 1
+    return 3, nq - 3
+
+
+@njit(cache=True)
+def _point_velocity_column(kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz):
+    """dv/dq_c at fixed q_t of the body-local point b (c a rotation coordinate of _rotation_columns;
+    the velocity does not depend on the translation coordinates): the point velocity turning with
+    the body. Since v = Jp q_t, this is (dJp/dq_c) q_t (exudyn_glue._BodyKinematics.point_derivatives)."""
+    if kind <= 1:                      # d(w (-a_y, a_x))/drot = w (-a_x, -a_y), a_x = Jp[1, r], a_y = -Jp[0, r]
+        w = q_t[c]
+        return -w * Jp[1, c], w * Jp[0, c], 0.0
+    u0, u1, u2 = wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx   # omega_local x b
+    m = c - 3
+    if kind == 2:                      # -A (u x e_c)
+        x0 = 0.0 if m == 0 else (-u2 if m == 1 else u1)
+        x1 = u2 if m == 0 else (0.0 if m == 1 else -u0)
+        x2 = -u1 if m == 0 else (u0 if m == 1 else 0.0)
+        return (-(A[0, 0] * x0 + A[0, 1] * x1 + A[0, 2] * x2), -(A[1, 0] * x0 + A[1, 1] * x1 + A[1, 2] * x2),
+                -(A[2, 0] * x0 + A[2, 1] * x1 + A[2, 2] * x2))
+    # Euler parameters: dA/de_m u + A (b x G(e_t) e_m)
+    g0, g1, g2 = Gt[0, m], Gt[1, m], Gt[2, m]
+    y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
+    return (dA[m, 0] * u0 + dA[m, 1] * u1 + dA[m, 2] * u2 + A[0, 0] * y0 + A[0, 1] * y1 + A[0, 2] * y2,
+            dA[m, 3] * u0 + dA[m, 4] * u1 + dA[m, 5] * u2 + A[1, 0] * y0 + A[1, 1] * y1 + A[1, 2] * y2,
+            dA[m, 6] * u0 + dA[m, 7] * u1 + dA[m, 8] * u2 + A[2, 0] * y0 + A[2, 1] * y1 + A[2, 2] * y2)
+
+
+@njit(cache=True)
+def _rigid_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq):
+    """Kq += f . dJp/dq of the body-local point b at a fixed global point force f: the lever arm
+    turning with the body (the first nq x nq block of Kq; exudyn_glue._ContactSet._add_geometric)."""
+    if kind == 0:
+        Kq[2, 2] -= Jp[1, 2] * f[0] - Jp[0, 2] * f[1]
+    elif kind == 1:
+        Kq[0, 0] -= Jp[1, 0] * f[0] - Jp[0, 0] * f[1]
+    elif kind == 2:
+        # by the local increment: d(Jp_rot e_a)/dtheta_c . f = -(A (b delta_ac - e_a b_c)) . f
+        fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]
+        fb1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
+        fb2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
+        fbv = (fb0, fb1, fb2)
+        bv = (bx, by, bz)
+        bf = bx * fb0 + by * fb1 + bz * fb2
+        for i in range(3):
+            for j in range(3):
+                Kq[3 + i, 3 + j] += fbv[i] * bv[j] - (bf if i == j else 0.0)
+    elif kind == 3:
+        # EP: Q_rot = G^T (b x A^T f); d/de_m at fixed f = dG/de_m^T c + G^T (b x dA/de_m^T f),
+        # c = b x A^T f; G is linear in e, G(e)^T c = 2 Mc e with Mc = [[0, -c^T], [c, -[c]x]]
+        fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]
+        fb1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
+        fb2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
+        cc0, cc1, cc2 = by * fb2 - bz * fb1, bz * fb0 - bx * fb2, bx * fb1 - by * fb0
+        Mc = ((0.0, -cc0, -cc1, -cc2), (cc0, 0.0, cc2, -cc1), (cc1, -cc2, 0.0, cc0), (cc2, cc1, -cc0, 0.0))
+        for m in range(4):
+            g0 = dA[m, 0] * f[0] + dA[m, 3] * f[1] + dA[m, 6] * f[2]     # dA_m^T f
+            g1 = dA[m, 1] * f[0] + dA[m, 4] * f[1] + dA[m, 7] * f[2]
+            g2 = dA[m, 2] * f[0] + dA[m, 5] * f[1] + dA[m, 8] * f[2]
+            y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
+            for a in range(4):
+                Kq[3 + a, 3 + m] += 2.0 * Mc[a][m] + G[0, a] * y0 + G[1, a] * y1 + G[2, a] * y2
+
+
 @njit(cache=True)
 def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
@@ -95,85 +236,28 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     nq = q.shape[0]
     K = b.shape[0]
     # scratch views of S (slots 0-8 belong to contact_point)
-    A, G, Jp, Kx, Dv, Mg = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq], S[12, :3, :3], S[13, :3, :3], S[14, :3, :3]
+    A, G, Jp, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq], S[12, :3, :3], S[13, :3, :3]
     Kq, Dq = S[15, :nq, :nq], S[16, :nq, :nq]
     qt, x, v, f, wl, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :9]
-    for i in range(3):
-        for j in range(3):
-            Mg[i, j] = 0.0
-        for j in range(nq):
-            Jp[i, j] = 0.0
     for i in range(nq):
         for j in range(nq):
             Kq[i, j] = 0.0
             Dq[i, j] = 0.0
-    for i in range(nq):
-        qt[i] = ref[i] + q[i]
-    if kind == 2 or kind == 3:
-        _rotation(kind, qt, A, G)
-    nr = nq - 3
     tangent = mode == 1
     # EP derivatives (mode 1): dA/de_m in rows 3-6 of slot 14, G(e_t) in rows 3-5 of slot 10
     dA, Gt = S[14, 3:7, :9], S[10, 3:6, :4]
-    if tangent and kind == 3:
-        _ep_derivatives(qt, q_t, dA, Gt)
+    _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt)
     # dx/dq: Jp except for Euler parameters (rows 6-8 of slot 17; see exudyn_glue._PointTangent)
     Jx = S[17, 6:9, :nq] if kind == 3 else Jp
+    c0, nc = _rotation_columns(kind, nq)
     if mode == 0:
         for i in range(nq):
             Q[i] = 0.0
-    geo = 0.0
     ncontact = 0
     unresolved = False
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-        if kind == 0 or kind == 1:
-            r = 2 if kind == 0 else 0
-            c, s = math.cos(qt[r]), math.sin(qt[r])
-            ax, ay = c * bx - s * by, s * bx + c * by
-            w = q_t[r]
-            for i in range(3):
-                for j in range(nq):
-                    Jp[i, j] = 0.0
-            if kind == 0:
-                x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
-                v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
-                Jp[0, 0] = 1.0
-                Jp[1, 1] = 1.0
-                Jp[0, 2] = -ay
-                Jp[1, 2] = ax
-            else:
-                x[0], x[1], x[2] = ax, ay, bz + qt[1]
-                v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
-                Jp[0, 0] = -ay
-                Jp[1, 0] = ax
-                Jp[2, 1] = 1.0
-        else:
-            # omega_local = G q_t_rot; x = p + A b; v = p_t + A (omega_local x b); Jp_rot = -A [b]x G
-            for i in range(3):
-                wl[i] = 0.0
-                for j in range(nr):
-                    wl[i] += G[i, j] * q_t[3 + j]
-            cb = (wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx)
-            for i in range(3):
-                x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
-                v[i] = q_t[i] + A[i, 0] * cb[0] + A[i, 1] * cb[1] + A[i, 2] * cb[2]
-            # [b]x G
-            for j in range(nr):
-                s0 = -bz * G[1, j] + by * G[2, j]
-                s1 = bz * G[0, j] - bx * G[2, j]
-                s2 = -by * G[0, j] + bx * G[1, j]
-                for i in range(3):
-                    Jp[i, 3 + j] = -(A[i, 0] * s0 + A[i, 1] * s1 + A[i, 2] * s2)
-            for i in range(3):
-                for j in range(3):
-                    Jp[i, j] = 1.0 if i == j else 0.0
-            if tangent and kind == 3:          # dx/de_m = dA/de_m b (Euler parameters: not Jp along e)
-                for i in range(3):
-                    for j in range(3):
-                        Jx[i, j] = Jp[i, j]
-                    for m in range(4):
-                        Jx[i, 3 + m] = dA[m, 3 * i] * bx + dA[m, 3 * i + 1] * by + dA[m, 3 * i + 2] * bz
+        _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
         st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
         if st > 0:
             ncontact += 1
@@ -190,7 +274,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             continue
         if st == 0:
             continue
-        # Kq += Jp^T Kx Jp, Dq += Jp^T Dv Jp
+        # Kq += Jp^T Kx Jx, Dq += Jp^T Dv Jp
         for a in range(nq):
             for i in range(3):
                 if Jp[i, a] == 0.0:
@@ -202,83 +286,30 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
                         Kq[a, c2] += ka * Jx[j, c2]
                         Dq[a, c2] += da * Jp[j, c2]
         # velocity of the points turning with the body: Kq[:, c] += Jp^T Dv dv/dq_c (Dv = 0 without damping)
-        damped = False
-        for i in range(3):
-            for j in range(3):
-                if Dv[i, j] != 0.0:
-                    damped = True
-        if damped:
-            u0 = u1 = u2 = 0.0
-            if kind >= 2:                      # u = omega_local x b
-                u0, u1, u2 = wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx
-            c0 = 2 if kind == 0 else (0 if kind == 1 else 3)
-            nc = 1 if kind <= 1 else nr
+        if _nonzero(Dv):
             for c in range(c0, c0 + nc):
-                if kind <= 1:                  # d(w (-a_y, a_x))/drot = w (-a_x, -a_y), a_x = Jp[1, r], a_y = -Jp[0, r]
-                    w = q_t[c0]
-                    d0, d1, d2 = -w * Jp[1, c0], w * Jp[0, c0], 0.0
-                elif kind == 2:                # -A (u x e_c)
-                    m = c - 3
-                    x0 = 0.0 if m == 0 else (-u2 if m == 1 else u1)
-                    x1 = u2 if m == 0 else (0.0 if m == 1 else -u0)
-                    x2 = -u1 if m == 0 else (u0 if m == 1 else 0.0)
-                    d0 = -(A[0, 0] * x0 + A[0, 1] * x1 + A[0, 2] * x2)
-                    d1 = -(A[1, 0] * x0 + A[1, 1] * x1 + A[1, 2] * x2)
-                    d2 = -(A[2, 0] * x0 + A[2, 1] * x1 + A[2, 2] * x2)
-                else:                          # dA/de_m u + A (b x G(e_t) e_m)
-                    m = c - 3
-                    g0, g1, g2 = Gt[0, m], Gt[1, m], Gt[2, m]
-                    y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
-                    d0 = dA[m, 0] * u0 + dA[m, 1] * u1 + dA[m, 2] * u2 + A[0, 0] * y0 + A[0, 1] * y1 + A[0, 2] * y2
-                    d1 = dA[m, 3] * u0 + dA[m, 4] * u1 + dA[m, 5] * u2 + A[1, 0] * y0 + A[1, 1] * y1 + A[1, 2] * y2
-                    d2 = dA[m, 6] * u0 + dA[m, 7] * u1 + dA[m, 8] * u2 + A[2, 0] * y0 + A[2, 1] * y1 + A[2, 2] * y2
+                d0, d1, d2 = _point_velocity_column(kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz)
                 e0 = Dv[0, 0] * d0 + Dv[0, 1] * d1 + Dv[0, 2] * d2
                 e1 = Dv[1, 0] * d0 + Dv[1, 1] * d1 + Dv[1, 2] * d2
                 e2 = Dv[2, 0] * d0 + Dv[2, 1] * d1 + Dv[2, 2] * d2
                 for a in range(nq):
                     Kq[a, c] += Jp[0, a] * e0 + Jp[1, a] * e1 + Jp[2, a] * e2
-        if kind == 0:
-            geo -= Jp[1, 2] * f[0] - Jp[0, 2] * f[1]
-        elif kind == 1:
-            geo -= Jp[1, 0] * f[0] - Jp[0, 0] * f[1]
-        elif kind == 2:
-            fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]
-            fb1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
-            fb2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
-            fbv = (fb0, fb1, fb2)
-            bv = (bx, by, bz)
-            bf = bx * fb0 + by * fb1 + bz * fb2
-            for i in range(3):
-                for j in range(3):
-                    Mg[i, j] += fbv[i] * bv[j] - (bf if i == j else 0.0)
-        elif kind == 3:
-            # EP: Q_rot = G^T (b x A^T f); d/de_m at fixed f = dG/de_m^T c + G^T (b x dA/de_m^T f),
-            # c = b x A^T f; G is linear in e, G(e)^T c = 2 Mc e with Mc = [[0, -c^T], [c, -[c]x]]
-            fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]
-            fb1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
-            fb2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
-            cc0, cc1, cc2 = by * fb2 - bz * fb1, bz * fb0 - bx * fb2, bx * fb1 - by * fb0
-            Mc = ((0.0, -cc0, -cc1, -cc2), (cc0, 0.0, cc2, -cc1), (cc1, -cc2, 0.0, cc0), (cc2, cc1, -cc0, 0.0))
-            for m in range(4):
-                g0 = dA[m, 0] * f[0] + dA[m, 3] * f[1] + dA[m, 6] * f[2]     # dA_m^T f
-                g1 = dA[m, 1] * f[0] + dA[m, 4] * f[1] + dA[m, 7] * f[2]
-                g2 = dA[m, 2] * f[0] + dA[m, 5] * f[1] + dA[m, 8] * f[2]
-                y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
-                for a in range(4):
-                    Kq[3 + a, 3 + m] += 2.0 * Mc[a][m] + G[0, a] * y0 + G[1, a] * y1 + G[2, a] * y2
+        _rigid_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq)
     if mode == 1:
-        if kind == 0:
-            Kq[2, 2] += geo
-        elif kind == 1:
-            Kq[0, 0] += geo
-        elif kind == 2:
-            for i in range(3):
-                for j in range(3):
-                    Kq[3 + i, 3 + j] += Mg[i, j]
         for i in range(nq):
             for j in range(nq):
                 J[i, j] = -(fq * Kq[i, j] + fv * Dq[i, j])
     return -1 if unresolved else ncontact
+
+
+@njit(cache=True)
+def _nonzero(M):
+    """True if the 3 x 3 matrix M has a nonzero entry (Dv = 0 without damping)."""
+    for i in range(3):
+        for j in range(3):
+            if M[i, j] != 0.0:
+                return True
+    return False
 
 
 @njit(cache=True)
