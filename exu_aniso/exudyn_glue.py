@@ -546,6 +546,28 @@ def _commit(mbs, t, sets):
     return True
 
 
+class _CompiledPairSet(_CompiledSet):
+    """A contact set with a moving master (the surface on a 3D rigid body) on the compiled kernel
+    ``fastpath.evaluate_pair`` (``kernel.CovariantPairSet``): the slave's and the master's
+    coordinates in one compiled call, with the consistent Jacobian over both (so
+    ``jacobian="analytic"`` applies). Everything else as _CompiledSet."""
+
+    def __init__(self, mbs, law, slave, points, master):
+        super().__init__(mbs, law, slave, points, master)
+        from .fastpath import LinearMap
+        from .kernel import CovariantPairSet
+        kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
+        self.pk = CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)
+
+    def commit_candidate(self, mbs, t):
+        self._load_history(mbs, t)
+        q, q_t = (np.concatenate([nd.coordinates(mbs, var, _CUR) for nd in (self.slave, self.master)])
+                  for var in (exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t))
+        self._eval(2, q, q_t)
+        self._H_time = None
+        return self._write_candidate(mbs, self.pk.Hn)
+
+
 def _body_node(mbs, bodyNumber):
     """Node of a body object: 'nodeNumber' of a rigid body, the single node of an ObjectGenericODE2."""
     obj = mbs.GetObject(bodyNumber)
@@ -696,12 +718,13 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     if implementation not in ("auto", "compiled", "numpy"):
         raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
                          f"got {implementation!r}")
-    compiled_ok = master is None and contactLaw.compiled
+    compiled_ok = contactLaw.compiled
     if implementation == "compiled" and not compiled_ok:
-        raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a master fixed to ground "
-                         "(masterBodyNumber=None) and a surface and fields numba can compile; use 'numpy' or 'auto'")
+        raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a surface and fields numba can "
+                         "compile; use 'numpy' or 'auto'")
     use_compiled = compiled_ok and implementation != "numpy"
-    cs = (_CompiledSet if use_compiled else _ContactSet)(mbs, contactLaw, slave, points, master)
+    cls = _ContactSet if not use_compiled else (_CompiledSet if master is None else _CompiledPairSet)
+    cs = cls(mbs, contactLaw, slave, points, master)
     K = cs.K
     h0 = np.zeros(K * N_HISTORY)
     if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
@@ -716,7 +739,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     nodes = slave.nodes + (master.nodes if master is not None else [])
     n = slave.n + (master.n if master is not None else 0)
     kw = {}
-    if jacobian == "analytic" and master is None:
+    if jacobian == "analytic" and (master is None or use_compiled):   # numpy route, moving master: Exudyn's
         kw["jacobianUserFunction"] = cs.jacobian
     oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, massMatrix=np.zeros((n, n)),
                                                forceUserFunction=cs.force, **kw))

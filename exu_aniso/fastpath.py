@@ -395,6 +395,274 @@ def stage_candidate(X, q, q_t, Hn, data, ltg, ltg_total, kept):
     return 0
 
 
+# --- a moving master: the surface carried by a 3D rigid node -------------------------------------
+
+PAIR_SLOTS = 8   # pair scratch T (PAIR_SLOTS, w, w), w = max(9, coordinates of one point's columns)
+
+
+@njit(cache=True)
+def _master_frame(mkind, qm, qm_t, refm, tangent, qtm, A, G, dA, Gt, wl, w):
+    """The master's node (kind 2 rotation vector or 3 Euler parameters): total coordinates qtm, A, G,
+    local and global angular velocity wl = G q_t_rot, w = A wl; with tangent dA[c, 3 i + j] =
+    dA_ij/dq_c over its rotation coordinates c (rotation vector by the local increment, dA_c =
+    A [e_c]x, as _rigid_geometric; Euler parameters by e_c itself) and, for Euler parameters,
+    Gt = G(e_t)."""
+    nm = qm.shape[0]
+    for i in range(nm):
+        qtm[i] = refm[i] + qm[i]
+    _rotation(mkind, qtm, A, G)
+    for i in range(3):
+        s = 0.0
+        for j in range(nm - 3):
+            s += G[i, j] * qm_t[3 + j]
+        wl[i] = s
+    for i in range(3):
+        w[i] = A[i, 0] * wl[0] + A[i, 1] * wl[1] + A[i, 2] * wl[2]
+    if not tangent:
+        return
+    if mkind == 3:
+        _ep_derivatives(qtm, qm_t, dA, Gt)
+        return
+    for i in range(3):                 # dA_c e_j = A (e_c x e_j)
+        a0, a1, a2 = A[i, 0], A[i, 1], A[i, 2]
+        dA[0, 3 * i], dA[0, 3 * i + 1], dA[0, 3 * i + 2] = 0.0, a2, -a1
+        dA[1, 3 * i], dA[1, 3 * i + 1], dA[1, 3 * i + 2] = -a2, 0.0, a0
+        dA[2, 3 * i], dA[2, 3 * i + 1], dA[2, 3 * i + 2] = a1, -a0, 0.0
+
+
+@njit(cache=True)
+def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, T, cols):
+    """One contact set between a slave and a moving master: the surface carried by a 3D rigid node
+    (mkind 2 NodeRigidBodyRotVecLG, 3 NodeRigidBodyEP). Coordinates q, q_t, ref (n,) are the
+    slave's (ns) then the master's (nm = 6 or 7), as the contact's ObjectGenericODE2 lists its nodes.
+    Slave: a rigid node of kind 0-3 with body-local points b (K, 3) (as evaluate_set), or kind -1, a
+    linear slave (mass points, cables: x_k = c_k + Sm_k q_total[idx_k] over slave coordinates, as
+    evaluate_linear; b unused). H (K, 9) converged history, dt time since H. Scratch: S
+    (SCRATCH_SLOTS, 9, 9) (slots 0-8 belong to the point law, the slave's views are evaluate_set's),
+    T (PAIR_SLOTS, w, w) with w >= max(9, m + nm) (m: slave columns of a point, ns rigid, idx.shape[1]
+    linear), cols (m + nm,) int64.
+
+    Kinematics (exudyn_glue._ContactSet.state): master position p, rotation A, global angular
+    velocity w, velocity vp; d = x - p; the law at x_rel = A^T d, v_rel = A^T (v - vp - w x d) (master
+    frame) gives f; F = A f. Q_slave = Jp^T F; the master gets the reaction at its material point
+    b = x_rel: Q_master = -Jm^T F with Jm = [I, -A [b]x G], i.e. -F and -G^T (b x A^T F).
+    mode 0: Q (n,); mode 2: Hn (K, 9) history candidate;
+    mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) over all coordinates, consistent: with L (n, 3) the
+    map Q = sum_k L_k f_k and X, V, Vt (3, n) the derivatives of x_rel by q and of v_rel by q and q_t
+    (through the slave's point, the master's position, rotation and angular velocity),
+        dQ/dq = sum L (Kx X + Dv V) + sum (dL/dq) f,  dQ/dq_t = sum L Dv Vt,
+    where (dL/dq) f holds the slave's lever arms (_rigid_geometric with F), the turning F = A f and,
+    for the master's rows, its point b = x_rel moving (through X) and, for Euler parameters, G(e) and
+    A^T A. Rotation-vector coordinates (slave and master) are differentiated by the local
+    increment (A -> A (I + [dtheta]x)), Euler parameters by e. Returns the number of points in contact."""
+    n = q.shape[0]
+    nm = 6 if mkind == 2 else 7
+    ns = n - nm
+    nr = nm - 3
+    K = H.shape[0]
+    linear = kind < 0
+    m = idx.shape[1] if linear else ns
+    na = m + nm
+    tangent = mode == 1
+    # the slave's views (evaluate_set's slots) and the law's outputs
+    As, Gs, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[12, :3, :3], S[13, :3, :3]
+    dAs, Gts = S[14, 3:7, :9], S[10, 3:6, :4]
+    x, v, f, wls, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :9]
+    qts = S[15, 0, :(0 if linear else ns)]
+    qs, qs_t, refs = q[:ns], q_t[:ns], ref[:ns]
+    # the pair's views: slave point Jacobians (compact columns), derivatives, tangent blocks, master
+    Jp, Vq = T[0, 0:3, :m], T[0, 6:9, :m]
+    Jx = T[0, 3:6, :m] if kind == 3 else Jp
+    X, V, Vt, Lt = T[1, 0:3, :na], T[1, 3:6, :na], T[1, 6:9, :na], T[2, 0:3, :na]
+    Kc, Dc = T[3, :na, :na], T[4, :na, :na]
+    Am, Gm, Gtm = T[5, 0:3, 0:3], T[5, 3:6, 0:4], T[5, 6:9, 0:4]
+    dAm, dAf = T[6, 0:4, 0:9], T[6, 4:8, 0:3]
+    qtm, wlm, w, d, u = T[7, 0, :nm], T[7, 1, :3], T[7, 2, :3], T[7, 3, :3], T[7, 4, :3]
+    F, g, xr, vr = T[7, 5, :3], T[7, 6, :3], T[7, 7, :3], T[7, 8, :3]
+    if not linear:
+        _node_frame(kind, qs, qs_t, refs, tangent, qts, As, Gs, dAs, Gts)
+    _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], tangent, qtm, Am, Gm, dAm, Gtm, wlm, w)
+    vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
+    c0, nc = (0, 0) if linear else _rotation_columns(kind, ns)
+    for a in range(m):
+        cols[a] = a
+    for i in range(nm):
+        cols[m + i] = ns + i
+    if mode == 0:
+        for i in range(n):
+            Q[i] = 0.0
+    elif mode == 1:
+        for i in range(n):
+            for j in range(n):
+                J[i, j] = 0.0
+    ncontact = 0
+    bx = by = bz = 0.0
+    for k in range(K):
+        # the slave point
+        if linear:
+            for a in range(m):
+                cols[a] = idx[k, a]
+            for i in range(3):
+                xi, vi = c[k, i], 0.0
+                for a in range(m):
+                    gi = idx[k, a]
+                    s = Sm[k, i, a]
+                    xi += s * (ref[gi] + q[gi])
+                    vi += s * q_t[gi]
+                    Jp[i, a] = s
+                x[i], v[i] = xi, vi
+        else:
+            bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
+            _rigid_point(kind, qts, qs_t, As, Gs, dAs, bx, by, bz, tangent, x, v, Jp, Jx, wls)
+        # relative to the master, in its frame
+        for i in range(3):
+            d[i] = x[i] - qtm[i]
+        u[0] = v[0] - vp0 - (w[1] * d[2] - w[2] * d[1])
+        u[1] = v[1] - vp1 - (w[2] * d[0] - w[0] * d[2])
+        u[2] = v[2] - vp2 - (w[0] * d[1] - w[1] * d[0])
+        for j in range(3):
+            xr[j] = Am[0, j] * d[0] + Am[1, j] * d[1] + Am[2, j] * d[2]
+            vr[j] = Am[0, j] * u[0] + Am[1, j] * u[1] + Am[2, j] * u[2]
+        st = point_law(law, xr, vr, H[k], tangent, dt, f, Kx, Dv, hn, S)
+        if st > 0:
+            ncontact += 1
+        if mode == 2:
+            for i in range(9):
+                Hn[k, i] = hn[i]
+            continue
+        if mode == 1 and st == 0:
+            continue
+        # F = A f (global), g = A^T F, y = b x g at the master's material point b = x_rel
+        for i in range(3):
+            F[i] = Am[i, 0] * f[0] + Am[i, 1] * f[1] + Am[i, 2] * f[2]
+        for j in range(3):
+            g[j] = Am[0, j] * F[0] + Am[1, j] * F[1] + Am[2, j] * F[2]
+        y0, y1, y2 = xr[1] * g[2] - xr[2] * g[1], xr[2] * g[0] - xr[0] * g[2], xr[0] * g[1] - xr[1] * g[0]
+        if mode == 0:
+            for a in range(m):
+                Q[cols[a]] += Jp[0, a] * F[0] + Jp[1, a] * F[1] + Jp[2, a] * F[2]
+            for i in range(3):
+                Q[ns + i] -= F[i]
+            for r in range(nr):
+                Q[ns + 3 + r] -= Gm[0, r] * y0 + Gm[1, r] * y1 + Gm[2, r] * y2
+            continue
+        damped = _nonzero(Dv)
+        # columns of X = dx_rel/dq and of L^T (Q = L f): slave, master translation, master rotation
+        for a in range(m):
+            for j in range(3):
+                X[j, a] = Am[0, j] * Jx[0, a] + Am[1, j] * Jx[1, a] + Am[2, j] * Jx[2, a]
+                Lt[j, a] = Am[0, j] * Jp[0, a] + Am[1, j] * Jp[1, a] + Am[2, j] * Jp[2, a]
+        for i in range(3):
+            for j in range(3):
+                X[j, m + i] = -Am[i, j]
+                Lt[j, m + i] = -Am[i, j]
+        for cc in range(nr):
+            col = m + 3 + cc
+            for j in range(3):         # dA_c^T d
+                X[j, col] = dAm[cc, j] * d[0] + dAm[cc, 3 + j] * d[1] + dAm[cc, 6 + j] * d[2]
+            # -A^T A (G_c x b): the master's rotation row of L
+            gc0, gc1, gc2 = Gm[0, cc], Gm[1, cc], Gm[2, cc]
+            z0, z1, z2 = gc1 * xr[2] - gc2 * xr[1], gc2 * xr[0] - gc0 * xr[2], gc0 * xr[1] - gc1 * xr[0]
+            e0 = Am[0, 0] * z0 + Am[0, 1] * z1 + Am[0, 2] * z2
+            e1 = Am[1, 0] * z0 + Am[1, 1] * z1 + Am[1, 2] * z2
+            e2 = Am[2, 0] * z0 + Am[2, 1] * z1 + Am[2, 2] * z2
+            for j in range(3):
+                Lt[j, col] = -(Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2)
+        if damped:
+            # V = dv_rel/dq (q_t fixed), Vt = dv_rel/dq_t
+            for a in range(m):
+                t0 = -(w[1] * Jx[2, a] - w[2] * Jx[1, a])          # -(w x dx/dq_a)
+                t1 = -(w[2] * Jx[0, a] - w[0] * Jx[2, a])
+                t2 = -(w[0] * Jx[1, a] - w[1] * Jx[0, a])
+                if c0 <= a < c0 + nc:                               # the slave point's velocity turning
+                    e0, e1, e2 = _point_velocity_column(kind, a, qs_t, As, dAs, Gts, Jp, wls, bx, by, bz)
+                    t0, t1, t2 = t0 + e0, t1 + e1, t2 + e2
+                for j in range(3):
+                    V[j, a] = Am[0, j] * t0 + Am[1, j] * t1 + Am[2, j] * t2
+                    Vt[j, a] = Lt[j, a]
+            for i in range(3):                                      # d(-w x d)/dp_i = w x e_i
+                t0 = 0.0 if i == 0 else (-w[2] if i == 1 else w[1])
+                t1 = w[2] if i == 0 else (0.0 if i == 1 else -w[0])
+                t2 = -w[1] if i == 0 else (w[0] if i == 1 else 0.0)
+                for j in range(3):
+                    V[j, m + i] = Am[0, j] * t0 + Am[1, j] * t1 + Am[2, j] * t2
+                    Vt[j, m + i] = -Am[i, j]
+            for cc in range(nr):
+                col = m + 3 + cc
+                # dw_c = dA_c wl + A dG_c q_t_rot, dG_c q_t_rot = G(e_c) e_t = -G(e_t) e_c (EP; 0 by the local increment)
+                s0, s1, s2 = 0.0, 0.0, 0.0
+                if mkind == 3:
+                    s0, s1, s2 = -Gtm[0, cc], -Gtm[1, cc], -Gtm[2, cc]
+                dw0 = dAm[cc, 0] * wlm[0] + dAm[cc, 1] * wlm[1] + dAm[cc, 2] * wlm[2] + Am[0, 0] * s0 + Am[0, 1] * s1 + Am[0, 2] * s2
+                dw1 = dAm[cc, 3] * wlm[0] + dAm[cc, 4] * wlm[1] + dAm[cc, 5] * wlm[2] + Am[1, 0] * s0 + Am[1, 1] * s1 + Am[1, 2] * s2
+                dw2 = dAm[cc, 6] * wlm[0] + dAm[cc, 7] * wlm[1] + dAm[cc, 8] * wlm[2] + Am[2, 0] * s0 + Am[2, 1] * s1 + Am[2, 2] * s2
+                t0, t1, t2 = dw1 * d[2] - dw2 * d[1], dw2 * d[0] - dw0 * d[2], dw0 * d[1] - dw1 * d[0]
+                # dw/d(q_t rot c) = A G_c: Vt = -A^T ((A G_c) x d)
+                a0 = Am[0, 0] * Gm[0, cc] + Am[0, 1] * Gm[1, cc] + Am[0, 2] * Gm[2, cc]
+                a1 = Am[1, 0] * Gm[0, cc] + Am[1, 1] * Gm[1, cc] + Am[1, 2] * Gm[2, cc]
+                a2 = Am[2, 0] * Gm[0, cc] + Am[2, 1] * Gm[1, cc] + Am[2, 2] * Gm[2, cc]
+                r0, r1, r2 = a1 * d[2] - a2 * d[1], a2 * d[0] - a0 * d[2], a0 * d[1] - a1 * d[0]
+                for j in range(3):     # dA_c^T u - A^T (dw_c x d)
+                    V[j, col] = (dAm[cc, j] * u[0] + dAm[cc, 3 + j] * u[1] + dAm[cc, 6 + j] * u[2]
+                                 - (Am[0, j] * t0 + Am[1, j] * t1 + Am[2, j] * t2))
+                    Vt[j, col] = -(Am[0, j] * r0 + Am[1, j] * r1 + Am[2, j] * r2)
+        # law terms: Kc = L (Kx X + Dv V), Dc = L Dv Vt
+        for a in range(na):
+            l0, l1, l2 = Lt[0, a], Lt[1, a], Lt[2, a]
+            k0 = l0 * Kx[0, 0] + l1 * Kx[1, 0] + l2 * Kx[2, 0]
+            k1 = l0 * Kx[0, 1] + l1 * Kx[1, 1] + l2 * Kx[2, 1]
+            k2 = l0 * Kx[0, 2] + l1 * Kx[1, 2] + l2 * Kx[2, 2]
+            if damped:
+                e0 = l0 * Dv[0, 0] + l1 * Dv[1, 0] + l2 * Dv[2, 0]
+                e1 = l0 * Dv[0, 1] + l1 * Dv[1, 1] + l2 * Dv[2, 1]
+                e2 = l0 * Dv[0, 2] + l1 * Dv[1, 2] + l2 * Dv[2, 2]
+                for bb in range(na):
+                    Kc[a, bb] = (k0 * X[0, bb] + k1 * X[1, bb] + k2 * X[2, bb]
+                                 + e0 * V[0, bb] + e1 * V[1, bb] + e2 * V[2, bb])
+                    Dc[a, bb] = e0 * Vt[0, bb] + e1 * Vt[1, bb] + e2 * Vt[2, bb]
+            else:
+                for bb in range(na):
+                    Kc[a, bb] = k0 * X[0, bb] + k1 * X[1, bb] + k2 * X[2, bb]
+                    Dc[a, bb] = 0.0
+        # geometric terms (dL/dq) f: the slave's lever arms at fixed F (rigid slaves)
+        if not linear:
+            _rigid_geometric(kind, As, Gs, dAs, Jp, F, bx, by, bz, Kc)
+        # F = A f turning with the master: slave rows Jp^T dA_c f, master translation rows -dA_c f
+        for cc in range(nr):
+            col = m + 3 + cc
+            for i in range(3):
+                dAf[cc, i] = dAm[cc, 3 * i] * f[0] + dAm[cc, 3 * i + 1] * f[1] + dAm[cc, 3 * i + 2] * f[2]
+            for a in range(m):
+                Kc[a, col] += Jp[0, a] * dAf[cc, 0] + Jp[1, a] * dAf[cc, 1] + Jp[2, a] * dAf[cc, 2]
+            for i in range(3):
+                Kc[m + i, col] -= dAf[cc, i]
+        # master rotation rows -G^T (b x g): the material point b = x_rel moving, -G_r . (db x g) = (G_r x g) . db
+        for r in range(nr):
+            gr0, gr1, gr2 = Gm[0, r], Gm[1, r], Gm[2, r]
+            h0, h1, h2 = gr1 * g[2] - gr2 * g[1], gr2 * g[0] - gr0 * g[2], gr0 * g[1] - gr1 * g[0]
+            for bb in range(na):
+                Kc[m + 3 + r, bb] += h0 * X[0, bb] + h1 * X[1, bb] + h2 * X[2, bb]
+        if mkind == 3:
+            # Euler parameters: -dG_c^T y - G^T (b x dM_c f), y = b x g, M = A^T A (|e|^4 I, not I off
+            # the unit sphere), dM_c f = dA_c^T F + A^T dA_c f; G(e)^T y = 2 My e (as _rigid_geometric)
+            My = ((0.0, -y0, -y1, -y2), (y0, 0.0, y2, -y1), (y1, -y2, 0.0, y0), (y2, y1, -y0, 0.0))
+            for cc in range(4):
+                mf0 = (dAm[cc, 0] * F[0] + dAm[cc, 3] * F[1] + dAm[cc, 6] * F[2]
+                       + Am[0, 0] * dAf[cc, 0] + Am[1, 0] * dAf[cc, 1] + Am[2, 0] * dAf[cc, 2])
+                mf1 = (dAm[cc, 1] * F[0] + dAm[cc, 4] * F[1] + dAm[cc, 7] * F[2]
+                       + Am[0, 1] * dAf[cc, 0] + Am[1, 1] * dAf[cc, 1] + Am[2, 1] * dAf[cc, 2])
+                mf2 = (dAm[cc, 2] * F[0] + dAm[cc, 5] * F[1] + dAm[cc, 8] * F[2]
+                       + Am[0, 2] * dAf[cc, 0] + Am[1, 2] * dAf[cc, 1] + Am[2, 2] * dAf[cc, 2])
+                z0, z1, z2 = xr[1] * mf2 - xr[2] * mf1, xr[2] * mf0 - xr[0] * mf2, xr[0] * mf1 - xr[1] * mf0
+                for r in range(4):
+                    Kc[m + 3 + r, m + 3 + cc] -= 2.0 * My[r][cc] + Gm[0, r] * z0 + Gm[1, r] * z1 + Gm[2, r] * z2
+        for a in range(na):
+            ra = cols[a]
+            for bb in range(na):
+                J[ra, cols[bb]] -= fq * Kc[a, bb] + fv * Dc[a, bb]
+    return ncontact
+
+
 class LinearMap:
     """The kinematics of a linear slave for the compiled kernels: idx (K, m) int64 set-coordinate
     indices, S (K, 3, m) constant point Jacobians, c (K, 3) offsets; n set coordinates."""

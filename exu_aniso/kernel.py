@@ -41,7 +41,7 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from .fastpath import LinearMap, evaluate_linear, evaluate_set
+from .fastpath import LinearMap, evaluate_linear, evaluate_pair, evaluate_set
 from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
 from .geometry._core import add, dot, local_chart, scale, sub
@@ -365,6 +365,21 @@ def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, idx, 
     return evaluate_linear(q, q_t, ref, idx, Sm, c, P[1], law, mode, fq, fv, dt, Q, J, P[2], S)
 
 
+@njit(cache=True)
+def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, ref, law, P, S, T, kind, mkind, idx, Sm, c, cols, Q, J):
+    """fastpath.evaluate_pair (a moving master: the surface on a 3D rigid node) with the covariant kernel."""
+    return evaluate_pair(kind, mkind, q, q_t, ref, P[0, :, :3], idx, Sm, c, P[1], law, mode, fq, fv, dt, Q, J, P[2],
+                         S, T, cols)
+
+
+def _law_bundle(contact_law):
+    """The law of a ContactLaw packed for the compiled kernels (surface, nets, law parameters; named tuples)."""
+    nB, nF = contact_law._nets
+    return CovariantLaw(contact_law.surface.params, nB, nF,
+                        LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
+                                  MAP_CODES[contact_law.return_map]))
+
+
 class CovariantSet:
     """A contact set on the covariant kernel packed for the compiled call: the law bundle (surface, nets, law parameters; named tuples), points,
     history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
@@ -372,10 +387,7 @@ class CovariantSet:
     def __init__(self, contact_law, node_kind, ref, points):
         from .fastpath import NODE_COORDINATES, NODE_KINDS, SCRATCH_SLOTS, announce_compile
         announce_compile(entry=evaluate_covariant_linear if isinstance(node_kind, LinearMap) else evaluate_covariant)
-        nB, nF = contact_law._nets
-        self.law = CovariantLaw(contact_law.surface.params, nB, nF,
-                                LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
-                                          MAP_CODES[contact_law.return_map]))
+        self.law = _law_bundle(contact_law)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
         if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
             self.kind, nq = -1, self.linear.n
@@ -419,6 +431,50 @@ class CovariantSet:
             z = np.zeros(self.X.shape[1])
             self._entry = _entry_point(self._fn, (0, z, z, 0.0, 0.0, 0.0) + self.tail)
         return self._entry
+
+
+class CovariantPairSet(CovariantSet):
+    """A contact set with a moving master (the surface carried by a 3D rigid node) packed for
+    fastpath.evaluate_pair: the slave (node_kind: a rigid kind's name, or a LinearMap for mass
+    points and cables, with the slave's reference coordinates ref) and the master (master_kind
+    "RigidBodyRotVecLG" or "RigidBodyEP", reference coordinates master_ref); coordinates are the
+    slave's then the master's. The same interface as CovariantSet: H, Q (n,), J (n, n), Hn, evaluate."""
+
+    def __init__(self, contact_law, node_kind, ref, points, master_kind, master_ref):
+        from .fastpath import NODE_COORDINATES, NODE_KINDS, PAIR_SLOTS, SCRATCH_SLOTS, announce_compile
+        announce_compile(entry=evaluate_covariant_pair)
+        if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
+            raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
+        self.law = _law_bundle(contact_law)
+        self.mkind = NODE_KINDS[master_kind]
+        nm = NODE_COORDINATES[self.mkind]
+        self.linear = node_kind if isinstance(node_kind, LinearMap) else None
+        if self.linear is not None:
+            lm = self.linear
+            self.kind, ns, m = -1, lm.n, lm.idx.shape[1]
+            b = np.zeros((lm.idx.shape[0], 3))
+            idx, Sm, c = lm.idx, lm.S, lm.c
+        else:
+            self.kind = NODE_KINDS[node_kind]
+            ns = m = NODE_COORDINATES[self.kind]
+            b = np.asarray(points, dtype=float)
+            idx, Sm, c = np.zeros((b.shape[0], 0), dtype=np.int64), np.zeros((b.shape[0], 3, 0)), np.zeros((b.shape[0], 3))
+        n = ns + nm
+        self.ref = np.ascontiguousarray(np.concatenate([np.asarray(ref, dtype=float), np.asarray(master_ref, dtype=float)]))
+        if self.ref.shape != (n,):
+            raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {ns} slave and {nm} master coordinates")
+        self.P = np.zeros((3, b.shape[0], 9))
+        self.P[0, :, :3] = b
+        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
+        w = max(9, m + nm)
+        self.T = np.zeros((PAIR_SLOTS, w, w))
+        self.cols = np.zeros(m + nm, dtype=np.int64)
+        self.H, self.Hn = self.P[1], self.P[2]
+        self.Q, self.J = np.zeros(n), np.zeros((n, n))
+        self._fn = evaluate_covariant_pair
+        self._tail = (self.ref, self.law, self.P, self.S, self.T, self.kind, self.mkind, idx, Sm, c, self.cols,
+                      self.Q, self.J)
+        self._entry = None
 
 
 def _entry_point(fn, args):

@@ -220,7 +220,7 @@ def test_large_sphere_tends_to_the_plane():
 # ----------------------------------------------------------------------------------------------
 # moving master: objectivity at system level
 
-def _moving_master_run(p, velocity, omega, master_mass=1e9):
+def _moving_master_run(p, velocity, omega, master_mass=1e9, implementation="auto", jacobian="analytic", stats=None):
     """The scene p with its surface carried by a rigid body (RotVecLG node, mass master_mass, a
     sphere's inertia, no gravity) that starts at c0 = (0.3, -0.2, 0.1) with the velocity ``velocity``
     and the angular velocity ``omega`` (world): it moves uniformly (a torque-free sphere; the
@@ -228,7 +228,9 @@ def _moving_master_run(p, velocity, omega, master_mass=1e9):
     In the rotating case the point also gets the inertial forces of the master's frame and gravity
     turned with it, m [Q g + 2 omega x (v - V - omega x r) + omega x (omega x r)], r = x - c, from the
     master's actual state (a GenericODE2 on both nodes), so the path relative to the master solves
-    the fixed master's equations. Returns (t, x relative to the master (n, 3))."""
+    the fixed master's equations. implementation, jacobian: of the contact (CreateAnisotropicContact);
+    stats: a dict to receive 'steps', 'newton_iterations' and 'implementation'. Returns (t, x relative
+    to the master (n, 3))."""
     from exudyn.itemInterface import ObjectGenericODE2, SensorNode
     from exudyn.rigidBodyUtilities import InertiaSphere, RotationVector2RotationMatrix
     SC = exu.SystemContainer()
@@ -259,8 +261,9 @@ def _moving_master_run(p, velocity, omega, master_mass=1e9):
         return f
 
     mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nP, nM], massMatrix=np.zeros((9, 9)), forceUserFunction=inertial))
-    mbs.CreateAnisotropicContact(bodyNumber=oP, localPoints=[[0.0, 0.0, 0.0]], contactLaw=particle_contact_law(p),
-                                 masterBodyNumber=oM, show=False)
+    contact = mbs.CreateAnisotropicContact(bodyNumber=oP, localPoints=[[0.0, 0.0, 0.0]],
+                                           contactLaw=particle_contact_law(p), masterBodyNumber=oM, show=False,
+                                           implementation=implementation, jacobian=jacobian)
     sens = {k: mbs.AddSensor(SensorNode(nodeNumber=n, storeInternal=True, outputVariableType=getattr(
         exu.OutputVariableType, o))) for k, n, o in (("P", nP, "Position"), ("C", nM, "Position"),
                                                      ("A", nM, "RotationMatrix"))}
@@ -272,6 +275,10 @@ def _moving_master_run(p, velocity, omega, master_mass=1e9):
     # the master at rest at c0; 201 with c0 = 0)
     ss, st = SimulationSettingsFor(p, newtonTolerance=1e-8)
     mbs.SolveDynamic(ss, solverType=st)
+    if stats is not None:
+        it = mbs.sys["dynamicSolver"].it
+        stats.update(steps=int(it.currentStepIndex) - 1, newton_iterations=int(it.newtonStepsCount),
+                     implementation=contact["implementation"])
     P = mbs.GetSensorStoredData(sens["P"])
     C = mbs.GetSensorStoredData(sens["C"])[:, 1:]
     Q = mbs.GetSensorStoredData(sens["A"])[:, 1:].reshape(-1, 3, 3)
