@@ -4,10 +4,12 @@ Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
 
 * one ``ObjectGenericODE2`` per contact set acting on the slave body node (and the master body
   node when the surface moves), with a ``forceUserFunction`` returning the generalized contact
-  forces ``Q = sum_k Jp_k^T f_k`` and, for a master fixed to ground, a ``jacobianUserFunction``
-  with the consistent tangent of ``exu_aniso.contact`` mapped through the point Jacobians
-  ``Jp_k``, completed by the terms of ``Jp_k`` depending on the node coordinates (lever arms and
-  point velocities turning with the body; ``_ContactSet._add_geometric``) for every node type;
+  forces ``Q = sum_k Jp_k^T f_k`` and a ``jacobianUserFunction`` with the consistent tangent of
+  ``exu_aniso.contact`` mapped through the point Jacobians ``Jp_k``, completed by the terms of
+  ``Jp_k`` depending on the node coordinates (lever arms and point velocities turning with the
+  body; ``_ContactSet._add_geometric``) for every node type; with a moving master the compiled
+  route (``fastpath.evaluate_pair``) gives it over the slave's and the master's coordinates, the
+  numpy route leaves the Jacobian to Exudyn (numerical);
 * the history lives in a ``NodeGenericData`` (9 numbers per point, ``HISTORY_FIELDS``). During
   Newton the law is evaluated from the last *converged* history (``ConfigurationType.StartOfStep``);
   one post-Newton function per mbs evaluates every set at the converged state and writes the
@@ -656,9 +658,12 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     [N s/m per point, default 0: a dashpot -d_T v_t parallel to friction while loaded];
     returnMap "seed" | "exact" | "radial"; or contactLaw: a ready ContactLaw instead of these
     seven arguments (giving both is an error).
-    masterBodyNumber: None (surface fixed to ground) or a 3D rigid body carrying the surface
-    (equal and opposite force on it at the material point coinciding with each slave point).
-    jacobian: "analytic" (consistent tangent; ground master only) or "numerical" (Exudyn's).
+    masterBodyNumber: None (surface fixed to ground) or a 3D rigid body (RotVecLG or EP node)
+    carrying the surface (equal and opposite force on it at the material point coinciding with each
+    slave point).
+    jacobian: "analytic" (consistent tangent; with a moving master over the slave's and the master's
+    coordinates, on the compiled route only: the numpy route then uses Exudyn's) or "numerical"
+    (Exudyn's).
     initializeHistory: True -> points already in contact at the initial configuration start
     sticking there (anchor = initial contact point, T = 0), as in the reference engine; False ->
     they start as a new contact in the first step.
@@ -666,9 +671,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     NodePoint2DSlope1 / NodePointSlope1 (cables), or a NodeGenericODE2 with 2 coordinates (psi about
     z [rad], z [m]) for a reduced screw-joint model.
     implementation: "compiled" (the numba kernel of exu_aniso.fastpath: one compiled call per user
-    function; ground master and a compiled surface), "numpy" (ContactLaw.evaluate with
-    numpy; any configuration) or "auto" (compiled where it applies, numpy otherwise). Both give
-    the same results to round-off (tests/test_fastpath.py).
+    function; a surface and fields numba compiles; ground or moving master), "numpy"
+    (ContactLaw.evaluate with numpy; any configuration) or "auto" (compiled where it applies, numpy
+    otherwise). Both give the same results to round-off (tests/test_fastpath.py,
+    tests/test_moving_master_compiled.py).
 
     Returns a dict with 'oContact' (ObjectGenericODE2), 'nDissipation' (NodeGenericData with the set's
     total dissipated energy [J], written with the history), 'nData' (NodeGenericData, the history:

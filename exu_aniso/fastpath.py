@@ -12,6 +12,11 @@ Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): 0 `
 1 screw joint (``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``.
 Linear slaves (``evaluate_linear``): every point linear in the coordinates, x = c + S q_total with
 a constant S (mass points: S = I; ANCF cables: Hermite shape functions), so Jp = S and dJp/dq = 0.
+A moving master (``evaluate_pair``): the surface carried by a 3D rigid node (kind 2 or 3), any
+slave of the two functions above; the law at the slave point relative to the master, the reaction
+on the master, the Jacobian over both nodes' coordinates (``tests/test_moving_master_compiled.py``).
+The slave's node kinematics are shared helpers (``_node_frame``, ``_rigid_point``,
+``_point_velocity_column``, ``_rigid_geometric``).
 This module needs no Exudyn.
 """
 from __future__ import annotations
@@ -492,9 +497,16 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
         for i in range(n):
             Q[i] = 0.0
     elif mode == 1:
-        for i in range(n):
-            for j in range(n):
-                J[i, j] = 0.0
+        # a rigid slave: every point has all n columns, Kc and Dc (n, n) sum over the points; a linear
+        # slave: the point's columns only, Kc and Dc per point, added into J by cols
+        if linear:
+            for i in range(n):
+                for j in range(n):
+                    J[i, j] = 0.0
+        for i in range(na):
+            for j in range(na):
+                Kc[i, j] = 0.0
+                Dc[i, j] = 0.0
     ncontact = 0
     bx = by = bz = 0.0
     for k in range(K):
@@ -606,7 +618,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
                     V[j, col] = (dAm[cc, j] * u[0] + dAm[cc, 3 + j] * u[1] + dAm[cc, 6 + j] * u[2]
                                  - (Am[0, j] * t0 + Am[1, j] * t1 + Am[2, j] * t2))
                     Vt[j, col] = -(Am[0, j] * r0 + Am[1, j] * r1 + Am[2, j] * r2)
-        # law terms: Kc = L (Kx X + Dv V), Dc = L Dv Vt
+        # law terms: Kc += L (Kx X + Dv V), Dc += L Dv Vt
         for a in range(na):
             l0, l1, l2 = Lt[0, a], Lt[1, a], Lt[2, a]
             k0 = l0 * Kx[0, 0] + l1 * Kx[1, 0] + l2 * Kx[2, 0]
@@ -617,13 +629,12 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
                 e1 = l0 * Dv[0, 1] + l1 * Dv[1, 1] + l2 * Dv[2, 1]
                 e2 = l0 * Dv[0, 2] + l1 * Dv[1, 2] + l2 * Dv[2, 2]
                 for bb in range(na):
-                    Kc[a, bb] = (k0 * X[0, bb] + k1 * X[1, bb] + k2 * X[2, bb]
-                                 + e0 * V[0, bb] + e1 * V[1, bb] + e2 * V[2, bb])
-                    Dc[a, bb] = e0 * Vt[0, bb] + e1 * Vt[1, bb] + e2 * Vt[2, bb]
+                    Kc[a, bb] += (k0 * X[0, bb] + k1 * X[1, bb] + k2 * X[2, bb]
+                                  + e0 * V[0, bb] + e1 * V[1, bb] + e2 * V[2, bb])
+                    Dc[a, bb] += e0 * Vt[0, bb] + e1 * Vt[1, bb] + e2 * Vt[2, bb]
             else:
                 for bb in range(na):
-                    Kc[a, bb] = k0 * X[0, bb] + k1 * X[1, bb] + k2 * X[2, bb]
-                    Dc[a, bb] = 0.0
+                    Kc[a, bb] += k0 * X[0, bb] + k1 * X[1, bb] + k2 * X[2, bb]
         # geometric terms (dL/dq) f: the slave's lever arms at fixed F (rigid slaves)
         if not linear:
             _rigid_geometric(kind, As, Gs, dAs, Jp, F, bx, by, bz, Kc)
@@ -656,10 +667,17 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
                 z0, z1, z2 = xr[1] * mf2 - xr[2] * mf1, xr[2] * mf0 - xr[0] * mf2, xr[0] * mf1 - xr[1] * mf0
                 for r in range(4):
                     Kc[m + 3 + r, m + 3 + cc] -= 2.0 * My[r][cc] + Gm[0, r] * z0 + Gm[1, r] * z1 + Gm[2, r] * z2
-        for a in range(na):
-            ra = cols[a]
-            for bb in range(na):
-                J[ra, cols[bb]] -= fq * Kc[a, bb] + fv * Dc[a, bb]
+        if linear:
+            for a in range(na):
+                ra = cols[a]
+                for bb in range(na):
+                    J[ra, cols[bb]] -= fq * Kc[a, bb] + fv * Dc[a, bb]
+                    Kc[a, bb] = 0.0
+                    Dc[a, bb] = 0.0
+    if mode == 1 and not linear:
+        for i in range(n):
+            for j in range(n):
+                J[i, j] = -(fq * Kc[i, j] + fv * Dc[i, j])
     return ncontact
 
 
