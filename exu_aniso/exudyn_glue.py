@@ -555,11 +555,12 @@ class _CompiledPairSet(_CompiledSet):
     ``jacobian="analytic"`` applies). Everything else as _CompiledSet."""
 
     def __init__(self, mbs, law, slave, points, master):
-        super().__init__(mbs, law, slave, points, master)
         from .fastpath import LinearMap
         from .kernel import CovariantPairSet
         kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
-        self.pk = CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)
+        pk = CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)   # first: it announces a compile
+        super().__init__(mbs, law, slave, points, master)
+        self.pk = pk                          # replaces _CompiledSet's ground-master packing (never compiled)
 
     def commit_candidate(self, mbs, t):
         self._load_history(mbs, t)

@@ -196,7 +196,8 @@ class _Height:
 PLANE_HEIGHT = _Height()
 
 
-def test_compiled_requires_ground_master_and_a_compiled_surface():
+def test_compiled_requires_a_compiled_surface():
+    """(A moving master is compiled too: tests/test_moving_master_compiled.py.)"""
     from exu_aniso import exudyn_glue as glue
     from exu_aniso.geometry import ParametricSurface
     surface = ParametricSurface(_python_only_plane, bounds=((-1.0, 1.0), (-1.0, 1.0)))
