@@ -483,10 +483,9 @@ class _CompiledSet(_ContactSet):
     def __init__(self, mbs, law, slave, points, master):
         super().__init__(mbs, law, slave, points, master)
         from .fastpath import LinearMap
-        from .kernel import CovariantSet
         # a linear slave (mass points, cables) goes to fastpath.evaluate_linear, a rigid one to evaluate_set
         kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
-        self.pk = CovariantSet(law, kind, slave.ref, points)
+        self.pk = self._pack(law, kind, slave, points, master)
         self._t = None                        # time of the Newton solve whose history pk.H holds
         self._dt = 0.0
         self._committed = np.zeros_like(self.pk.Hn)   # the last candidate committed ...
@@ -495,6 +494,12 @@ class _CompiledSet(_ContactSet):
         # the compiled function itself (numba's dispatch done once) and its packed arguments; Exudyn
         # passes q, q_t as lists of floats (np.array makes them float64 arrays) and fODE2, fODE2_t as floats
         self._entry, self._tail = self.pk.entry(), self.pk.tail
+
+    @staticmethod
+    def _pack(law, kind, slave, points, master):
+        """The set packed for its compiled kernel (_CompiledPairSet: a moving master's)."""
+        from .kernel import CovariantSet
+        return CovariantSet(law, kind, slave.ref, points)
 
     def _load_history(self, mbs, t):
         t0 = mbs.systemData.GetTime(_SOS)
@@ -551,24 +556,13 @@ def _commit(mbs, t, sets):
 class _CompiledPairSet(_CompiledSet):
     """A contact set with a moving master (the surface on a 3D rigid body) on the compiled kernel
     ``fastpath.evaluate_pair`` (``kernel.CovariantPairSet``): the slave's and the master's
-    coordinates in one compiled call, with the consistent Jacobian over both (so
-    ``jacobian="analytic"`` applies). Everything else as _CompiledSet."""
+    coordinates (the contact object's) in one compiled call, with the consistent Jacobian over both
+    (so ``jacobian="analytic"`` applies). Everything else as _CompiledSet."""
 
-    def __init__(self, mbs, law, slave, points, master):
-        from .fastpath import LinearMap
+    @staticmethod
+    def _pack(law, kind, slave, points, master):
         from .kernel import CovariantPairSet
-        kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
-        pk = CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)   # first: it announces a compile
-        super().__init__(mbs, law, slave, points, master)
-        self.pk = pk                          # replaces _CompiledSet's ground-master packing (never compiled)
-
-    def commit_candidate(self, mbs, t):
-        self._load_history(mbs, t)
-        q, q_t = (np.concatenate([nd.coordinates(mbs, var, _CUR) for nd in (self.slave, self.master)])
-                  for var in (exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t))
-        self._eval(2, q, q_t)
-        self._H_time = None
-        return self._write_candidate(mbs, self.pk.Hn)
+        return CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)
 
 
 def _body_node(mbs, bodyNumber):

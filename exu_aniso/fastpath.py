@@ -451,7 +451,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     velocity w, velocity vp; d = x - p; the law at x_rel = A^T d, v_rel = A^T (v - vp - w x d) (master
     frame) gives f; F = A f. Q_slave = Jp^T F; the master gets the reaction at its material point
     b = x_rel: Q_master = -Jm^T F with Jm = [I, -A [b]x G], i.e. -F and -G^T (b x A^T F).
-    mode 0: Q (n,); mode 2: Hn (K, 9) history candidate;
+    mode 0: Q (n,) (and Hn, as mode 2); mode 2: Hn (K, 9) history candidate;
     mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) over all coordinates, consistent: with L (n, 3) the
     map Q = sum_k L_k f_k and X, V, Vt (3, n) the derivatives of x_rel by q and of v_rel by q and q_t
     (through the slave's point, the master's position, rotation and angular velocity),
@@ -459,7 +459,8 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     where (dL/dq) f holds the slave's lever arms (_rigid_geometric with F), the turning F = A f and,
     for the master's rows, its point b = x_rel moving (through X) and, for Euler parameters, G(e) and
     A^T A. Rotation-vector coordinates (slave and master) are differentiated by the local
-    increment (A -> A (I + [dtheta]x)), Euler parameters by e. Returns the number of points in contact."""
+    increment (A -> A (I + [dtheta]x)), Euler parameters by e. Returns the number of points in
+    contact, or -1 when a point's motion in the step is unresolved (as evaluate_set)."""
     n = q.shape[0]
     nm = 6 if mkind == 2 else 7
     ns = n - nm
@@ -508,6 +509,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
                 Kc[i, j] = 0.0
                 Dc[i, j] = 0.0
     ncontact = 0
+    unresolved = False
     bx = by = bz = 0.0
     for k in range(K):
         # the slave point
@@ -538,9 +540,12 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
         st = point_law(law, xr, vr, H[k], tangent, dt, f, Kx, Dv, hn, S)
         if st > 0:
             ncontact += 1
-        if mode == 2:
+        if st == 3:
+            unresolved = True
+        if mode != 1:
             for i in range(9):
                 Hn[k, i] = hn[i]
+        if mode == 2:
             continue
         if mode == 1 and st == 0:
             continue
@@ -678,7 +683,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
         for i in range(n):
             for j in range(n):
                 J[i, j] = -(fq * Kc[i, j] + fv * Dc[i, j])
-    return ncontact
+    return -1 if unresolved else ncontact
 
 
 class LinearMap:

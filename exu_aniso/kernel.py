@@ -366,8 +366,10 @@ def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, idx, 
 
 
 @njit(cache=True)
-def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, ref, law, P, S, T, kind, mkind, idx, Sm, c, cols, Q, J):
-    """fastpath.evaluate_pair (a moving master: the surface on a 3D rigid node) with the covariant kernel."""
+def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, T, kind, mkind, idx, Sm, c, cols, Q, J):
+    """fastpath.evaluate_pair (a moving master: the surface on a 3D rigid node) with the covariant kernel;
+    P, X as evaluate_covariant."""
+    _remember(mode, q, q_t, X)
     return evaluate_pair(kind, mkind, q, q_t, ref, P[0, :, :3], idx, Sm, c, P[1], law, mode, fq, fv, dt, Q, J, P[2],
                          S, T, cols)
 
@@ -438,7 +440,8 @@ class CovariantPairSet(CovariantSet):
     fastpath.evaluate_pair: the slave (node_kind: a rigid kind's name, or a LinearMap for mass
     points and cables, with the slave's reference coordinates ref) and the master (master_kind
     "RigidBodyRotVecLG" or "RigidBodyEP", reference coordinates master_ref); coordinates are the
-    slave's then the master's. The same interface as CovariantSet: H, Q (n,), J (n, n), Hn, evaluate."""
+    slave's then the master's. The same interface as CovariantSet: H, Q (n,), J (n, n), Hn, X, tail,
+    evaluate, entry."""
 
     def __init__(self, contact_law, node_kind, ref, points, master_kind, master_ref):
         from .fastpath import NODE_COORDINATES, NODE_KINDS, PAIR_SLOTS, SCRATCH_SLOTS, announce_compile
@@ -470,10 +473,11 @@ class CovariantPairSet(CovariantSet):
         self.T = np.zeros((PAIR_SLOTS, w, w))
         self.cols = np.zeros(m + nm, dtype=np.int64)
         self.H, self.Hn = self.P[1], self.P[2]
+        self.X = np.full((2, n), np.nan)           # state of the last residual (mode 0)
         self.Q, self.J = np.zeros(n), np.zeros((n, n))
         self._fn = evaluate_covariant_pair
-        self._tail = (self.ref, self.law, self.P, self.S, self.T, self.kind, self.mkind, idx, Sm, c, self.cols,
-                      self.Q, self.J)
+        self.tail = (self.ref, self.law, self.P, self.S, self.X, self.T, self.kind, self.mkind, idx, Sm, c, self.cols,
+                     self.Q, self.J)
         self._entry = None
 
 

@@ -205,14 +205,22 @@ def test_force_and_history_equal_the_numpy_route(slave_kind, master_kind, lawnam
             q += rng.normal(scale=1e-6, size=n)
             qt += rng.normal(scale=1e-3, size=n)
         Q_numpy = np.array(glue._ContactSet.force(P, mbs, dt, 0, q, qt), dtype=float)
-        C.pk.evaluate(0, q, qt, 0.0, 0.0, dt)
+        assert C.pk.evaluate(0, q, qt, 0.0, 0.0, dt) == len(H)
         scale = np.abs(Q_numpy).max()
         assert scale > 1.0
         np.testing.assert_allclose(C.pk.Q, Q_numpy, rtol=0, atol=1e-10 * scale)
         ref = glue._ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=dt)[0]
+        np.testing.assert_allclose(C.pk.Hn, ref.history, rtol=1e-9, atol=1e-12)    # a residual leaves it too
+        np.testing.assert_array_equal(C.pk.X, [q, qt])                               # ... and its state
+        C.pk.Hn[:] = 0.0
         C.pk.evaluate(2, q, qt, 0.0, 0.0, dt)
         np.testing.assert_allclose(C.pk.Hn, ref.history, rtol=1e-9, atol=1e-12)
         assert set(ref.status) == {1, 2}
+    if lawname.startswith("shaft"):       # a step of 10 s: the prediction of the turn cannot resolve it
+        ref = glue._ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=10.0)[0]
+        assert 3 in set(ref.status)
+        assert C.pk.evaluate(0, q, qt, 0.0, 0.0, 10.0) == -1
+        np.testing.assert_array_equal(C.pk.Hn[:, 7], ref.status)
     # the glue's user functions (history read from the mbs) give the packed kernel's results
     np.testing.assert_allclose(np.array(C.force(mbs, 1e-3, 0, q, qt)), Q_numpy, rtol=0, atol=1e-10 * scale)
     C.pk.evaluate(1, q, qt, 0.7, 0.3, 1e-3)
