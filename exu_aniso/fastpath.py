@@ -224,6 +224,16 @@ def _rigid_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq):
                 Kq[3 + a, 3 + m] += 2.0 * Mc[a][m] + G[0, a] * y0 + G[1, a] * y1 + G[2, a] * y2
 
 
+@njit(cache=True, inline="always")
+def _keep_candidate(st, mode, hn, Hn, k):
+    """After the law at point k (status st): the candidate hn goes to Hn[k] (modes 0 and 2);
+    returns (in contact, unresolved) for the set's return value."""
+    if mode != 1:
+        for i in range(9):
+            Hn[k, i] = hn[i]
+    return st > 0, st == 3
+
+
 @njit(cache=True)
 def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
@@ -264,13 +274,9 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
         _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
         st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        if st > 0:
-            ncontact += 1
-        if st == 3:
-            unresolved = True
-        if mode != 1:
-            for i in range(9):
-                Hn[k, i] = hn[i]
+        touching, stuck_step = _keep_candidate(st, mode, hn, Hn, k)
+        ncontact += touching
+        unresolved |= stuck_step
         if mode == 2:
             continue
         if mode == 0:
@@ -351,13 +357,9 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
                 vi += Sm[k, i, a] * q_t[g]
             x[i], v[i] = xi, vi
         st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        if st > 0:
-            ncontact += 1
-        if st == 3:
-            unresolved = True
-        if mode != 1:
-            for i in range(9):
-                Hn[k, i] = hn[i]
+        touching, stuck_step = _keep_candidate(st, mode, hn, Hn, k)
+        ncontact += touching
+        unresolved |= stuck_step
         if mode == 0:
             for a in range(m):
                 Q[idx[k, a]] += Sm[k, 0, a] * f[0] + Sm[k, 1, a] * f[1] + Sm[k, 2, a] * f[2]
@@ -538,13 +540,9 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
             xr[j] = Am[0, j] * d[0] + Am[1, j] * d[1] + Am[2, j] * d[2]
             vr[j] = Am[0, j] * u[0] + Am[1, j] * u[1] + Am[2, j] * u[2]
         st = point_law(law, xr, vr, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        if st > 0:
-            ncontact += 1
-        if st == 3:
-            unresolved = True
-        if mode != 1:
-            for i in range(9):
-                Hn[k, i] = hn[i]
+        touching, stuck_step = _keep_candidate(st, mode, hn, Hn, k)
+        ncontact += touching
+        unresolved |= stuck_step
         if mode == 2:
             continue
         if mode == 1 and st == 0:

@@ -114,18 +114,19 @@ def apply_settings(model, settings):
     "full_newton_1e-8" (full Newton at Exudyn's tolerances)."""
     if settings == "package":
         return model
-    if settings not in SETTINGS + ("full_newton_1e-8",):
-        raise ValueError(f"settings must be one of {SETTINGS + ('full_newton_1e-8',)}; got {settings!r}")
+    if settings not in NEWTON_SETTINGS:
+        raise ValueError(f"settings must be 'package' or one of {tuple(NEWTON_SETTINGS)}; got {settings!r}")
     d, n = exu.SimulationSettings().timeIntegration.newton, model["simulationSettings"].timeIntegration.newton
-    n.useModifiedNewton = d.useModifiedNewton
-    n.relativeTolerance = d.relativeTolerance
-    n.absoluteTolerance = d.absoluteTolerance
-    n.maxIterations = d.maxIterations
-    if settings == "jacobian_per_step":
-        n.modifiedNewtonJacUpdatePerStep = True
-    elif settings == "full_newton_1e-8":
-        n.useModifiedNewton = False
+    for name in ("useModifiedNewton", "relativeTolerance", "absoluteTolerance", "maxIterations"):
+        setattr(n, name, getattr(d, name))
+    for name, value in NEWTON_SETTINGS[settings].items():
+        setattr(n, name, value)
     return model
+
+
+# the Newton settings besides the package's: changes to a fresh exu.SimulationSettings()'s Newton settings
+NEWTON_SETTINGS = {"exudyn": {}, "jacobian_per_step": {"modifiedNewtonJacUpdatePerStep": True},
+                   "full_newton_1e-8": {"useModifiedNewton": False}}
 
 
 def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
