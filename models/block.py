@@ -31,8 +31,9 @@ import time
 import exudyn as exu
 import numpy as np
 from exudyn import graphics
-from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigidBody2D, ObjectGenericODE2,
-                                  ObjectRigidBody2D, SensorNode, VObjectRigidBody2D)
+from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2, NodePointGround,
+                                  NodeRigidBody2D, ObjectConnectorCoordinate, ObjectConnectorCoordinateSpringDamper,
+                                  ObjectGenericODE2, ObjectRigidBody2D, SensorNode, VObjectRigidBody2D)
 from exudyn.rigidBodyUtilities import RotationMatrixX, RotationMatrixZ
 from exudyn.utilities import InertiaCuboid
 
@@ -96,6 +97,27 @@ def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
 
     return mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nodeNumber], massMatrix=np.zeros((n, n)),
                                            forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
+
+
+def AddCoordinateDrive(mbs, nodeNumber, coordinate, stiffness, speed):
+    """A spring of ``stiffness`` between coordinate ``coordinate`` of node ``nodeNumber`` and a driver
+    coordinate prescribed to ``speed * t``: the generalized force k (speed t - q) on that coordinate,
+    built from Exudyn C++ items only (no Python in the loop): a one-coordinate ``NodeGenericODE2``
+    (the driver, starting at 0 with velocity ``speed``) held at that velocity by an
+    ``ObjectConnectorCoordinate`` on velocity level, and an ``ObjectConnectorCoordinateSpringDamper``
+    from the node's coordinate to the driver. The driver integrates its constant velocity exactly
+    under both implicit solvers, so this is the drive of ``AddNodeDrive`` with k (speed t - q).
+    Returns the spring's object number."""
+    speed = float(speed)
+    nDriver = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0], initialCoordinates=[0.0],
+                                          initialCoordinates_t=[speed], numberOfODE2Coordinates=1))
+    mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nDriver], massMatrix=np.zeros((1, 1))))
+    mDriver = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nDriver, coordinate=0))
+    mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0))
+    mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mGround, mDriver], offset=speed, velocityLevel=True))
+    mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodeNumber, coordinate=int(coordinate)))
+    return mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mDriven, mDriver],
+                                                               stiffness=float(stiffness), damping=0.0))
 
 
 def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):

@@ -12,8 +12,11 @@ drives and trajectory keys are those of ``exu_aniso.reference`` (read its module
   parameters allowed) with J = diag(J_t, J_t, J_axial), J_t = m (3 r^2 + L^2) / 12, centred on the
   hole axis, no gravity;
 * drives: "torque" -> constant torque tau about +z (Exudyn load); "rotation" -> torsional spring
-  tau = k (omega_d t - psi) to a rotating driver; "axial" -> spring F = k (v_d t - z) along +z; the
-  two springs are ``ObjectGenericODE2`` drives with exact Jacobians (``AddNodeDrive``); axial_load
+  tau = k (omega_d t - psi) to a rotating driver; "axial" -> spring F = k (v_d t - z) along +z.
+  Both springs on a coordinate (the reduced model's psi and z, the full model's z) are Exudyn C++
+  items (``AddCoordinateDrive``: a coordinate spring to a driver coordinate held at constant
+  velocity), so no Python runs in them; the full model's rotation drive acts on the yaw and is an
+  ``ObjectGenericODE2`` with its exact Jacobian in Python (``AddNodeDrive``). axial_load
   is a constant Exudyn load along +z in every drive. In the full model psi is the unwrapped yaw
   atan2(A_10, A_00), as in the reference.
 
@@ -34,7 +37,7 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.failure import SimulationFailure
 from exu_aniso.progress import make_progress
-from exu_aniso.models.block import (NODE_TYPES, AddNodeDrive, BodyMotion, HistoryOutputs, SimulationSettingsFor,
+from exu_aniso.models.block import (NODE_TYPES, AddCoordinateDrive, AddNodeDrive, BodyMotion, HistoryOutputs, SimulationSettingsFor,
                                    SolveTimed, StoreSolution, Unwrap, WriteSnapshot)
 from exu_aniso.reference import Result
 from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
@@ -124,16 +127,7 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
         mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=p.axial_load))
         if p.drive in ("rotation", "axial"):
             i, rate = (0, p.rotation_speed) if p.drive == "rotation" else (1, p.axial_speed)
-            k = p.drive_stiffness
-            Kdrive = np.zeros((2, 2))
-            Kdrive[i, i] = k
-
-            def DriveForce(t, q):
-                Q = np.zeros(2)
-                Q[i] = k * (rate * t - q[i])
-                return Q
-
-            oDrive = AddNodeDrive(mbs, nScrew, 2, DriveForce, lambda t, q: Kdrive)
+            oDrive = AddCoordinateDrive(mbs, nScrew, i, p.drive_stiffness, rate)
         sensors["sCoordinates"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
                                                            outputVariableType=exu.OutputVariableType.Coordinates))
         sensors["sVelocities"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
@@ -148,17 +142,8 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
         mbs.CreateForce(itemNumber=oScrew, loadVector=[0.0, 0.0, p.axial_load])
         ep = nodeType == "EP"
         nq = 7 if ep else 6
-        if p.drive == "axial":
-            k = p.drive_stiffness
-            Kdrive = np.zeros((nq, nq))
-            Kdrive[2, 2] = k
-
-            def DriveForce(t, q):
-                Q = np.zeros(nq)
-                Q[2] = k * (p.axial_speed * t - q[2])
-                return Q
-
-            oDrive = AddNodeDrive(mbs, nScrew, nq, DriveForce, lambda t, q: Kdrive)
+        if p.drive == "axial":                    # z is coordinate 2 of both rigid node types
+            oDrive = AddCoordinateDrive(mbs, nScrew, 2, p.drive_stiffness, p.axial_speed)
         elif p.drive == "rotation":
             yaw_last = [0.0]   # last evaluated yaw: only used to unwrap (per-step change << pi)
 
