@@ -31,9 +31,12 @@ import time
 import exudyn as exu
 import numpy as np
 from exudyn import graphics
-from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2, NodePointGround,
-                                  NodeRigidBody2D, ObjectConnectorCoordinate, ObjectConnectorCoordinateSpringDamper,
-                                  ObjectGenericODE2, ObjectRigidBody2D, SensorNode, VObjectRigidBody2D)
+from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, MarkerNodeCoordinates, NodeGenericODE2,
+                                  NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinate,
+                                  ObjectConnectorCoordinateSpringDamper, ObjectConnectorCoordinateVector,
+                                  ObjectGenericODE2, ObjectRigidBody2D, SensorNode, VNodePointGround,
+                                  VObjectConnectorCoordinate, VObjectConnectorCoordinateSpringDamper,
+                                  VObjectRigidBody2D)
 from exudyn.rigidBodyUtilities import RotationMatrixX, RotationMatrixZ
 from exudyn.utilities import InertiaCuboid
 
@@ -99,25 +102,56 @@ def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
                                            forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
 
 
-def AddCoordinateDrive(mbs, nodeNumber, coordinate, stiffness, speed):
-    """A spring of ``stiffness`` between coordinate ``coordinate`` of node ``nodeNumber`` and a driver
-    coordinate prescribed to ``speed * t``: the generalized force k (speed t - q) on that coordinate,
-    built from Exudyn C++ items only (no Python in the loop): a one-coordinate ``NodeGenericODE2``
-    (the driver, starting at 0 with velocity ``speed``) held at that velocity by an
-    ``ObjectConnectorCoordinate`` on velocity level, and an ``ObjectConnectorCoordinateSpringDamper``
-    from the node's coordinate to the driver. The driver integrates its constant velocity exactly
-    under both implicit solvers, so this is the drive of ``AddNodeDrive`` with k (speed t - q).
-    Returns the spring's object number."""
-    speed = float(speed)
-    nDriver = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0], initialCoordinates=[0.0],
-                                          initialCoordinates_t=[speed], numberOfODE2Coordinates=1))
+# Exudyn's implicit solvers (the scenes' own); the explicit ones cannot solve constraints
+IMPLICIT_SOLVERS = tuple(SOLVER_TYPES.values())
+
+
+def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False):
+    """A drive spring on a node: the generalized force k (speed t - d.q) d on the node's coordinates
+    q (displacements), d = ``direction`` over them (a unit coordinate vector, or e.g. (d_x, d_y, 0)
+    for a spring along an in-plane direction), k = ``stiffness``. Returns the spring's object number.
+
+    Built from Exudyn C++ items, so no Python runs in it: a driver coordinate (a one-coordinate
+    ``NodeGenericODE2`` starting at 0 with velocity ``speed``) held at that velocity by an
+    ``ObjectConnectorCoordinate`` on velocity level (a constant velocity is integrated exactly, so
+    the driver sits at speed t), and an ``ObjectConnectorCoordinateSpringDamper`` from the driven
+    coordinate to it. The driven coordinate is q_i itself for a unit vector d = e_i, else a massless
+    slider w held at d.q by an ``ObjectConnectorCoordinateVector`` on velocity level from consistent
+    initial values (the position-level form drifts under generalized-alpha), which passes the
+    spring force to the node. python=True (explicit solvers, which cannot solve constraints): the
+    same spring as a Python ``ObjectGenericODE2`` with its exact Jacobian (``AddNodeDrive``)."""
+    d = np.asarray(direction, dtype=float)
+    k, speed = float(stiffness), float(speed)
+    if python:
+        K = k * np.outer(d, d)
+        return AddNodeDrive(mbs, nodeNumber, d.size, lambda t, q: k * (speed * t - d @ q) * d, lambda t, q: K)
+
+    def generic_node(q0, q0_t):
+        return mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0], initialCoordinates=[q0],
+                                           initialCoordinates_t=[q0_t], numberOfODE2Coordinates=1))
+
+    if np.count_nonzero(d) == 1 and d.max() == 1.0:          # d = e_i: the spring acts on q_i
+        mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodeNumber, coordinate=int(np.argmax(d))))
+    else:
+        node = mbs.GetNode(nodeNumber)
+        nSlider = generic_node(*(float(d @ np.asarray(node[name], dtype=float))
+                                 for name in ("initialCoordinates", "initialVelocities")))
+        mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nSlider], massMatrix=np.zeros((1, 1))))
+        mbs.AddObject(ObjectConnectorCoordinateVector(
+            markerNumbers=[mbs.AddMarker(MarkerNodeCoordinates(nodeNumber=nodeNumber)),
+                           mbs.AddMarker(MarkerNodeCoordinates(nodeNumber=nSlider))],
+            scalingMarker0=d.reshape(1, -1), scalingMarker1=np.ones((1, 1)), offset=[0.0], velocityLevel=True))
+        mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nSlider, coordinate=0))
+    nDriver = generic_node(0.0, speed)
     mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nDriver], massMatrix=np.zeros((1, 1))))
     mDriver = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nDriver, coordinate=0))
-    mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0))
-    mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mGround, mDriver], offset=speed, velocityLevel=True))
-    mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodeNumber, coordinate=int(coordinate)))
-    return mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mDriven, mDriver],
-                                                               stiffness=float(stiffness), damping=0.0))
+    nGround = mbs.AddNode(NodePointGround(visualization=VNodePointGround(show=False)))
+    mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
+    mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mGround, mDriver], offset=speed, velocityLevel=True,
+                                            visualization=VObjectConnectorCoordinate(show=False)))
+    return mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
+        markerNumbers=[mDriven, mDriver], stiffness=k, damping=0.0,
+        visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
 
 
 def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
@@ -381,15 +415,10 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
 
     oDrive = None
     if p.drive == "displacement":               # spring along d only, driver point moving at drive_speed
-        k, s = p.drive_stiffness, p.drive_speed
-        dd = np.zeros(nq)
-        dd[0:2] = d
-        Kdrive = k * np.outer(dd, dd)           # -dQ/dq
-
-        def DriveForce(t, q):
-            return k * (s * t - d @ q[0:2]) * dd
-
-        oDrive = AddNodeDrive(mbs, nBlock, nq, DriveForce, lambda t, q: Kdrive)
+        along = np.zeros(nq)
+        along[:2] = d
+        oDrive = AddSpringDrive(mbs, nBlock, along, p.drive_stiffness, p.drive_speed,
+                                python=solverType is not None and solverType not in IMPLICIT_SOLVERS)
 
     if contactBuilder is None:
         contact = mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,

@@ -13,9 +13,10 @@ drives and trajectory keys are those of ``exu_aniso.reference`` (read its module
   hole axis, no gravity;
 * drives: "torque" -> constant torque tau about +z (Exudyn load); "rotation" -> torsional spring
   tau = k (omega_d t - psi) to a rotating driver; "axial" -> spring F = k (v_d t - z) along +z.
-  Both springs on a coordinate (the reduced model's psi and z, the full model's z) are Exudyn C++
-  items (``AddCoordinateDrive``: a coordinate spring to a driver coordinate held at constant
-  velocity), so no Python runs in them; the full model's rotation drive acts on the yaw and is an
+  The springs on a coordinate (the reduced model's psi and z, the full model's z) are Exudyn C++
+  items (``AddSpringDrive``: a coordinate spring to a driver coordinate held at constant
+  velocity), so no Python runs in them (under an explicit solver, which cannot solve constraints,
+  they are Python springs); the full model's rotation drive acts on the yaw and is an
   ``ObjectGenericODE2`` with its exact Jacobian in Python (``AddNodeDrive``). axial_load
   is a constant Exudyn load along +z in every drive. In the full model psi is the unwrapped yaw
   atan2(A_10, A_00), as in the reference.
@@ -37,8 +38,9 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.failure import SimulationFailure
 from exu_aniso.progress import make_progress
-from exu_aniso.models.block import (NODE_TYPES, AddCoordinateDrive, AddNodeDrive, BodyMotion, HistoryOutputs, SimulationSettingsFor,
-                                   SolveTimed, StoreSolution, Unwrap, WriteSnapshot)
+from exu_aniso.models.block import (IMPLICIT_SOLVERS, NODE_TYPES, AddNodeDrive, AddSpringDrive, BodyMotion,
+                                   HistoryOutputs, SimulationSettingsFor, SolveTimed, StoreSolution, Unwrap,
+                                   WriteSnapshot)
 from exu_aniso.reference import Result
 from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.validation import check_bool, check_instance
@@ -114,6 +116,7 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     Jt = m * (3.0 * r * r + L * L) / 12.0       # transverse moment of inertia [kg m^2]
     sensors = {}
     oDrive = None
+    explicit = solverType is not None and solverType not in IMPLICIT_SOLVERS   # drives without constraints
     if p.model == "reduced":
         nScrew = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
                                              initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))
@@ -126,8 +129,8 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
             mbs.AddLoad(LoadCoordinate(markerNumber=mPsi, load=p.torque))
         mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=p.axial_load))
         if p.drive in ("rotation", "axial"):
-            i, rate = (0, p.rotation_speed) if p.drive == "rotation" else (1, p.axial_speed)
-            oDrive = AddCoordinateDrive(mbs, nScrew, i, p.drive_stiffness, rate)
+            along, rate = ([1.0, 0.0], p.rotation_speed) if p.drive == "rotation" else ([0.0, 1.0], p.axial_speed)
+            oDrive = AddSpringDrive(mbs, nScrew, along, p.drive_stiffness, rate, python=explicit)
         sensors["sCoordinates"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
                                                            outputVariableType=exu.OutputVariableType.Coordinates))
         sensors["sVelocities"] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
@@ -143,7 +146,7 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
         ep = nodeType == "EP"
         nq = 7 if ep else 6
         if p.drive == "axial":                    # z is coordinate 2 of both rigid node types
-            oDrive = AddCoordinateDrive(mbs, nScrew, 2, p.drive_stiffness, p.axial_speed)
+            oDrive = AddSpringDrive(mbs, nScrew, np.eye(nq)[2], p.drive_stiffness, p.axial_speed, python=explicit)
         elif p.drive == "rotation":
             yaw_last = [0.0]   # last evaluated yaw: only used to unwrap (per-step change << pi)
 

@@ -361,43 +361,43 @@ def test_timing_budget_note():
     assert r.summary["wall_s"] <= time.perf_counter() - t0
 
 
+
+
 @pytest.mark.parametrize("solver", ["trapezoidal", "generalized_alpha"])
-def test_coordinate_drive_is_the_python_spring(solver):
-    """AddCoordinateDrive (C++ items: a driver coordinate held at constant velocity and a coordinate
-    spring) gives the same run as the Python spring k (speed t - q) of AddNodeDrive with its exact
-    Jacobian: the driver moves exactly as speed * t (constant velocity is integrated exactly) and the
-    reduced screw under either drive agrees to round-off (measured: bitwise equal coordinates)."""
+@pytest.mark.parametrize("scene", ["screw", "block planar", "block full"])
+def test_cxx_drives_are_the_python_spring(scene, solver):
+    """AddSpringDrive from Exudyn C++ items (a driver coordinate held at constant velocity and a
+    coordinate spring; for the block's drive at 30 degrees also a massless slider held at d.(x, y)
+    on velocity level, so both coordinates of its constraint act) gives the same run as the Python
+    spring k (speed t - d.q) d with its exact Jacobian (python=True), under both solvers (measured:
+    equal to 1e-13), and the driver moves exactly as speed * t (a constant velocity is integrated
+    exactly)."""
     import exudyn as exu
 
+    from exu_aniso.models import block as B
     from exu_aniso.models import screw as S
-    from exu_aniso.models.block import AddNodeDrive
-
-    def python_drive(mbs, node, i, k, speed):
-        K = np.zeros((2, 2))
-        K[i, i] = k
-
-        def force(t, q):
-            Q = np.zeros(2)
-            Q[i] = k * (speed * t - q[i])
-            return Q
-        return AddNodeDrive(mbs, node, 2, force, lambda t, q: K)
-
-    p = ScrewParams(t_end=0.2, solver=solver)
+    if scene == "screw":
+        module, p = S, ScrewParams(t_end=0.2, solver=solver)
+        speed, coordinates = p.rotation_speed, "sCoordinates"
+    else:
+        module, p = B, BlockParams(model=scene.split()[1], solver=solver, drive_angle=30.0, t_end=0.3)
+        speed, coordinates = p.drive_speed, "sCoordinates" if p.model == "planar" else "sPosition"
+    original = module.AddSpringDrive
     runs = {}
-    for name, drive in (("c++", S.AddCoordinateDrive), ("python", python_drive)):
-        original = S.AddCoordinateDrive
-        S.AddCoordinateDrive = drive
+    for label, drive in (("c++", original), ("python", lambda *a, **k: original(*a, **{**k, "python": True}))):
+        module.AddSpringDrive = drive
         try:
-            m = S.BuildScrew(p)
+            m = (S.BuildScrew if scene == "screw" else B.BuildBlock)(p)
         finally:
-            S.AddCoordinateDrive = original
+            module.AddSpringDrive = original
         SolveTimed(m["mbs"], m["simulationSettings"], m["solverType"])
-        runs[name] = m
+        runs[label] = m
     m = runs["c++"]
     mbs = m["mbs"]
     driver = mbs.GetObject(m["oDrive"])["markerNumbers"][1]
     q_driver = float(np.ravel(mbs.GetNodeOutput(mbs.GetMarker(driver)["nodeNumber"], exu.OutputVariableType.Coordinates))[0])
-    assert q_driver == pytest.approx(p.rotation_speed * p.t_end, rel=1e-13)
-    a, b = (r["mbs"].GetSensorStoredData(r["sensors"]["sCoordinates"]) for r in (runs["c++"], runs["python"]))
-    assert np.abs(a[:, 1]).max() > 0.5                  # the screw turned (about 1.2 rad)
-    np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-14)
+    assert q_driver == pytest.approx(speed * p.t_end, rel=1e-13)
+    a, b = (r["mbs"].GetSensorStoredData(r["sensors"][coordinates]) for r in (runs["c++"], runs["python"]))
+    moved = np.abs(a[-1, 1:3] - a[0, 1:3]).max()
+    assert moved > (0.5 if scene == "screw" else 1e-3)      # the screw turned, the block slid
+    np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-12 * max(1.0, np.abs(a).max()))
