@@ -13,8 +13,9 @@ docstring); ``RunBlock`` returns the same ``Result`` so the two engines compare 
   which the explicit solvers need), normal_load as a constant
   downward force at the centre of mass, no gravity, started at the static penetration;
 * drives: "force" -> constant load at the centre of mass; "displacement" -> a spring along the drive
-  direction d only, F = k (s t - d.(r - r0)) d, as an ``ObjectGenericODE2`` with force and exact
-  Jacobian user functions (``AddNodeDrive``).
+  direction d only, F = k (s t - d.(r - r0)) d, from Exudyn C++ items (``AddSpringDrive``: a
+  driver at constant velocity, a slider held at d.(r - r0), a coordinate spring; under an explicit
+  solver, which cannot solve constraints, a Python ``ObjectGenericODE2`` with its exact Jacobian).
 
 Run ``python -m exu_aniso.models.block`` (or this file) for a plot of the default scene.
 """
