@@ -492,8 +492,11 @@ class _CompiledSet(_ContactSet):
         self._committed_t = None                      # ... at this time
         self.recomputed = 0                   # commits that had to evaluate afresh (diagnostics)
         # the compiled function itself (numba's dispatch done once) and its packed arguments; Exudyn
-        # passes q, q_t as lists of floats (np.array makes them float64 arrays) and fODE2, fODE2_t as floats
+        # passes q, q_t as lists of floats, copied into the float64 buffers _q, _q_t (the kernel keeps
+        # no reference to them: a residual copies its state into X), and fODE2, fODE2_t as floats
         self._entry, self._tail = self.pk.entry(), self.pk.tail
+        self._q, self._q_t = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])
+        self._force_args = (0, self._q, self._q_t, 0.0, 0.0, 0.0) + self._tail
 
     @staticmethod
     def _pack(law, kind, slave, points, master):
@@ -509,17 +512,22 @@ class _CompiledSet(_ContactSet):
             self.pk.H[:] = self.history(mbs, _SOS)
         self._t = t
         self._dt = t - t0
+        self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt) + self._tail
 
     def force(self, mbs, t, itemNumber, q, q_t):
         if t != self._t:
             self._load_history(mbs, t)
-        self._entry(0, np.array(q), np.array(q_t), 0.0, 0.0, self._dt, *self._tail)
+        self._q[:] = q
+        self._q_t[:] = q_t
+        self._entry(*self._force_args)
         return self.pk.Q
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         if t != self._t:
             self._load_history(mbs, t)
-        self._entry(1, np.array(q), np.array(q_t), fODE2, fODE2_t, self._dt, *self._tail)
+        self._q[:] = q
+        self._q_t[:] = q_t
+        self._entry(1, self._q, self._q_t, fODE2, fODE2_t, self._dt, *self._tail)
         return self.pk.J
 
     def stage(self, mbs, t, q, q_t, data):

@@ -59,16 +59,29 @@ NODE_TYPES = {"RotVecLG": exu.NodeType.RotationRotationVector, "EP": exu.NodeTyp
 # ----------------------------------------------------------------------------------------------
 # helpers shared with exu_aniso.models.screw
 
-def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None):
+# Newton of the scenes (studies/newton_settings.py measures every choice; README "Solver settings"):
+# "modified" (the default): Exudyn's modified Newton, which keeps its Jacobian over steps, with a fresh
+#   Jacobian whenever an iteration reduces the residual by less than NEWTON_CONTRACTIVITY. Exudyn's own
+#   threshold (0.5) keeps a Jacobian from sticking through sliding: the residual then falls only ~40x per
+#   iteration and a sliding step takes 4-6 iterations (2 with a fresh Jacobian).
+# "full": a fresh Jacobian at every iteration.
+NEWTON_MODES = ("modified", "full")
+NEWTON_CONTRACTIVITY = 0.01
+
+
+def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None, newton="modified"):
     """SimulationSettings and DynamicSolverType of a scene parameter set p (BlockParams or ScrewParams).
 
-    Full Newton (useModifiedNewton False), relative/absolute Newton tolerance ``newtonTolerance``,
-    numberOfSteps = round(t_end / dt), sensors every step, no solution file, silent.
-    p.solver "trapezoidal" -> TrapezoidalIndex2 (Newmark beta 1/4, gamma 1/2, as the reference);
-    "generalized_alpha" -> GeneralizedAlpha with spectralRadius = rhoInf (reference rho_inf).
-    solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check)."""
+    newton: "modified" (Exudyn's modified Newton with a Jacobian update when an iteration contracts
+    by less than NEWTON_CONTRACTIVITY) or "full" (useModifiedNewton False); relative/absolute Newton
+    tolerance ``newtonTolerance``; numberOfSteps = round(t_end / dt), sensors every step, no solution
+    file, silent. p.solver "trapezoidal" -> TrapezoidalIndex2 (Newmark beta 1/4, gamma 1/2, as the
+    reference); "generalized_alpha" -> GeneralizedAlpha with spectralRadius = rhoInf (reference
+    rho_inf). solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check)."""
     rhoInf = check_in_range("rhoInf", rhoInf, 0.0, 1.0)
     newtonTolerance = check_positive("newtonTolerance", newtonTolerance)
+    if newton not in NEWTON_MODES:
+        raise ValueError(f"newton must be one of {NEWTON_MODES}; got {newton!r}")
     if solverType is not None:
         check_instance("solverType", solverType, exu.DynamicSolverType, "exudyn.DynamicSolverType")
     ss = exu.SimulationSettings()
@@ -76,7 +89,8 @@ def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None)
     ti.numberOfSteps = int(round(p.t_end / p.dt))
     ti.endTime = p.t_end
     ti.verboseMode = 0
-    ti.newton.useModifiedNewton = False
+    ti.newton.useModifiedNewton = newton == "modified"
+    ti.newton.modifiedNewtonContractivity = NEWTON_CONTRACTIVITY
     ti.newton.relativeTolerance = newtonTolerance
     ti.newton.absoluteTolerance = newtonTolerance
     ti.generalizedAlpha.spectralRadius = rhoInf
@@ -357,7 +371,7 @@ def ViewSolution(model, fileName, title=""):
 # the block scene
 
 def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10, implementation="auto", contactBuilder=None):
+               newtonTolerance=1e-10, implementation="auto", contactBuilder=None, newton="modified"):
     """Build the block scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nBlock, oBlock, contact (dict of CreateAnisotropicContact), sensors (dict) and oDrive (or None).
 
@@ -366,7 +380,8 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     below ~1.5e-8 rad in its composition, see tests/test_exudyn_scenes.py) for the full model;
     implementation: contact kernel "auto" | "compiled" | "numpy" (CreateAnisotropicContact);
     solverType: an exu.DynamicSolverType overriding p.solver; rhoInf: spectral radius of
-    generalized-alpha; newtonTolerance: Newton relative and absolute tolerance;
+    generalized-alpha; newtonTolerance: Newton relative and absolute tolerance; newton: "modified"
+    | "full" (SimulationSettingsFor);
     contactBuilder: None (the anisotropic contact) or a function (mbs, bodyNumber, localPoints) ->
     dict that puts another contact model at the same points (studies/baseline.py: C++ springs);
     everything else of the scene (body, loads, drive, sensors, settings) stays the same."""
@@ -428,7 +443,8 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     else:
         contact = contactBuilder(mbs, oBlock, localPoints)
     mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
+    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType,
+                                   newton=newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nBlock=nBlock, oBlock=oBlock,
                 contact=contact, sensors=sensors, oDrive=oDrive, driveDirection=d, nodeType=nodeType,
                 position=pos)
@@ -504,6 +520,7 @@ def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
                 K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
+                newton=options.get("newton", "modified"),
                 implementation=model["contact"]["implementation"])
     if snapshot is not None:
         info["snapshot"] = WriteSnapshot(model, snapshot)

@@ -93,7 +93,7 @@ def RopeGeometry(p):
 
 
 def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", newtonTolerance=1e-8,
-                 rhoInf=0.8, stop=True, show=True):
+                 rhoInf=0.8, stop=True, show=True, newton="modified"):
     """Build the capstan scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nodes, elements, contact (dict of CreateAnisotropicContact), sensors (dict), directions (in, out:
     unit vectors of the end forces) and the loads.
@@ -102,7 +102,8 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
     "compiled" | "numpy"; newtonTolerance: Newton relative and absolute tolerance (1e-8: the rope's
     residual has a round-off floor near 1e-9 with fine elements, where a tighter tolerance makes
     Newton fail and Exudyn cut the step again and again: 48 elements, 1e-10, measured); rhoInf: spectral
-    radius of generalized-alpha (solver="generalized_alpha"); stop: stop the run at
+    radius of generalized-alpha (solver="generalized_alpha"); newton: "modified" | "full"
+    (models.block.SimulationSettingsFor); stop: stop the run at
     stop_displacement (pre-step function); show: renderer graphics of the drum and the contact points
     (mbs.CreateAnisotropicContact(show=...); drawn only when a scene is rendered)."""
     check_instance("p", p, CapstanParams)
@@ -180,7 +181,7 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
 
         mbs.SetPreStepUserFunction(PreStep)
     mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance)
+    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, newton=newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nodes=nodes, elements=elements,
                 contact=contacts[0], contacts=contacts, sensors=sensors, directions=(d_in, d_out), loads=loads)
 
@@ -278,7 +279,7 @@ def RunCapstan(p: CapstanParams = None, progress=False, snapshot=None, solutionF
     summary.update(CapstanLedger(model, traj, q, qt, H))
     info.update(engine="exudyn", jacobian=options.get("jacobian", "analytic"),
                 K=int(sum(_contact_set(model["mbs"], c).K for c in model["contacts"])),
-                newton_tol=options.get("newtonTolerance", 1e-8),
+                newton_tol=options.get("newtonTolerance", 1e-8), newton=options.get("newton", "modified"),
                 implementation=model["contact"]["implementation"], elements=len(model["elements"]))
     if snapshot is not None:
         info["snapshot"] = WriteSnapshot(model, snapshot)

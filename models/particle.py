@@ -28,13 +28,14 @@ from exu_aniso.validation import check_instance
 
 
 def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
-                  implementation="auto", contactLaw=None, show=False):
+                  implementation="auto", contactLaw=None, show=False, newton="modified"):
     """Build the particle scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     oPoint, nPoint, contact (dict of CreateAnisotropicContact) and sensors (dict: sPosition, sVelocity).
 
     jacobian: "analytic" | "numerical" (contact Jacobian); implementation: contact kernel "auto" |
     "compiled" | "numpy"; solverType: an exu.DynamicSolverType overriding p.solver; rhoInf:
     spectral radius of generalized-alpha; newtonTolerance: Newton relative and absolute tolerance;
+    newton: "modified" | "full" (models.block.SimulationSettingsFor);
     contactLaw: a ContactLaw replacing the scene's (e.g. on a surface of one's own); show: draw the
     surface and the contact point in the renderer."""
     check_instance("p", p, ParticleParams)
@@ -54,7 +55,8 @@ def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoIn
                                               outputVariableType=getattr(exu.OutputVariableType, ovt)))
                for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"))}
     mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
+    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType,
+                                   newton=newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, oPoint=oPoint, nPoint=nPoint,
                 contact=contact, sensors=sensors)
 
@@ -92,7 +94,8 @@ def RunParticle(p: ParticleParams = None, progress=False, snapshot=None, solutio
     summary = particle_summary(traj, p, wall, steps, iters)
     summary.update(particle_energy(p, traj, model["contact"]["law"], H))
     info.update(engine="exudyn", jacobian=options.get("jacobian", "analytic"), K=1,
-                newton_tol=options.get("newtonTolerance", 1e-10), implementation=model["contact"]["implementation"])
+                newton_tol=options.get("newtonTolerance", 1e-10), newton=options.get("newton", "modified"),
+                implementation=model["contact"]["implementation"])
     if snapshot is not None:
         info["snapshot"] = WriteSnapshot(model, snapshot)
     return Result(traj, summary, p, info)

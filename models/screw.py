@@ -91,7 +91,7 @@ def _ReducedScrewGraphics(p, nScrew):
 
 
 def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10, implementation="auto", symmetry=True, contactBuilder=None):
+               newtonTolerance=1e-10, implementation="auto", symmetry=True, contactBuilder=None, newton="modified"):
     """Build the screw scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nScrew, oScrew, contact (dict of CreateAnisotropicContact), sensors (dict), oDrive (or None).
     Options as for exu_aniso.models.block.BuildBlock (contactBuilder gets the evaluated points), and
@@ -193,7 +193,8 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     else:
         contact = contactBuilder(mbs, oScrew, screw_points(pc))
     mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType)
+    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType,
+                                   newton=newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nScrew=nScrew, oScrew=oScrew,
                 contact=contact, sensors=sensors, oDrive=oDrive, nodeType=nodeType)
 
@@ -271,6 +272,7 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapsho
     info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
                 nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
                 K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
+                newton=options.get("newton", "modified"),
                 implementation=model["contact"]["implementation"])
     if snapshot is not None:
         info["snapshot"] = WriteSnapshot(model, snapshot)

@@ -9,7 +9,9 @@ alone: every scene of ``RATIO_SCENES`` at the package's and at Exudyn's default 
 ours, the floor (empty callbacks) and the baseline in interleaved repeats in this process (median
 CPU time of the solve per step). Writes ``baseline.csv``, ``report.md`` and
 ``timing.json`` (default ``studies/results/baseline``, which git ignores) and prints the table.
-``--quick``: 0.05 s instead of 0.2 s simulated, 3 repeats instead of 5.
+``--quick``: 0.05 s instead of 0.2 s simulated, 3 repeats instead of 5. ``--targets``: only the
+speed targets of issue 13 (``studies/_lib/targets.py``: each scene against a cube on as many C++
+springs at Exudyn's defaults), written to ``targets.csv``.
 """
 from __future__ import annotations
 
@@ -20,7 +22,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib import baseline  # noqa: E402
+from _lib import baseline, targets  # noqa: E402
 from _lib.studylib import Timer, finish, markdown_table, parse_args, sweep, table  # noqa: E402
 
 NAME = "baseline"
@@ -31,11 +33,18 @@ def main(argv=None):
         ap.add_argument("--repeats", type=int, default=None, help="timing repeats (default 3 quick, 5 full)")
         ap.add_argument("--implementation", default=None, help="contact kernel passed to BuildBlock/BuildScrew "
                         "(auto | compiled | numpy; default: their default)")
+        ap.add_argument("--targets", action="store_true", help="only the speed targets (studies/_lib/targets.py)")
     args = parse_args(NAME, __doc__.splitlines()[0], argv, extra, parallel=False, results_doc=False)
     timer = Timer()
     reps = args.repeats or (3 if args.quick else 5)
     if reps < 1:
         raise SystemExit(f"{NAME}: --repeats must be >= 1; got {reps}")
+    if args.targets:
+        rows = targets.target_rows(args.quick, reps)
+        table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS, targets.target_table_rows(rows))
+        targets.print_targets(rows)
+        finish(args, timer, targets.markdown(rows, reps), "Speed targets: ours / a cube on C++ springs")
+        return 0
     opts = {} if args.implementation is None else {"implementation": args.implementation}
     rows = sweep(baseline.ratio_case, baseline.ratio_cases(args.quick, reps, opts), args)
     table(os.path.join(args.out, "baseline.csv"), baseline.BASE_COLUMNS, baseline.table_rows(rows))

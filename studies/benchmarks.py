@@ -24,7 +24,8 @@ overrides plus a dict of keyword options. The fast path is one more line in ``IM
 e.g. ``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
 
 Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one row per setting),
-``kernel.csv`` (law cost per point), ``baseline.csv`` (ours / C++ baseline), ``benchmarks.json``
+``kernel.csv`` (law cost per point), ``baseline.csv`` (ours / C++ baseline), ``targets.csv`` (the speed
+targets: ours / a cube on as many C++ springs at Exudyn's defaults), ``benchmarks.json``
 (fits of cost = a + b K with R^2, ratios; machine-readable), ``cost_vs_points.png``, ``report.md``.
 """
 from __future__ import annotations
@@ -39,7 +40,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib import baseline, studylib  # noqa: E402
+from _lib import baseline, studylib, targets  # noqa: E402
 from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
 from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table, write_json  # noqa: E402
 
@@ -306,6 +307,10 @@ def main(argv=None):
     bres = sweep(baseline.ratio_case, bcases, args)
     table(os.path.join(args.out, "baseline.csv"), BASE_COLUMNS, baseline.table_rows(bres))
 
+    # 4. the speed targets of issue 13: each scene against a cube on as many C++ springs (studies/_lib/targets.py)
+    tres = targets.target_rows(args.quick, reps)
+    table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS, targets.target_table_rows(tres))
+
     # analysis from the CSV files written above
     fits = fits_from_csv(bench_csv)
     B = read_table(os.path.join(args.out, "baseline.csv"))
@@ -353,6 +358,8 @@ def main(argv=None):
               f"{K_['per_point [s]'][j] * 1e6:8.2f} us/point")
     print("\nours / C++ baseline (same scene, solver and step):")
     baseline.print_ratio_table(bres)
+    print("\nspeed targets (ours at the package's settings / a cube on as many C++ springs at Exudyn's defaults):")
+    targets.print_targets(tres)
 
     # report
     fit_rows = [[f["scene"], f["implementation"], f["a_s"] * 1e3, f["b_s_per_point"] * 1e6, f["r2"],
@@ -397,7 +404,10 @@ spring-dampers with our per-point stiffnesses (our law in pure stick with isotro
 "C++ load" drives leave the contact as the only Python user function in ours.
 
 {markdown_table(["scene", "model", "drive", "contact", "K", "ours ms/step", "C++ ms/step", "ours/C++", "Newton/step ours",
-                 "Newton/step C++", "ours/C++ per Newton it."], base_rows)}"""
+                 "Newton/step C++", "ours/C++ per Newton it."], base_rows)}
+### Speed targets (issue 13)
+
+{targets.markdown(tres, reps)}"""
     finish(args, timer, body, "Benchmarks: cost per step, per point, and against Exudyn's C++ springs")
     return 0
 

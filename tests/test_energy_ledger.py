@@ -28,13 +28,20 @@ def _terms(res):
 @pytest.mark.parametrize("engine", ["exudyn", "reference"])
 def test_constant_adhesion_closes_to_round_off(engine):
     """Constant (cartesian) B, trapezoidal rule, stick then slip: the kernel's trapezoidal
-    dissipation and T.C^-1 T / 2 make the books close to round-off (not to a tolerance)."""
+    dissipation and T.C^-1 T / 2 make the books close to round-off (not to a tolerance) when
+    every step is solved to round-off (full Newton). Exudyn's default, modified Newton, stops at the
+    Newton tolerance 1e-10 with a Jacobian that may be a few steps old: the books then close to that
+    tolerance (measured 3.2e-12 relative), not to round-off."""
     p = BlockParams(t_end=1.0, return_map="exact", **CARTESIAN)
-    res = RunBlock(p) if engine == "exudyn" else simulate_block(p)
+    res = RunBlock(p, newton="full") if engine == "exudyn" else simulate_block(p)
     e = _terms(res)
     assert e["dissipated"] > 0.5 * e["work_in"] > 0.0 and e["stored"] > 0.0 and e["kinetic"] > 0.0
     assert e["residual"] < 1e-12 and res.summary["energy_ok"]
     assert np.max(np.abs(res.trajectory["energy_residual"])) < 1e-12 * e["work_in"]
+    if engine == "exudyn":
+        res = RunBlock(p)
+        e = _terms(res)
+        assert e["residual"] < 1e-10 and res.summary["energy_ok"]
 
 
 @pytest.mark.parametrize("scene", ["block", "screw"])

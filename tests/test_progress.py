@@ -119,10 +119,11 @@ def test_short_run_prints_nothing():
 
 def test_exudyn_hook_chains_counts_and_is_removed():
     """SolveTimed with progress: the system's own pre-step function still runs every step and is
-    restored afterwards; the lines carry the solver's step and Newton counts."""
+    restored afterwards; the lines carry the solver's step and Newton counts (full Newton: 2 iterations
+    in every step of this sliding block)."""
     from exu_aniso.models.block import BuildBlock, SolveTimed
     from exu_aniso.scenes import BlockParams
-    model = BuildBlock(BlockParams(t_end=0.05, dt=1e-3))
+    model = BuildBlock(BlockParams(t_end=0.05, dt=1e-3), newton="full")
     mbs = model["mbs"]
     calls = []
 

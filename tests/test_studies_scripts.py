@@ -96,18 +96,21 @@ def test_baseline_quick(tmp_path, quick_study):
 
 
 def test_newton_settings_quick(tmp_path, quick_study):
-    """Four Newton settings per scene; where Newton converges, every setting solves the same step
-    equations, so the block's and the reduced screw's coordinates agree with the package setting's to
-    far below the step error (measured <= 3e-8 relative, 2026-11-25). The full screw is left out of
-    the check: under modified Newton it departs from full Newton (the study's finding, README)."""
-    quick_study("newton_settings", tmp_path, timeout=180)
+    """Five Newton settings per scene. Where Newton converges, every setting solves the same step
+    equations, so every scene's coordinates agree with full Newton at 1e-10 far below the step
+    error: the package's setting (modified Newton, contractivity 0.01, 1e-10) to 1e-9 (measured
+    <= 3.4e-12 relative over 0.25-0.5 s, /tmp script, 2026-11-25), Exudyn's defaults (tolerance
+    1e-8) to 1e-6. The full screw runs under its default rotation drive; under the torque drive
+    at the default torque it grazes its slip limit and is not converged in the step (study doc)."""
+    quick_study("newton_settings", tmp_path, timeout=240)
     T = read_table(tmp_path / "newton_settings.csv")
-    assert len(T["scene [-]"]) == 16
-    assert sorted(set(T["settings [-]"])) == ["exudyn", "full_newton_1e-8", "jacobian_per_step", "package"]
-    for sc, model, err, it in zip(T["scene [-]"], T["model [-]"], T["error_vs_package [-]"], T["newton_per_step [-]"]):
+    assert len(T["scene [-]"]) == 25
+    assert sorted(set(T["settings [-]"])) == ["exudyn", "full_newton_1e-10", "full_newton_1e-8",
+                                              "jacobian_per_step", "package"]
+    for sc, st, err, it in zip(T["scene [-]"], T["settings [-]"], T["error_vs_full_newton [-]"],
+                               T["newton_per_step [-]"]):
         assert it >= 1.0
-        if (sc, model) != ("screw", "full"):
-            assert err < 1e-6, (sc, model, err)
+        assert err < (1e-9 if st in ("package", "full_newton_1e-10") else 1e-6), (sc, st, err)
 
 
 def test_run_all_quick_assembles_the_document(tmp_path, quick_study):

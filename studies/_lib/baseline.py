@@ -37,8 +37,9 @@ post-Newton function that accepts the step. It costs what the callbacks cost wit
 contact computation, so ours - floor is the contact itself and floor - C++ is Exudyn's price of
 calling Python.
 
-Settings: every row is measured at the package's solver settings ("package": full Newton,
-relative and absolute tolerance 1e-10, ``SimulationSettingsFor``) and at Exudyn's defaults
+Settings: every row is measured at the package's solver settings ("package": Exudyn's modified
+Newton with a fresh Jacobian when an iteration contracts by less than 0.01, relative and absolute
+tolerance 1e-10, ``SimulationSettingsFor``) and at Exudyn's defaults
 ("exudyn": the Newton settings of a fresh ``exu.SimulationSettings()``: modified Newton, relative
 tolerance 1e-8, absolute 1e-10) and at Exudyn's defaults with a fresh Jacobian at every step
 ("jacobian_per_step": ``newton.modifiedNewtonJacUpdatePerStep = True``), the same step and
@@ -110,14 +111,16 @@ def _empty_callbacks(mbs, node, K):
 def apply_settings(model, settings):
     """Newton settings of a built model (module doc): "package" (as built), "exudyn" (a fresh
     exu.SimulationSettings()'s Newton settings), "jacobian_per_step" (Exudyn's, with the modified
-    Newton's Jacobian computed afresh at every step: modifiedNewtonJacUpdatePerStep) or
-    "full_newton_1e-8" (full Newton at Exudyn's tolerances)."""
+    Newton's Jacobian computed afresh at every step: modifiedNewtonJacUpdatePerStep),
+    "full_newton_1e-8" (full Newton at Exudyn's tolerances) or "full_newton_1e-10" (full Newton at
+    the package's tolerance: the package's setting before issue 13's study)."""
     if settings == "package":
         return model
     if settings not in NEWTON_SETTINGS:
         raise ValueError(f"settings must be 'package' or one of {tuple(NEWTON_SETTINGS)}; got {settings!r}")
     d, n = exu.SimulationSettings().timeIntegration.newton, model["simulationSettings"].timeIntegration.newton
-    for name in ("useModifiedNewton", "relativeTolerance", "absoluteTolerance", "maxIterations"):
+    for name in ("useModifiedNewton", "relativeTolerance", "absoluteTolerance", "maxIterations",
+                 "modifiedNewtonContractivity"):
         setattr(n, name, getattr(d, name))
     for name, value in NEWTON_SETTINGS[settings].items():
         setattr(n, name, value)
@@ -126,7 +129,9 @@ def apply_settings(model, settings):
 
 # the Newton settings besides the package's: changes to a fresh exu.SimulationSettings()'s Newton settings
 NEWTON_SETTINGS = {"exudyn": {}, "jacobian_per_step": {"modifiedNewtonJacUpdatePerStep": True},
-                   "full_newton_1e-8": {"useModifiedNewton": False}}
+                   "full_newton_1e-8": {"useModifiedNewton": False},
+                   "full_newton_1e-10": {"useModifiedNewton": False, "relativeTolerance": 1e-10,
+                                         "absoluteTolerance": 1e-10}}
 
 
 def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
