@@ -68,17 +68,17 @@ def _A_inv(r1, r2, r11, r12, r22, n, xi3):
     m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
     h11, h12, h22 = dot(r11, n), dot(r12, n), dot(r22, n)
     a11, a12, a22 = m11 - xi3 * h11, m12 - xi3 * h12, m22 - xi3 * h22
-    det = a11 * a22 - a12 * a12
-    return a22 / det, -a12 / det, a11 / det, h11, h12, h22
+    idet = 1.0 / (a11 * a22 - a12 * a12)
+    return a22 * idet, -a12 * idet, a11 * idet, h11, h12, h22
 
 
 @njit(cache=True)
 def _contra(r1, r2, w):
     """Contravariant components of the tangent vector w in the basis (r1, r2)."""
     m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
-    det = m11 * m22 - m12 * m12
+    idet = 1.0 / (m11 * m22 - m12 * m12)
     b1, b2 = dot(w, r1), dot(w, r2)
-    return (m22 * b1 - m12 * b2) / det, (m11 * b2 - m12 * b1) / det
+    return (m22 * b1 - m12 * b2) * idet, (m11 * b2 - m12 * b1) * idet
 
 
 @njit(cache=True)
@@ -328,7 +328,7 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
 CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "law"))
 
 
-@overload(fastpath_point_law)
+@overload(fastpath_point_law, inline="always")      # inlined into the set loops, as _rigid_point
 def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
     if getattr(law, "instance_class", None) is CovariantLaw:
         def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):

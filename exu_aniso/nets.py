@@ -70,11 +70,11 @@ def _principal(f, xi1, xi2, r, r1, r2):
 @njit(cache=True)
 def tangent_frame(r1, r2):
     """a_1, a_2 (unit, in the tangent plane; a_2 on the side of rho_2) and nu."""
-    n1 = math.sqrt(dot(r1, r1))
-    a1 = (r1[0] / n1, r1[1] / n1, r1[2] / n1)
+    i1 = 1.0 / math.sqrt(dot(r1, r1))      # one division per norm: divisions dominate the kernel's cost
+    a1 = (r1[0] * i1, r1[1] * i1, r1[2] * i1)
     c = cross(r1, r2)
-    nc = math.sqrt(dot(c, c))
-    nu = (c[0] / nc, c[1] / nc, c[2] / nc)
+    ic = 1.0 / math.sqrt(dot(c, c))
+    nu = (c[0] * ic, c[1] * ic, c[2] * ic)
     return a1, cross(nu, a1), nu
 
 
@@ -97,13 +97,14 @@ def _polar(f, xi1, xi2, r, r1, r2):
     if not d < math.inf:
         raise ValueError("point coordinates too large or not finite for the polar field: x^2 + y^2 overflows")
     w = f.l1 - f.l2
-    lr = f.l2 + w * (rho2 + 0.5 * f.rc2) / d
-    lp = f.l2 + w * (0.5 * f.rc2) / d
+    wd = w / d
+    lr = f.l2 + wd * (rho2 + 0.5 * f.rc2)
+    lp = f.l2 + wd * (0.5 * f.rc2)
     if rho2 == 0.0:
         return lr, lp, 1.0, 0.0
     a1, a2, nu = tangent_frame(r1, r2)
-    rh = math.sqrt(rho2)
-    er = (r[0] / rh, r[1] / rh, 0.0)
+    irh = 1.0 / math.sqrt(rho2)
+    er = (r[0] * irh, r[1] * irh, 0.0)
     return lr, lp, dot(er, a1), dot(er, a2)
 
 
@@ -113,8 +114,8 @@ def _spiral(f, xi1, xi2, r, r1, r2):
     w = (r1[0] + k * r2[0], r1[1] + k * r2[1], r1[2] + k * r2[2])
     a1, a2, nu = tangent_frame(r1, r2)
     c, s = dot(w, a1), dot(w, a2)
-    nw = math.sqrt(c * c + s * s)
-    return f.l1, f.l2, c / nw, s / nw
+    inw = 1.0 / math.sqrt(c * c + s * s)
+    return f.l1, f.l2, c * inw, s * inw
 
 
 @njit(cache=True)

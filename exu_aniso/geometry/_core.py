@@ -144,8 +144,8 @@ def chart(p, xi1, xi2):
 def metric(r1, r2):
     """m_11, m_12, m_22 and the inverse m^11, m^12, m^22."""
     m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
-    det = m11 * m22 - m12 * m12
-    return m11, m12, m22, m22 / det, -m12 / det, m11 / det
+    idet = 1.0 / (m11 * m22 - m12 * m12)
+    return m11, m12, m22, m22 * idet, -m12 * idet, m11 * idet
 
 
 @njit(cache=True)
@@ -237,8 +237,8 @@ def christoffel(p, xi1, xi2):
     """Gamma^1_(11, 12, 22) and Gamma^2_(11, 12, 22) at (xi1, xi2), from the local chart only."""
     r, r1, r2, r11, r12, r22 = local_chart(p, xi1, xi2)
     m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
-    det = m11 * m22 - m12 * m12
-    M11, M12, M22 = m22 / det, -m12 / det, m11 / det
+    idet = 1.0 / (m11 * m22 - m12 * m12)
+    M11, M12, M22 = m22 * idet, -m12 * idet, m11 * idet
     a11, a12, a22 = dot(r11, r1), dot(r12, r1), dot(r22, r1)
     b11, b12, b22 = dot(r11, r2), dot(r12, r2), dot(r22, r2)
     return ((M11 * a11 + M12 * b11, M11 * a12 + M12 * b12, M11 * a22 + M12 * b22),
