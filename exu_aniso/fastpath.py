@@ -97,9 +97,9 @@ def _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt):
         _ep_derivatives(qt, q_t, dA, Gt)
 
 
-# inlined (numba IR level), as the point law: a call per point passed 10 arrays, and their reference
-# counting cost more than the point's kinematics (issue 13: 64 points, mode 0, 340 -> 228 ns per point
-# with the point law inlined too)
+# inlined (numba IR level): a call per point passed 10 arrays, and their reference counting cost more
+# than the point's kinematics (issue 13: 64 points, mode 0, 340 -> 252 ns per point; inlining the point
+# law as well gave 228 ns but doubled the compile time of every kernel, 32 -> 55 s for block and screw)
 @njit(cache=True, inline="always")
 def _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):
     """Position x, velocity v and virtual-work Jacobian Jp (3, nq) of the body-local point b of a

@@ -328,7 +328,7 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
 CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "law"))
 
 
-@overload(fastpath_point_law, inline="always")      # inlined into the set loops, as _rigid_point
+@overload(fastpath_point_law)
 def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
     if getattr(law, "instance_class", None) is CovariantLaw:
         def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
