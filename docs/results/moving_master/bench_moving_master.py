@@ -15,28 +15,18 @@ modified Newton.
     NUMBA_CACHE_DIR=/tmp/numba_master python docs/results/moving_master/bench_moving_master.py
 """
 import argparse
+import os
 import statistics
-import time
+import sys
 
 import exudyn as exu
 import numpy as np
-from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.models.block import BuildBlock, SolveTimed
 from exu_aniso.scenes import BlockParams
 
-
-def plate_builder(implementation, jacobian, node_type, speed):
-    def build(mbs, oBlock, localPoints):
-        from exu_aniso.models.block import block_contact_law
-        oPlate = mbs.CreateRigidBody(inertia=InertiaCuboid(1e9 / 0.02, [1.0, 1.0, 0.02]),
-                                     referencePosition=[0.0, 0.0, 0.0], initialVelocity=[speed, -0.5 * speed, 0.0],
-                                     nodeType=node_type, gravity=[0.0, 0.0, 0.0])
-        return mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
-                                            contactLaw=block_contact_law(P), masterBodyNumber=oPlate,
-                                            jacobian=jacobian, initializeHistory=True, implementation=implementation,
-                                            show=False)
-    return build
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "studies"))
+from _lib.targets import plate_builder  # noqa: E402  (the free plate of the speed targets)
 
 
 def run(config, modified, node_type):
@@ -46,7 +36,7 @@ def run(config, modified, node_type):
         opts.update(implementation=impl, jacobian=jac)
     else:
         nt = exu.NodeType.RotationEulerParameters if node_type == "EP" else exu.NodeType.RotationRotationVector
-        opts.update(contactBuilder=plate_builder(impl, jac, nt, SPEED))
+        opts.update(contactBuilder=plate_builder(P, SPEED, nt, impl, jac))
     model = BuildBlock(P, **opts)
     ss = model["simulationSettings"]
     ss.timeIntegration.newton.useModifiedNewton = modified
