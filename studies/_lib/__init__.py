@@ -1,7 +1,8 @@
 """Private helpers of the study scripts in ``studies/`` (not part of the installed package).
 
 ``studylib`` (command line, parallel sweeps, tables, reports), ``baseline`` (the C++ spring-damper
-baseline of the benchmarks), ``implementations`` (the implementations the timing studies compare)
+baseline of the benchmarks), ``targets`` (the speed targets: each scene against a cube on as many
+C++ springs), ``implementations`` (the implementations the timing studies compare)
 and ``mujoco_models`` (MuJoCo peers; needs the optional ``bench`` extra). The scripts put their
 folder ``studies/`` first on ``sys.path`` and import ``from _lib import studylib``; only runnable
 study scripts live at the top of ``studies/``.

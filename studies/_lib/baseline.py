@@ -47,9 +47,9 @@ integrator for ours, the floor and the C++ model.
 
 The scenes themselves are built by ``BuildBlock`` / ``BuildScrew`` (their ``contactBuilder`` hook
 puts the springs where the anisotropic contact would go), so bodies, loads, drives, sensors and
-settings are the same items: C++ loads for "force"/"torque", the same Python ``AddNodeDrive`` for
-the spring drives. With "force"/"torque" drives the contact is the only Python user function in
-our model and the ratio isolates its cost.
+settings are the same items: C++ loads for "force"/"torque", the same C++ spring drives
+(``AddSpringDrive``, ``AddCoordinateDrive``). With these drives the contact is the only Python user
+function in our model and the ratio isolates its cost.
 """
 from __future__ import annotations
 
@@ -223,19 +223,23 @@ def BaselineTrajectory(model):
 # ----------------------------------------------------------------------------------------------
 # the ratio table (ours / baseline, measured in the same run)
 
-# scenes of the ratio table: (scene, model, overrides, drive label, Build* options). "C++ load" drives leave the
-# contact as the only Python user function in ours; the default spring drives are Python
-# (AddNodeDrive) in both models, as in the scenes' defaults. The full screw's default rotation
-# drive (yaw tracking in Python) has no baseline builder: torque only.
+# scenes of the ratio table: (scene, model, overrides, drive label, Build* options). With C++ loads and the
+# default spring drives (Exudyn C++ items too: models.block.AddSpringDrive) the contact is the only Python
+# user function in ours. The screw's torque is 0.02 N m: it sticks (the step load overshoots to 0.04 N m
+# against a sliding torque of 0.101 N m), where our law is the linear spring of the baseline. At the
+# scene's default torque, 0.05 N m, the overshoot grazes the sliding torque and the run is not converged in
+# the step (studies/newton_settings.py); a per-step ratio against springs that never slip would mislead.
+# The full screw's default rotation drive (yaw tracking in Python) has no baseline builder: torque only.
+STICKING_TORQUE = 0.02
 RATIO_SCENES = [
     ("block", "planar", dict(points="corners", drive="force"), "C++ load", {}),
     ("block", "full", dict(points="corners", drive="force"), "C++ load", {}),
-    ("screw", "reduced", dict(drive="torque"), "C++ load", {}),
-    ("screw", "reduced", dict(drive="torque"), "C++ load, no symmetry", dict(symmetry=False)),
-    ("screw", "full", dict(drive="torque"), "C++ load", {}),
-    ("block", "planar", dict(points="corners"), "Python spring (default)", {}),
-    ("block", "full", dict(points="corners"), "Python spring (default)", {}),
-    ("screw", "reduced", dict(), "Python spring (default)", {}),
+    ("screw", "reduced", dict(drive="torque", torque=STICKING_TORQUE), "C++ load", {}),
+    ("screw", "reduced", dict(drive="torque", torque=STICKING_TORQUE), "C++ load, no symmetry", dict(symmetry=False)),
+    ("screw", "full", dict(drive="torque", torque=STICKING_TORQUE), "C++ load", {}),
+    ("block", "planar", dict(points="corners"), "spring drive (default)", {}),
+    ("block", "full", dict(points="corners"), "spring drive (default)", {}),
+    ("screw", "reduced", dict(), "spring drive (default)", {}),
 ]
 
 
