@@ -4,7 +4,7 @@
 
 One curve per *family* (a setting with the step size varied): solver (trapezoidal,
 generalized-alpha), return map (seed, exact, radial), model (planar/full block, reduced/full
-screw), implementation (every entry of ``IMPLEMENTATIONS`` in ``studies/_lib/implementations.py``:
+screw), Newton (full Newton against the package's modified Newton), implementation (every entry of ``IMPLEMENTATIONS`` in ``studies/_lib/implementations.py``:
 Exudyn, the numpy reference, later the fast path) and the oracle scenes. Errors:
 
 * against a converged fine solution of the SAME family (smallest dt / 4). Block: largest distance
@@ -78,6 +78,9 @@ def families(quick):
                                        options=dict(exu_opts), oracle="", family="return_map")
         out[f"{scene} {full}"] = dict(scene=scene, engine="exudyn", params=dict(base, model=full),
                                       options=dict(exu_opts), oracle="", family="model")
+        # the Newton of every step: full Newton against the package's modified Newton (README "Solver settings")
+        out[f"{scene} full_newton"] = dict(scene=scene, engine="exudyn", params=dict(base),
+                                           options=dict(exu_opts, newton="full"), oracle="", family="newton")
     for name, (scene, ov) in ORACLE_SCENES.items():
         out[f"{scene} oracle {name}"] = dict(scene=scene, engine="exudyn", params=dict(ov),
                                              options=dict(IMPLEMENTATIONS["exudyn"][1]), oracle=name, family="oracle")
