@@ -104,3 +104,115 @@ def test_target_yardstick_is_a_cube_on_springs():
     assert 0.5 * static < np.mean(u1[:, 0]) < 2.0 * static
     sink = runs[0][0, 3] - runs[0][:, 3]
     assert 0.5 < np.mean(sink) / (9.81 * p.mass / p.eps_n) < 2.0
+
+
+def test_linear_fit_recovers_a_line():
+    """The benchmark's cost model cost = a + b K (printed by studies/benchmarks.py, never asserted on
+    timings: timed tests flake on a busy machine) recovers a known line exactly and R^2 = 1."""
+    import benchmarks
+    K = np.array([1.0, 4.0, 16.0, 64.0])
+    a, b, r2 = benchmarks.linear_fit(K, 3e-5 + 2.5e-6 * K)
+    assert a == pytest.approx(3e-5, rel=1e-9) and b == pytest.approx(2.5e-6, rel=1e-9)
+    assert r2 == pytest.approx(1.0, abs=1e-12)
+    _, _, r2_noise = benchmarks.linear_fit(K, np.array([1.0, -1.0, 1.0, -1.0]))
+    assert r2_noise < 0.5
+
+
+def test_work_precision_errors_fall_with_dt(wp_out):
+    """Converging settings (every map but seed, both solvers, both models): the error against the fine
+    solution falls at every halving of dt; the seed map is exempt (its sliding depends on dt)."""
+    T = read_table(wp_out / "work_precision.csv")
+    assert set(T["status [-]"]) == {"ok"}
+    assert _positive_finite(T["cpu [s]"]) and _positive_finite(T["cpu_per_step [s]"])
+    O = read_table(wp_out / "orders.csv")
+    fams = dict(zip(O["family [-]"], range(len(O["family [-]"]))))
+    converging = ["block exudyn", "block exact", "block generalized_alpha", "block full", "block oracle harmonic",
+                  "screw exudyn", "screw exact", "screw generalized_alpha", "screw full",
+                  "block full_newton", "screw full_newton"]
+    for f in converging:
+        j = fams[f]
+        assert O["decreasing [-]"][j] == "yes", f
+        assert O["observed_order [-]"][j] > 1.0, (f, O["observed_order [-]"][j])
+    assert (wp_out / "work_precision.png").stat().st_size > 0
+
+
+def test_work_precision_smooth_case_second_order(wp_out):
+    """Trapezoidal rule on the smooth oracle (isotropic stick, spring drive = forced oscillator):
+    observed order > 1 against the analytic solution (2 expected) and the error at the smallest step
+    below 1e-3 relative."""
+    O = read_table(wp_out / "orders.csv")
+    j = O["family [-]"].index("block oracle harmonic")
+    print(f"harmonic oracle: order {O['oracle_order [-]'][j]:.3f}, error {O['oracle_error_rel_at_dt_min [-]'][j]:.2e}")
+    assert O["oracle_order [-]"][j] > 1.5
+    assert O["oracle_error_rel_at_dt_min [-]"][j] < 1e-3
+    T = read_table(wp_out / "work_precision.csv")
+    idx = [i for i in range(len(T["dt [s]"])) if T["family [-]"][i] == "block oracle coulomb"]
+    # constant acceleration: the trapezoidal rule reproduces (P - mu m g)/m to round-off
+    assert max(T["oracle_error_rel [-]"][i] for i in idx) < 1e-9
+
+
+# ----------------------------------------------------------------------------------------------
+# the C++ baseline is our law in pure stick with isotropic adhesion
+
+STICK = dict(adhesion="isotropic", friction="isotropic", mu_1=50.0, eps_1=1e4)
+
+
+@pytest.mark.parametrize("model", ["planar", "full"])
+def test_baseline_block_equals_contact_in_stick(model):
+    """Isotropic adhesion, every point sticking (mu = 50, pull 1 N < tipping): our contact is a linear
+    spring per point, anchored at the initial contact point, and the C++ CartesianSpringDamper model
+    gives the same trajectory to Newton tolerance (same solver, same steps)."""
+    from _lib import baseline
+    from exu_aniso.models.block import RunBlock
+    from exu_aniso.scenes import BlockParams
+    p = BlockParams(model=model, t_end=0.1, dt=1e-3, drive="force", force=1.0, drive_angle=30.0, points="corners",
+                    **STICK)
+    ours = RunBlock(p)
+    m, cpu, steps, _ = baseline.RunBaseline("block", p)
+    assert steps == ours.summary["steps"] == 100 and cpu > 0
+    assert ours.summary["slip_distance"] == 0.0          # pure stick: the law is linear
+    Q = baseline.BaselineTrajectory(m)
+    tr = ours.trajectory
+    if model == "planar":
+        a = np.column_stack([Q[:, 1] + p.x0, Q[:, 2] + p.y0])
+        rot = np.max(np.abs(Q[:, 3] - tr["theta"]))
+    else:
+        a = Q[:, 1:3]
+        rot = np.max(np.abs(Q[:, 3] - tr["z"]))          # height (normal spring)
+    b = np.column_stack([tr["x"], tr["y"]])
+    moved = np.max(np.linalg.norm(b - b[0], axis=1))
+    err = np.max(np.linalg.norm(a - b, axis=1))
+    print(f"block {model}: moved {moved:.3e} m, max difference {err:.2e} m, theta/z {rot:.2e}")
+    assert moved > 1e-5
+    assert err < 1e-9 * moved + 1e-15 and rot < 1e-12
+
+
+@pytest.mark.parametrize("symmetry", [True, False])
+def test_baseline_reduced_screw_equals_contact_in_stick(symmetry):
+    """Reduced screw turned by the rotation drive, isotropic stick: torque -eps/K R^2 psi per
+    point is exactly linear in psi, so the coordinate springs reproduce our run (0.5 rad turned),
+    with one representative point (lumped spring pair) or all 24 points (a pair per point)."""
+    from _lib import baseline
+    from exu_aniso.models.screw import RunScrew
+    from exu_aniso.scenes import ScrewParams
+    p = ScrewParams(model="reduced", t_end=0.1, dt=1e-3, drive="rotation", **STICK)
+    ours = RunScrew(p, contactOutputs=False, symmetry=symmetry)
+    m, _, steps, _ = baseline.RunBaseline("screw", p, symmetry=symmetry)
+    assert len(m["springs"]) == (2 if symmetry else 48)
+    assert ours.trajectory["slip_distance"][-1] == 0.0 and steps == ours.summary["steps"]
+    Q = baseline.BaselineTrajectory(m)
+    tr = ours.trajectory
+    turned = np.max(np.abs(tr["angle"]))
+    print(f"screw reduced: turned {turned:.3f} rad, difference {np.max(np.abs(Q[:, 1] - tr['angle'])):.2e} rad")
+    assert turned > 0.1
+    np.testing.assert_allclose(Q[:, 1], tr["angle"], rtol=0, atol=1e-10 * turned)
+    np.testing.assert_allclose(Q[:, 2], tr["z"], rtol=0, atol=1e-15)
+
+
+def test_baseline_argument_errors():
+    from _lib import baseline
+    from exu_aniso.scenes import BlockParams, ScrewParams
+    with pytest.raises(ValueError, match="nodeType"):
+        baseline.BuildBlockBaseline(BlockParams(), nodeType="bad")
+    with pytest.raises(ValueError, match="drive 'rotation'"):
+        baseline.BuildScrewBaseline(ScrewParams(model="full", drive="rotation"))
