@@ -25,7 +25,8 @@ e.g. ``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
 
 Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one row per setting),
 ``kernel.csv`` (law cost per point), ``baseline.csv`` (ours / C++ baseline), ``targets.csv`` (the speed
-targets: ours / a cube on as many C++ springs at Exudyn's defaults), ``benchmarks.json``
+targets: ours / a cube on as many C++ springs at Exudyn's defaults), ``force_call.csv`` (one force call
+of a contact set against its points), ``benchmarks.json``
 (fits of cost = a + b K with R^2, ratios; machine-readable), ``cost_vs_points.png``, ``report.md``.
 """
 from __future__ import annotations
@@ -310,6 +311,8 @@ def main(argv=None):
     # 4. the speed targets of issue 13: each scene against a cube on as many C++ springs (studies/_lib/targets.py)
     tres = targets.target_rows(args.quick, reps)
     table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS, targets.target_table_rows(tres))
+    fres = targets.force_call_rows(args.quick, reps)
+    table(os.path.join(args.out, "force_call.csv"), targets.FORCE_CALL_COLUMNS, targets.force_call_table_rows(fres))
 
     # analysis from the CSV files written above
     fits = fits_from_csv(bench_csv)
@@ -360,6 +363,10 @@ def main(argv=None):
     baseline.print_ratio_table(bres)
     print("\nspeed targets (ours at the package's settings / a cube on as many C++ springs at Exudyn's defaults):")
     targets.print_targets(tres)
+    print("\none force call of the full block's contact set (wall time, median):")
+    for r in fres:
+        print(f"  {r['points']:8s} K={r['K']:3d} callback {r['callback_us']:7.2f} us, compiled call {r['entry_us']:7.2f} us")
+    print(f"  compiled call = {fres[0]['entry_fixed_us']:.2f} us + {fres[0]['entry_per_point_us']:.3f} us per point")
 
     # report
     fit_rows = [[f["scene"], f["implementation"], f["a_s"] * 1e3, f["b_s_per_point"] * 1e6, f["r2"],
@@ -408,7 +415,16 @@ the screw's torque load (0.02 N m) keeps it sticking, where our law is the basel
                  "Newton/step C++", "ours/C++ per Newton it."], base_rows)}
 ### Speed targets (issue 13)
 
-{targets.markdown(tres, reps)}"""
+{targets.markdown(tres, reps)}
+### One force call of a contact set
+
+The full block's contact set after 20 steps of sliding: wall time of one force callback as
+Exudyn calls it (q, q_t as lists), and of the compiled call alone (unboxing its arguments and the
+kernel), median of {reps} repeats. Fit: compiled call = {fres[0]['entry_fixed_us']:.3g} us +
+{fres[0]['entry_per_point_us']:.3g} us per point. File: `force_call.csv`.
+
+{markdown_table(["points", "K", "in contact", "callback us", "compiled call us"],
+                [[r["points"], r["K"], r["in_contact"], r["callback_us"], r["entry_us"]] for r in fres])}"""
     finish(args, timer, body, "Benchmarks: cost per step, per point, and against Exudyn's C++ springs")
     return 0
 

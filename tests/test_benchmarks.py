@@ -76,6 +76,10 @@ def test_benchmark_timings_positive_and_finite(bench_out):
                                G["target [-]"], G["met [-]"]):
         assert r == pytest.approx(o / y, rel=1e-9) and str(met) == str(r <= t)
     assert "Speed targets" in (bench_out / "report.md").read_text()
+    # one force call: every layout measured, its points in contact, the compiled call inside the callback
+    C = read_table(bench_out / "force_call.csv")
+    assert C["K [-]"] == [1.0, 4.0, 16.0, 64.0] and C["in_contact [-]"] == C["K [-]"]
+    assert _positive_finite(C["callback [us]"]) and _positive_finite(C["entry [us]"])
 
 
 def test_target_yardstick_is_a_cube_on_springs():

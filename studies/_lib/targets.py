@@ -183,3 +183,60 @@ def markdown(rows, repeats):
                              [[r["scene"], r["ours_us"], r["yardstick_us"], r["ratio"], r["target"],
                                "yes" if r["met"] else "no", r["ours_newton"], r["yardstick_newton"], r["yardstick"]]
                               for r in rows]))
+
+
+# ----------------------------------------------------------------------------------------------
+# the cost of one force call of a contact set, against the number of points (the kernel's target)
+
+FORCE_CALL_LAYOUTS = ("center", "corners", "grid:4", "grid:8")
+
+
+def force_call_rows(quick=False, repeats=5):
+    """The full block's contact set on 1, 4, 16 and 64 points after 20 steps of sliding: median wall
+    time of one force callback as Exudyn calls it (q, q_t as lists) and of the compiled call
+    alone (the set's entry point with its packed arguments: unboxing and kernel), over repeats of
+    `calls` calls each."""
+    from exu_aniso import exudyn_glue
+    calls = 200 if quick else 2000
+    rows = []
+    for points in FORCE_CALL_LAYOUTS:
+        model = BuildBlock(BlockParams(model="full", points=points, t_end=0.02))
+        _solve(model)
+        mbs = model["mbs"]
+        cs = mbs.variables[exudyn_glue._SETS_KEY][0]
+        q, q_t = list(cs._q), list(cs._q_t)          # the state of the last residual
+        t = cs._t
+
+        def callback():
+            cs.force(mbs, t, 0, q, q_t)
+
+        def entry():
+            cs._entry(*cs._force_args)
+
+        med = {}
+        for name, fn in (("callback", callback), ("entry", entry)):
+            fn()
+            ts = []
+            for _ in range(repeats):
+                t0 = time.perf_counter()
+                for _ in range(calls):
+                    fn()
+                ts.append((time.perf_counter() - t0) / calls)
+            med[name] = float(np.median(ts))
+        K = cs.K
+        rows.append(dict(points=points, K=K, in_contact=int(np.sum(cs.pk.Hn[:, 7] > 0)), callback_us=med["callback"] * 1e6,
+                         entry_us=med["entry"] * 1e6))
+    K = np.array([r["K"] for r in rows], dtype=float)
+    b, a = np.polyfit(K, [r["entry_us"] for r in rows], 1)
+    for r in rows:
+        r.update(entry_fixed_us=float(a), entry_per_point_us=float(b))
+    return rows
+
+
+FORCE_CALL_COLUMNS = ["points [-]", "K [-]", "in_contact [-]", "callback [us]", "entry [us]", "entry_fixed [us]",
+                      "entry_per_point [us]"]
+
+
+def force_call_table_rows(rows):
+    return [[r["points"], r["K"], r["in_contact"], r["callback_us"], r["entry_us"], r["entry_fixed_us"],
+             r["entry_per_point_us"]] for r in rows]
