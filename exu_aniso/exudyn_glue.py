@@ -496,7 +496,7 @@ class _CompiledSet(_ContactSet):
         # no reference to them: a residual copies its state into X), and fODE2, fODE2_t as floats
         self._entry, self._tail = self.pk.entry(), self.pk.tail
         self._q, self._q_t = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])
-        self._force_args = (0, self._q, self._q_t, 0.0, 0.0, 0.0) + self._tail
+        self._force_args = None               # the force call's arguments, made with dt by _load_history
 
     @staticmethod
     def _pack(law, kind, slave, points, master):

@@ -27,21 +27,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib.studylib import Timer, finish, markdown_table, parse_args, table, write_json  # noqa: E402
+from _lib.studylib import Timer, finish, markdown_table, median_call_time, parse_args, table, write_json  # noqa: E402
 
 from exu_aniso import Adhesion, ContactLaw, Friction, Plane, RETURN_MAPS, return_map_batch, return_map_point  # noqa: E402
 
 NAME = "bench_kernels"
-
-
-def _median_time(fn, repeats, inner):
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(inner):
-            fn()
-        times.append((time.perf_counter() - t0) / inner)
-    return float(np.median(times))
 
 
 def slipping_inputs(K, rng):
@@ -60,8 +50,8 @@ def run(repeats=7, sizes=(1, 4, 16, 64), calls=400):
             T_tr, N, B, F = slipping_inputs(K, rng)
             pts = [(tuple(T_tr[k]), float(N[k]), tuple(B[k]), tuple(F[k])) for k in range(K)]
             inner = max(1, calls // K)
-            t_point = _median_time(lambda: [return_map_point(*p, method) for p in pts], repeats, inner)
-            t_batch = _median_time(lambda: return_map_batch(T_tr, N, B, F, method), repeats, inner)
+            t_point = median_call_time(lambda: [return_map_point(*p, method) for p in pts], repeats, inner)
+            t_batch = median_call_time(lambda: return_map_batch(T_tr, N, B, F, method), repeats, inner)
             rows.append({"kernel": "return_map", "map": method, "K": K, "point_loop_s": t_point,
                          "batch_s": t_batch, "batch_over_point": t_batch / t_point})
     law = ContactLaw(Plane(), Adhesion.polar(1e4, 1e3, 1e-3), Friction.polar(0.2, 0.6, 1e-3), 1e6)
@@ -70,7 +60,7 @@ def run(repeats=7, sizes=(1, 4, 16, 64), calls=400):
         H = law.initial_history(K)
         H[:, 2:4] = x[:, :2] - 1e-3
         H[:, 4] = 1.0
-        t = _median_time(lambda: law.evaluate(x, None, H), repeats, max(1, calls // 2 // K))
+        t = median_call_time(lambda: law.evaluate(x, None, H), repeats, max(1, calls // 2 // K))
         rows.append({"kernel": "contact_set", "map": law.return_map, "K": K, "batch_s": t, "per_point_s": t / K})
     return rows
 

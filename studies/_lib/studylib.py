@@ -36,6 +36,7 @@ from exu_aniso.output import read_table, write_json, write_table, write_text
 HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))     # the folder studies/
 ROOT = os.path.dirname(HERE)
 __all__ = ["HERE", "ROOT", "parse_args", "sweep", "table", "read_table", "write_json", "write_text", "Timer",
+           "median_call_time",
            "machine", "markdown_table", "finish", "mpi_problem", "MPI_EXIT"]
 
 MPI_EXIT = 2            # exit code of a study started with --mpi the wrong way (as argparse's usage errors)
@@ -280,6 +281,18 @@ class Timer:
 
 def machine():
     return dict(cores=os.cpu_count(), python=platform.python_version(), platform=platform.platform())
+
+
+def median_call_time(fn, repeats, inner):
+    """Median over repeats of the wall time of one call of fn() [s], each repeat timing inner calls."""
+    import numpy as np
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(inner):
+            fn()
+        times.append((time.perf_counter() - t0) / inner)
+    return float(np.median(times))
 
 
 def markdown_table(columns, rows, fmt="{:.4g}"):

@@ -26,12 +26,15 @@ import time
 
 import exudyn as exu
 import numpy as np
-from exudyn.itemInterface import MarkerBodyPosition, ObjectConnectorCartesianSpringDamper, ObjectGround, SensorNode
+from exudyn.itemInterface import SensorNode
 from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.models.block import BuildBlock, SolveTimed
 from exu_aniso.models.screw import BuildScrew
 from exu_aniso.scenes import BlockParams, ScrewParams
+
+from .baseline import _cartesian_springs
+from .studylib import median_call_time
 
 
 def cube_points(K, size):
@@ -54,13 +57,9 @@ def BuildCube(K, t_end, dt, p=None):
                                 referencePosition=[p.x0, p.y0, 0.5 * a + gap], gravity=[0.0, 0.0, -9.81],
                                 nodeType=exu.NodeType.RotationEulerParameters)
     mbs.CreateForce(itemNumber=oCube, loadVector=[p.force, 0.5 * p.force, -p.normal_load])
-    oGround = mbs.AddObject(ObjectGround())
-    kt, kn = p.eps_1 / K, p.eps_n / K
-    for b in cube_points(K, a):
-        mBody = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oCube, localPosition=b.tolist()))
-        mGround = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oGround, localPosition=[p.x0 + b[0], p.y0 + b[1], 0.0]))
-        mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mGround, mBody], stiffness=[kt, kt, kn],
-                                                           damping=[0.0, 0.0, 0.0]))
+    local = cube_points(K, a)
+    anchors = np.column_stack([local[:, 0] + p.x0, local[:, 1] + p.y0, np.zeros(K)])
+    _cartesian_springs(mbs, oCube, local, anchors, [[p.eps_1 / K, p.eps_1 / K, p.eps_n / K]] * K)
     mbs.AddSensor(SensorNode(nodeNumber=mbs.GetObject(oCube)["nodeNumber"], storeInternal=True,
                              outputVariableType=exu.OutputVariableType.Position))
     mbs.Assemble()
@@ -216,13 +215,7 @@ def force_call_rows(quick=False, repeats=5):
         med = {}
         for name, fn in (("callback", callback), ("entry", entry)):
             fn()
-            ts = []
-            for _ in range(repeats):
-                t0 = time.perf_counter()
-                for _ in range(calls):
-                    fn()
-                ts.append((time.perf_counter() - t0) / calls)
-            med[name] = float(np.median(ts))
+            med[name] = median_call_time(fn, repeats, calls)
         K = cs.K
         rows.append(dict(points=points, K=K, in_contact=int(np.sum(cs.pk.Hn[:, 7] > 0)), callback_us=med["callback"] * 1e6,
                          entry_us=med["entry"] * 1e6))
