@@ -16,6 +16,9 @@ Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
   candidate to ``ConfigurationType.Current``. Exudyn copies Current to StartOfStep only when a step
   is accepted and restores Current from StartOfStep when it rejects a step, so rejected or reduced
   steps leave no trace;
+* a group (bodyNumber a list of rigid bodies): one such object over all their nodes, the same points on
+  each body (_RigidGroup; compiled: fastpath.evaluate_group, the Jacobian a scipy CSR matrix of the
+  bodies' diagonal blocks, so Exudyn's sparse solver gets no coupling that is not there);
 * node types: ``NodeRigidBody2D`` (planar: in-plane force and z torque; the local z of a point is
   its fixed height over the plane), ``NodeRigidBodyRotVecLG`` (``NodeType.RotationRotationVector``)
   and ``NodeRigidBodyEP``. Explicit solvers work with the 2D and rotation-vector nodes (Exudyn
@@ -206,6 +209,65 @@ class _BodyKinematics:
         return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
 
 
+class _RigidGroup:
+    """Several rigid bodies of one node type carrying the same body-local points (a group: one
+    contact set, one Exudyn object and one compiled call for all; issue 16). The set's coordinates
+    are the nodes' one after the other, its points body by body (K = bodies x points). Composed of
+    one _BodyKinematics per body: every point depends on its own body's coordinates only."""
+
+    linear = False
+
+    def __init__(self, mbs, objects):
+        self.bodies = [_BodyKinematics(mbs, _body_node(mbs, o)) for o in objects]
+        self.kind = self.bodies[0].kind
+        self.nodes = [bd.node for bd in self.bodies]
+        self.node = self.nodes[0]
+        self.nq = self.bodies[0].n
+        self.n = self.nq * len(self.bodies)
+        self.ref, self.q0, self.v0 = (np.concatenate([getattr(bd, name) for bd in self.bodies])
+                                      for name in ("ref", "q0", "v0"))
+
+    def number_of_points(self, b):
+        return b.shape[0] * len(self.bodies)
+
+    def coordinates(self, mbs, variable, configuration):
+        return np.concatenate([bd.coordinates(mbs, variable, configuration) for bd in self.bodies])
+
+    def _each(self, q):
+        q = np.asarray(q, dtype=float)
+        return ((j * self.nq, bd, q[j * self.nq:(j + 1) * self.nq]) for j, bd in enumerate(self.bodies))
+
+    def points(self, q, q_t, b):
+        """As _BodyKinematics.points over all bodies (Jp (K, 3, n): each point's body's columns); no
+        rotation matrix (None)."""
+        q_t = np.asarray(q_t, dtype=float)
+        K = b.shape[0]
+        x, v, J = [], [], np.zeros((K * len(self.bodies), 3, self.n))
+        for j, (c, bd, qj) in enumerate(self._each(q)):
+            xj, vj, Jj, _ = bd.points(qj, q_t[c:c + self.nq], b)
+            x.append(xj)
+            v.append(vj)
+            J[j * K:(j + 1) * K, :, c:c + self.nq] = Jj
+        return np.concatenate(x), np.concatenate(v), J, None
+
+    def point_derivatives(self, q, b):
+        K = b.shape[0]
+        dJ = np.zeros((K * len(self.bodies), 3, self.n, self.n))
+        for j, (c, bd, qj) in enumerate(self._each(q)):
+            dJ[j * K:(j + 1) * K, :, c:c + self.nq, c:c + self.nq] = bd.point_derivatives(qj, b)
+        return dJ
+
+    def position_jacobian(self, q, b, Jp):
+        if self.kind != "RigidBodyEP":
+            return Jp
+        K = b.shape[0]
+        Jx = Jp.copy()
+        for j, (c, bd, qj) in enumerate(self._each(q)):
+            rows = slice(j * K, (j + 1) * K)
+            Jx[rows, :, c:c + self.nq] = bd.position_jacobian(qj, b, Jp[rows, :, c:c + self.nq])
+        return Jx
+
+
 def hermite_shape_functions(x, L):
     """Exudyn's cubic Hermite shape functions of an ANCF cable element of length L at the local
     position x in [0, L]: r(x) = S1 r0 + S2 r0' + S3 r1 + S4 r1' (node 0 at x = 0, node 1 at x = L;
@@ -217,6 +279,7 @@ def hermite_shape_functions(x, L):
 
 _CABLES = {"ANCFCable2D": ("Point2DSlope1", 2), "ANCFCable": ("PointSlope1", 3)}   # object: (node type, dim)
 _MASS_POINTS = {"MassPoint": ("Point", 3), "MassPoint2D": ("Point2D", 2)}
+_RIGID_BODIES = ("RigidBody", "RigidBody2D")                      # objects a group may hold
 
 
 class _LinearSlave:
@@ -557,7 +620,8 @@ def _commit(mbs, t, sets):
             cs._indices(mbs)
         if not cs.stage(mbs, t, q[cs.ltgODE2], q_t[cs.ltgODE2], data):
             return False
-    mbs.systemData.SetDataCoordinates(data, configuration=_CUR)
+    # a list: Exudyn converts it to its vector at ~40 ns per number, a numpy array at ~65 (issue 13)
+    mbs.systemData.SetDataCoordinates(data.tolist(), configuration=_CUR)
     return True
 
 
@@ -573,6 +637,20 @@ class _CompiledPairSet(_CompiledSet):
         return CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)
 
 
+class _CompiledGroupSet(_CompiledSet):
+    """A group (_RigidGroup: the same points on several rigid bodies) on the compiled kernel
+    ``fastpath.evaluate_group`` (``kernel.CovariantGroupSet``): one compiled call for all bodies;
+    the Jacobian goes to Exudyn as a sparse matrix of the bodies' diagonal blocks."""
+
+    def __init__(self, mbs, law, slave, points, master):
+        self._bodies = len(slave.bodies)
+        super().__init__(mbs, law, slave, points, master)
+
+    def _pack(self, law, kind, slave, points, master):
+        from .kernel import CovariantGroupSet
+        return CovariantGroupSet(law, kind, slave.ref, points, self._bodies)
+
+
 def _body_node(mbs, bodyNumber):
     """Node of a body object: 'nodeNumber' of a rigid body, the single node of an ObjectGenericODE2."""
     obj = mbs.GetObject(bodyNumber)
@@ -586,7 +664,8 @@ def _body_node(mbs, bodyNumber):
 
 
 def _slave_kinematics(mbs, bodyNumber, nObjects):
-    """The slave kinematics of bodyNumber: one body, or a list of ANCF cable elements (one set)."""
+    """The slave kinematics of bodyNumber: one body, a list of ANCF cable elements (one set) or a
+    list of rigid bodies of one node type (a group, _RigidGroup)."""
     many = isinstance(bodyNumber, (list, tuple, np.ndarray))
     objects = list(bodyNumber) if many else [bodyNumber]
     if many and not objects:
@@ -596,11 +675,22 @@ def _slave_kinematics(mbs, bodyNumber, nObjects):
         check_index(f"bodyNumber[{i}]" if many else "bodyNumber", o, nObjects, "object")
     types = [mbs.GetObject(o)["objectType"] for o in objects]
     cables = [t in _CABLES for t in types]
+    rigid = [t in _RIGID_BODIES for t in types]
+    if many and all(rigid):
+        if len(set(int(o) for o in objects)) < len(objects):
+            raise ValueError(f"CreateAnisotropicContact: bodyNumber lists a body more than once; got {objects}")
+        group = _RigidGroup(mbs, objects)
+        kinds = [bd.kind for bd in group.bodies]
+        if len(set(kinds)) > 1:
+            raise ValueError(f"CreateAnisotropicContact: the rigid bodies of a list in bodyNumber must have nodes of "
+                             f"one type; got {sorted(set(kinds))}")
+        return group
     if many and not all(cables):
         bad = [f"bodyNumber[{i}] = {o} is Object{t}" for i, (o, t, c) in enumerate(zip(objects, types, cables))
                if not c]
-        raise ValueError("CreateAnisotropicContact: a list in bodyNumber must hold ANCF cable elements only "
-                         "(ObjectANCFCable2D or ObjectANCFCable, all of one type); " + "; ".join(bad))
+        raise ValueError("CreateAnisotropicContact: a list in bodyNumber must hold either ANCF cable elements "
+                         "(ObjectANCFCable2D or ObjectANCFCable, all of one type) or rigid bodies (ObjectRigidBody, "
+                         "ObjectRigidBody2D, all of one node type); " + "; ".join(bad))
     if many and len(set(types)) > 1:
         raise ValueError(f"CreateAnisotropicContact: the cable elements in bodyNumber must be all ObjectANCFCable2D or "
                          f"all ObjectANCFCable; got {sorted(set(types))}")
@@ -650,7 +740,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
 
     bodyNumber: slave body (ObjectRigidBody, ObjectRigidBody2D for a planar model, ObjectMassPoint or
     ObjectMassPoint2D), or an ANCF cable: one ObjectANCFCable2D / ObjectANCFCable element or a list of
-    them (one contact set over all their distinct nodes, e.g. a whole rope); localPoints: (K, 3)
+    them (one contact set over all their distinct nodes, e.g. a whole rope), or a list of rigid
+    bodies with nodes of one type (a group: one contact set over all of them with localPoints on
+    each, one ObjectGenericODE2, one compiled call per user function, the Jacobian as the bodies'
+    diagonal blocks in a sparse matrix; a fixed surface only; history rows body by body); localPoints: (K, 3)
     body-local contact points [m]; for cables element-local points [x, 0, 0] with 0 <= x <= element
     length, applied to every element of the list (points ordered element by element: K = elements x
     points; x = Exudyn's Hermite shape functions, linear in the node coordinates, so the analytic
@@ -732,7 +825,13 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a surface and fields numba can "
                          "compile; use 'numpy' or 'auto'")
     use_compiled = compiled_ok and implementation != "numpy"
-    cls = _ContactSet if not use_compiled else (_CompiledSet if master is None else _CompiledPairSet)
+    if isinstance(slave, _RigidGroup) and master is not None:
+        raise ValueError("CreateAnisotropicContact: a list of rigid bodies in bodyNumber (a group) needs a fixed "
+                         "surface (masterBodyNumber None); give each body its own contact set on a moving master")
+    if use_compiled and isinstance(slave, _RigidGroup):
+        cls = _CompiledGroupSet
+    else:
+        cls = _ContactSet if not use_compiled else (_CompiledSet if master is None else _CompiledPairSet)
     cs = cls(mbs, contactLaw, slave, points, master)
     K = cs.K
     h0 = np.zeros(K * N_HISTORY)
@@ -746,12 +845,12 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     cs.nTotal = mbs.AddNode(NodeGenericData(initialCoordinates=[float(h0[_DISSIPATED::N_HISTORY].sum())],
                                             numberOfDataCoordinates=1))
     nodes = slave.nodes + (master.nodes if master is not None else [])
-    n = slave.n + (master.n if master is not None else 0)
     kw = {}
     if jacobian == "analytic" and (master is None or use_compiled):   # numpy route, moving master: Exudyn's
         kw["jacobianUserFunction"] = cs.jacobian
-    oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, massMatrix=np.zeros((n, n)),
-                                               forceUserFunction=cs.force, **kw))
+    # no mass matrix (the bodies have theirs): a dense zero n x n one would put (n)^2 zeros into a group's
+    # sparse system matrix
+    oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=cs.force, **kw))
     cs.locate(mbs, oContact)
     if _SETS_KEY not in mbs.variables:
         mbs.variables[_SETS_KEY] = []

@@ -12,6 +12,8 @@ Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): 0 `
 1 screw joint (``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``.
 Linear slaves (``evaluate_linear``): every point linear in the coordinates, x = c + S q_total with
 a constant S (mass points: S = I; ANCF cables: Hermite shape functions), so Jp = S and dJp/dq = 0.
+A group (``evaluate_group``): the same points on several rigid nodes of one kind in one call, the
+Jacobian as its diagonal blocks (many parts on one surface: issue 16).
 A moving master (``evaluate_pair``): the surface carried by a 3D rigid node (kind 2 or 3), any
 slave of the two functions above; the law at the slave point relative to the master, the reaction
 on the master, the Jacobian over both nodes' coordinates (``tests/test_moving_master_compiled.py``).
@@ -257,11 +259,12 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     A, G, Jp, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq], S[12, :3, :3], S[13, :3, :3]
     Kq, Dq = S[15, :nq, :nq], S[16, :nq, :nq]
     qt, x, v, f, wl, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :9]
-    for i in range(nq):
-        for j in range(nq):
-            Kq[i, j] = 0.0
-            Dq[i, j] = 0.0
     tangent = mode == 1
+    if tangent:
+        for i in range(nq):
+            for j in range(nq):
+                Kq[i, j] = 0.0
+                Dq[i, j] = 0.0
     # EP derivatives (mode 1): dA/de_m in rows 3-6 of slot 14, G(e_t) in rows 3-5 of slot 10
     dA, Gt = S[14, 3:7, :9], S[10, 3:6, :4]
     _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt)
@@ -313,6 +316,29 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
         for i in range(nq):
             for j in range(nq):
                 J[i, j] = -(fq * Kq[i, j] + fv * Dq[i, j])
+    return -1 if unresolved else ncontact
+
+
+@njit(cache=True)
+def evaluate_group(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, Jb, Hn, S):
+    """One contact set on nb rigid nodes of one kind (a group: the same body-local points b (Kb, 3)
+    on every body, one compiled call for all). q, q_t, ref: the nodes' coordinates one after the
+    other (nb * nq); H, Hn (nb * Kb, 9): body by body; Q (nb * nq,); Jb (nb, nq, nq): the diagonal
+    blocks of the Jacobian (no body's force depends on another's coordinates). Each body is
+    evaluate_set on its slices; returns the points in contact, or -1 (a point's step unresolved)."""
+    nb = Jb.shape[0]
+    nq = Jb.shape[1]
+    Kb = b.shape[0]
+    ncontact = 0
+    unresolved = False
+    for j in range(nb):
+        c, p = j * nq, j * Kb
+        r = evaluate_set(kind, q[c:c + nq], q_t[c:c + nq], ref[c:c + nq], b, H[p:p + Kb], law, mode, fq, fv, dt,
+                         Q[c:c + nq], Jb[j], Hn[p:p + Kb], S)
+        if r < 0:
+            unresolved = True
+        else:
+            ncontact += r
     return -1 if unresolved else ncontact
 
 

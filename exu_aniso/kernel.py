@@ -41,7 +41,7 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from .fastpath import LinearMap, evaluate_linear, evaluate_pair, evaluate_set
+from .fastpath import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
 from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
 from .geometry._core import add, dot, local_chart, scale, sub
@@ -359,6 +359,15 @@ def evaluate_covariant(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, kind):
 
 
 @njit(cache=True)
+def evaluate_covariant_group(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, kind, Q, Jb):
+    """fastpath.evaluate_group (the same points on nb rigid nodes) with the covariant kernel; P (3,
+    nb * Kb, 9) with the body-local points in the first Kb rows of P[0]; Jb (nb, nq, nq)."""
+    _remember(mode, q, q_t, X)
+    Kb = P.shape[1] // Jb.shape[0]
+    return evaluate_group(kind, q, q_t, ref, P[0, :Kb, :3], P[1], law, mode, fq, fv, dt, Q, Jb, P[2], S)
+
+
+@njit(cache=True)
 def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, idx, Sm, c, Q, J):
     """fastpath.evaluate_linear (a linear slave: mass points, ANCF cables) with the covariant kernel."""
     _remember(mode, q, q_t, X)
@@ -478,6 +487,46 @@ class CovariantPairSet(CovariantSet):
         self._fn = evaluate_covariant_pair
         self.tail = (self.ref, self.law, self.P, self.S, self.X, self.T, self.kind, self.mkind, idx, Sm, c, self.cols,
                      self.Q, self.J)
+        self._entry = None
+
+
+class CovariantGroupSet(CovariantSet):
+    """A group: the same body-local points on nb rigid nodes of one kind (node_kind), packed for
+    fastpath.evaluate_group; ref: the nodes' reference coordinates one after the other. The same
+    interface as CovariantSet (H, Hn: nb * K rows, body by body; Q (nb * nq,)), but the Jacobian is
+    Jb (nb, nq, nq), its diagonal blocks, and J is a scipy CSR matrix over Jb's memory (what the
+    Exudyn glue returns: Exudyn adds its nb * nq^2 entries, not (nb nq)^2)."""
+
+    def __init__(self, contact_law, node_kind, ref, points, nb):
+        import scipy.sparse as sp
+
+        from .fastpath import NODE_COORDINATES, NODE_KINDS, SCRATCH_SLOTS, announce_compile
+        announce_compile(entry=evaluate_covariant_group)
+        self.law = _law_bundle(contact_law)
+        self.linear = None
+        self.kind = NODE_KINDS[node_kind]
+        nq = NODE_COORDINATES[self.kind]
+        n = nb * nq
+        b = np.asarray(points, dtype=float)
+        K = b.shape[0]
+        self.ref = np.ascontiguousarray(ref, dtype=float)
+        if self.ref.shape != (n,):
+            raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {nb} nodes of {nq} coordinates")
+        self.P = np.zeros((3, nb * K, 9))
+        self.P[0, :, :3] = np.tile(b, (nb, 1))
+        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
+        self.H, self.Hn = self.P[1], self.P[2]
+        self.X = np.full((2, n), np.nan)
+        self.Q = np.zeros(n)
+        self.Jb = np.zeros((nb, nq, nq))
+        rows = np.arange(n)
+        indices = (rows // nq * nq)[:, None] + np.arange(nq)[None, :]       # row i: its body's nq columns
+        self.J = sp.csr_matrix((self.Jb.reshape(-1), indices.reshape(-1), np.arange(0, n * nq + 1, nq)),
+                               shape=(n, n), copy=False)
+        if not np.shares_memory(self.J.data, self.Jb):                       # scipy copied: J would go stale
+            raise RuntimeError("scipy.sparse.csr_matrix copied the Jacobian blocks; the group needs a view")
+        self._fn, self.tail = evaluate_covariant_group, (self.ref, self.law, self.P, self.S, self.X, self.kind, self.Q,
+                                                         self.Jb)
         self._entry = None
 
 

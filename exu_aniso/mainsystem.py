@@ -47,9 +47,13 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         bodyNumber: slave body (ObjectIndex): ObjectRigidBody (EP or rotation-vector node), ObjectRigidBody2D,
             ObjectMassPoint or ObjectMassPoint2D (localPoints=[[0, 0, 0]]), an ObjectGenericODE2 with a
             2-coordinate node (psi, z) for a reduced screw joint, or ANCF cable elements: one
-            ObjectANCFCable2D / ObjectANCFCable or a list of them (one contact set for a whole rope)
+            ObjectANCFCable2D / ObjectANCFCable or a list of them (one contact set for a whole rope),
+            or a list of rigid bodies with nodes of one type (a group: one contact set, one Exudyn
+            object and one compiled call for all of them, the same localPoints on each; many parts
+            on one fixed surface)
         localPoints: list of K body-local contact points, each a 3D list or numpy array [m]; for cable
-            elements [x, 0, 0] with 0 <= x <= element length, applied to every element in bodyNumber
+            elements [x, 0, 0] with 0 <= x <= element length, applied to every element in bodyNumber;
+            for a group applied to every body (history rows body by body)
         surface: a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution,
             ParametricSurface), in the frame of the master (ground or masterBodyNumber)
         adhesion: exu_aniso Adhesion field (B), stiffness per point [N/m]
