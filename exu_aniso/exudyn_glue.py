@@ -735,7 +735,7 @@ def _post_newton(mbs, t):
 def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
                              normalStiffness=None, normalDamping=None, returnMap="exact", contactLaw=None,
                              masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True,
-                             implementation="auto", tangentialDamping=None):
+                             implementation="auto", tangentialDamping=None, storeHistory=False):
     """Add anisotropic frictional contact between body-fixed points and an analytical surface.
 
     bodyNumber: slave body (ObjectRigidBody, ObjectRigidBody2D for a planar model, ObjectMassPoint or
@@ -760,6 +760,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     jacobian: "analytic" (consistent tangent; with a moving master over the slave's and the master's
     coordinates, on the compiled route only: the numpy route then uses Exudyn's) or "numerical"
     (Exudyn's).
+    storeSensors: True -> a sensor of the set's total dissipated energy (one number per step);
+    storeHistory: True -> also a sensor of the whole history (9 numbers per point and step: memory
+    grows with points x steps, so it is off unless asked for; the history itself is always in the
+    data node 'nData', for the renderer, the solution file and 'historyAt').
     initializeHistory: True -> points already in contact at the initial configuration start
     sticking there (anchor = initial contact point, T = 0), as in the reference engine; False ->
     they start as a new contact in the first step.
@@ -774,8 +778,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
 
     Returns a dict with 'oContact' (ObjectGenericODE2), 'nDissipation' (NodeGenericData with the set's
     total dissipated energy [J], written with the history), 'nData' (NodeGenericData, the history:
-    9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history), 'sDissipation'
-    (sensor of the total dissipated energy [J]), 'law', 'points' and 'implementation' (the one used),
+    9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history, with storeHistory),
+    'sDissipation' (sensor of the total dissipated energy [J], with storeSensors), 'law', 'points' and 'implementation' (the one used),
     and for graphics and post-processing: 'bodyNumber', 'masterBodyNumber' (as given), and three
     read-only functions of (mbs, configuration=None) (an exu.ConfigurationType; None: the initial
     coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
@@ -808,6 +812,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
                          f"{masterBodyNumber}")
     check_bool("initializeHistory", initializeHistory)
     check_bool("storeSensors", storeSensors)
+    check_bool("storeHistory", storeHistory)
     if jacobian not in ("analytic", "numerical"):
         raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
     points = check_points("localPoints", localPoints)
@@ -862,10 +867,11 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
            "bodyPosition": cs.body_position}
-    if storeSensors:
+    if storeHistory:     # 9 numbers per point and step: only when asked for (issue 16)
         out["sHistory"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nData,
                                                    outputVariableType=exu.OutputVariableType.Coordinates,
                                                    storeInternal=True))
+    if storeSensors:
         out["sDissipation"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nTotal,
                                                        outputVariableType=exu.OutputVariableType.Coordinates,
                                                        storeInternal=True))

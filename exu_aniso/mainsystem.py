@@ -33,7 +33,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
                                        tangentialDamping: float = 0., returnMap: str = "exact",
                                        masterBodyNumber=None, jacobian: str = "analytic",
                                        initializeHistory: bool = True, storeSensors: bool = True,
-                                       implementation: str = "auto", contactLaw=None,
+                                       storeHistory: bool = False, implementation: str = "auto", contactLaw=None,
                                        show: bool = True, color: Sequence[float] = None,
                                        showTraction: bool = False, tractionScale: float = None) -> dict:
     """Create anisotropic frictional contact (Konyukhov & Schweizerhof) between points fixed on a body and
@@ -66,7 +66,9 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         masterBodyNumber: None (the surface is fixed to ground) or a 3D rigid body carrying the surface
         jacobian: 'analytic' (consistent tangent) or 'numerical' (Exudyn's finite differences)
         initializeHistory: if True, points in contact at the initial configuration start sticking there
-        storeSensors: if True, sensors of the history and of the dissipated energy are added (storeInternal)
+        storeSensors: if True, a sensor of the set's total dissipated energy is added (storeInternal)
+        storeHistory: if True, a sensor of the whole history is added too (storeInternal: 9 numbers per
+            point and step, so memory grows with points x steps; off unless asked for)
         implementation: 'auto', 'compiled' (numba kernel) or 'numpy'
         contactLaw: a ready exu_aniso.ContactLaw instead of surface, adhesion, friction, normalStiffness,
             normalDamping, tangentialDamping and returnMap
@@ -78,8 +80,8 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
 
     Returns:
         :dict: 'oContact' (ObjectIndex of the ObjectGenericODE2), 'nData' (NodeIndex of the history:
-        9 numbers per point, see exu_aniso.HISTORY_FIELDS), 'sHistory' and 'sDissipation' (SensorIndex,
-        with storeSensors), 'law' (the ContactLaw), 'points' (K x 3) and 'implementation'
+        9 numbers per point, see exu_aniso.HISTORY_FIELDS), 'sHistory' (SensorIndex, with storeHistory)
+        and 'sDissipation' (SensorIndex, with storeSensors), 'law' (the ContactLaw), 'points' (K x 3) and 'implementation'
 
     Example:
         import exudyn as exu
@@ -127,7 +129,8 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
     try:
         contact = exudyn_glue.CreateAnisotropicContact(
             mbs, bodyNumber, localPoints, masterBodyNumber=masterBodyNumber, jacobian=jacobian,
-            initializeHistory=initializeHistory, storeSensors=storeSensors, implementation=implementation, **lawArgs)
+            initializeHistory=initializeHistory, storeSensors=storeSensors, storeHistory=storeHistory,
+            implementation=implementation, **lawArgs)
     except (TypeError, ValueError) as e:
         raise _named(e) from None
     if name:
@@ -135,6 +138,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         mbs.SetNodeParameter(contact["nData"], "name", name + "History")
         if "sHistory" in contact:
             mbs.SetSensorParameter(contact["sHistory"], "name", name + "HistorySensor")
+        if "sDissipation" in contact:
             mbs.SetSensorParameter(contact["sDissipation"], "name", name + "DissipationSensor")
     from .graphics import AddContactGraphics
     try:

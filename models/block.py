@@ -439,7 +439,8 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     if contactBuilder is None:
         contact = mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
                                                contactLaw=block_contact_law(p), jacobian=jacobian,
-                                               initializeHistory=True, implementation=implementation)
+                                               initializeHistory=True, implementation=implementation,
+                                               storeHistory=True)   # the ledger and the summary read it
     else:
         contact = contactBuilder(mbs, oBlock, localPoints)
     mbs.Assemble()

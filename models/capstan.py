@@ -147,12 +147,14 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
             contacts.append(mbs.CreateAnisotropicContact(
                 name=f"drum{len(contacts)}", bodyNumber=els,
                 localPoints=[[(i + 0.5) * L / p.points, 0.0, 0.0] for i in range(p.points)],
-                contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show))
+                contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show,
+                storeHistory=True))
     else:
         contacts = [mbs.CreateAnisotropicContact(
             name="drum", bodyNumber=elements, localPoints=[[(i + 0.5) * L_arc / p.points, 0.0, 0.0]
                                                            for i in range(p.points)],
-            contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show)]
+            contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show,
+            storeHistory=True)]
     sensors = dict(
         sCoordinates=[mbs.AddSensor(SensorNode(nodeNumber=n, storeInternal=True,
                                                outputVariableType=exu.OutputVariableType.Coordinates))

@@ -50,7 +50,7 @@ def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoIn
     nPoint = mbs.GetObject(oPoint)["nodeNumber"]
     contact = mbs.CreateAnisotropicContact(name="particleContact", bodyNumber=oPoint, localPoints=[[0.0, 0.0, 0.0]],
                                            contactLaw=law, jacobian=jacobian, initializeHistory=True,
-                                           implementation=implementation, show=show)
+                                           implementation=implementation, show=show, storeHistory=True)
     sensors = {name: mbs.AddSensor(SensorNode(nodeNumber=nPoint, storeInternal=True,
                                               outputVariableType=getattr(exu.OutputVariableType, ovt)))
                for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"))}

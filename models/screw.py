@@ -189,7 +189,8 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     if contactBuilder is None:
         contact = mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=oScrew, localPoints=screw_points(pc),
                                                contactLaw=screw_contact_law(pc), jacobian=jacobian,
-                                               initializeHistory=True, implementation=implementation)
+                                               initializeHistory=True, implementation=implementation,
+                                               storeHistory=True)   # the ledger and the summary read it
     else:
         contact = contactBuilder(mbs, oScrew, screw_points(pc))
     mbs.Assemble()

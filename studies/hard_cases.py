@@ -217,7 +217,8 @@ def run_master(t_end, dt):
     pts = np.array([[sx * a, sy * a, -a] for sx in (-1, 1) for sy in (-1, 1)])
     h = CreateAnisotropicContact(mbs, bodyNumber=cube["bodyNumber"], localPoints=pts, surface=Plane(),
                                  adhesion=Adhesion.orthotropic(2e4, 5e3, 0.3), friction=Friction.orthotropic(0.2, 0.5),
-                                 normalStiffness=eps_n, returnMap="exact", masterBodyNumber=plate["bodyNumber"])
+                                 normalStiffness=eps_n, returnMap="exact", masterBodyNumber=plate["bodyNumber"],
+                                 storeHistory=True)
     sens = {}
     for key, b in (("c", cube), ("p", plate)):
         for ovt in ("Position", "Velocity", "AngularVelocity"):

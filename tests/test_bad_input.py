@@ -268,6 +268,7 @@ CASES = [
     (contact, dict(jacobian=None), ("jacobian", "'analytic' or 'numerical'", "None")),
     (contact, dict(initializeHistory="no"), ("initializeHistory", "True or False", "'no'")),
     (contact, dict(storeSensors=1), ("storeSensors", "True or False", "1")),
+    (contact, dict(storeHistory="yes"), ("storeHistory", "True or False", "'yes'")),
 ]
 
 

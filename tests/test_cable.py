@@ -237,7 +237,7 @@ def _rope_on_incline(angle, mu, t_end, dt=2e-4, implementation="auto", jacobian=
                                       surface=tilted_plane(angle), adhesion=Adhesion.isotropic(1e4),
                                       friction=Friction.isotropic(mu), normalStiffness=eps_N,
                                       normalDamping=normalDamping,
-                                      implementation=implementation, jacobian=jacobian)
+                                      implementation=implementation, jacobian=jacobian, storeHistory=True)
     sN = [mbs.AddSensor(SensorNode(nodeNumber=n, outputVariableType=exu.OutputVariableType.Coordinates,
                                    storeInternal=True)) for n in nodes]
     sV = [mbs.AddSensor(SensorNode(nodeNumber=n, outputVariableType=exu.OutputVariableType.Coordinates_t,

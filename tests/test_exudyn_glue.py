@@ -27,7 +27,7 @@ def two_body_system(return_map="exact"):
     h = CreateAnisotropicContact(mbs, bodyNumber=block["bodyNumber"], localPoints=pts, surface=Plane(),
                                  adhesion=Adhesion.orthotropic(2e4, 5e3, 0.3), friction=Friction.orthotropic(0.2, 0.5),
                                  normalStiffness=eps_n, normalDamping=50.0, returnMap=return_map,
-                                 masterBodyNumber=plate["bodyNumber"])
+                                 masterBodyNumber=plate["bodyNumber"], storeHistory=True)
     return SC, mbs, plate, block, h
 
 
@@ -114,3 +114,19 @@ def test_argument_errors():
     with pytest.raises((ValueError, KeyError)):
         CreateAnisotropicContact(mbs, bodyNumber=g, localPoints=[[0, 0, 0]], surface=Plane(),
                                  adhesion=Adhesion.isotropic(1.0), friction=Friction.isotropic(0.3), normalStiffness=1.0)
+
+
+def test_history_sensor_only_when_asked_for():
+    """storeHistory (default False): the 9-per-point history sensor is opt-in, so memory per step does
+    not grow with the points unless asked; the dissipation sensor (one number) stays with storeSensors."""
+    for store, keys in ((False, {"sDissipation"}), (True, {"sDissipation", "sHistory"})):
+        SC, mbs, plate, block, h = two_body_system()
+        h2 = CreateAnisotropicContact(mbs, bodyNumber=block["bodyNumber"], localPoints=[[0.0, 0.0, -0.1]],
+                                      surface=Plane(), adhesion=Adhesion.isotropic(1e3),
+                                      friction=Friction.isotropic(0.3), normalStiffness=1e4, storeHistory=store)
+        assert {k for k in h2 if k.startswith("s")} == keys
+        n = mbs.systemData.NumberOfSensors()
+        CreateAnisotropicContact(mbs, bodyNumber=block["bodyNumber"], localPoints=[[0.0, 0.0, -0.1]],
+                                 surface=Plane(), adhesion=Adhesion.isotropic(1e3), friction=Friction.isotropic(0.3),
+                                 normalStiffness=1e4, storeSensors=False, storeHistory=store)
+        assert mbs.systemData.NumberOfSensors() == n + store

@@ -56,7 +56,7 @@ def _block(load=(0.0, 0.0, 0.0), normal=9.81, x0=0.5, adhesion=None, friction=No
         mbs, bodyNumber=oBlock, localPoints=LOCAL, surface=surface or Plane(coordinates="polar"),
         adhesion=adhesion or Adhesion.polar(eps_r=2.5e4, eps_phi=2.5e2, core_radius=1e-3),
         friction=friction or Friction.polar(mu_r=0.3, mu_phi=0.3, core_radius=1e-3),
-        normalStiffness=EPS_N, returnMap="radial", implementation="numpy")
+        normalStiffness=EPS_N, returnMap="radial", implementation="numpy", storeHistory=True)
     return SC, mbs, oBlock, contact
 
 

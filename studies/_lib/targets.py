@@ -85,7 +85,7 @@ def plate_builder(p, speed=0.0, nodeType=exu.NodeType.RotationEulerParameters, i
         return mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
                                             contactLaw=block_contact_law(p), masterBodyNumber=oPlate,
                                             jacobian=jacobian, initializeHistory=True, implementation=implementation,
-                                            show=False)
+                                            show=False, storeHistory=True)   # as the scene's own contact
     return build
 
 
