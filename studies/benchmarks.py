@@ -26,7 +26,8 @@ e.g. ``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
 Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one row per setting),
 ``kernel.csv`` (law cost per point), ``baseline.csv`` (ours / C++ baseline), ``targets.csv`` (the speed
 targets: ours / a cube on as many C++ springs at Exudyn's defaults), ``force_call.csv`` (one force call
-of a contact set against its points), ``benchmarks.json``
+of a contact set against its points), ``scale.csv`` (M cubes: one set each, one group, C++ springs,
+the floor; ``studies/_lib/scale.py``), ``memory.csv`` (peak memory), ``benchmarks.json``
 (fits of cost = a + b K with R^2, ratios; machine-readable), ``cost_vs_points.png``, ``report.md``.
 """
 from __future__ import annotations
@@ -41,7 +42,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib import baseline, studylib, targets  # noqa: E402
+from _lib import baseline, scale, studylib, targets  # noqa: E402
 from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
 from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table, write_json  # noqa: E402
 
@@ -314,6 +315,12 @@ def main(argv=None):
     fres = targets.force_call_rows(args.quick, reps)
     table(os.path.join(args.out, "force_call.csv"), targets.FORCE_CALL_COLUMNS, targets.force_call_table_rows(fres))
 
+    # 5. scale with the model (issue 16): M cubes, one set each or one group, against C++ springs; peak memory
+    sres = scale.scale_rows(args.quick, reps)
+    table(os.path.join(args.out, "scale.csv"), scale.SCALE_COLUMNS, scale.scale_table_rows(sres))
+    mres = scale.memory_rows(args.quick)
+    table(os.path.join(args.out, "memory.csv"), scale.MEMORY_COLUMNS, scale.memory_table_rows(mres))
+
     # analysis from the CSV files written above
     fits = fits_from_csv(bench_csv)
     B = read_table(os.path.join(args.out, "baseline.csv"))
@@ -367,6 +374,15 @@ def main(argv=None):
     for r in fres:
         print(f"  {r['points']:8s} K={r['K']:3d} callback {r['callback_us']:7.2f} us, compiled call {r['entry_us']:7.2f} us")
     print(f"  compiled call = {fres[0]['entry_fixed_us']:.2f} us + {fres[0]['entry_per_point_us']:.3f} us per point")
+    print("\nscale: M cubes, per body and step (ours at the package's settings, springs at Exudyn's defaults):")
+    for r in sres:
+        print(f"  M={r['bodies']:3d} {r['contact']:8s} {r['per_body_us']:8.2f} us/body/step  x{r['per_body_vs_fewest']:.2f} "
+              f"vs fewest  {r['ratio_to_springs']:6.2f} x springs  {r['newton_per_step']:.2f} Newton/step  "
+              f"{r['force_calls_per_newton']:.2f} force callbacks/Newton it.")
+    print("\npeak memory (fresh process, one group):")
+    for r in mres:
+        print(f"  {r['bodies']:3d} bodies {r['points']:5d} points {r['steps']:4d} steps history sensor "
+              f"{'on ' if r['store_history'] else 'off'}: {r['built_mb']:7.1f} MB after building, {r['peak_mb']:7.1f} MB peak")
 
     # report
     fit_rows = [[f["scene"], f["implementation"], f["a_s"] * 1e3, f["b_s_per_point"] * 1e6, f["r2"],
@@ -424,7 +440,16 @@ kernel), median of {reps} repeats. Fit: compiled call = {fres[0]['entry_fixed_us
 {fres[0]['entry_per_point_us']:.3g} us per point. File: `force_call.csv`.
 
 {markdown_table(["points", "K", "in contact", "callback us", "compiled call us"],
-                [[r["points"], r["K"], r["in_contact"], r["callback_us"], r["entry_us"]] for r in fres])}"""
+                [[r["points"], r["K"], r["in_contact"], r["callback_us"], r["entry_us"]] for r in fres])}
+### Scale with the model (issue 16)
+
+{scale.scale_markdown(sres, reps)}
+Peak resident memory of a fresh process that builds one group and solves it (`memory.csv`); the
+history sensor's data is 9 numbers per point and step:
+
+{markdown_table(["bodies", "points", "steps", "history sensor", "MB after building", "MB peak", "history sensor data MB"],
+                [[r["bodies"], r["points"], r["steps"], "on" if r["store_history"] else "off", r["built_mb"],
+                  r["peak_mb"], r["history_mb"]] for r in mres])}"""
     finish(args, timer, body, "Benchmarks: cost per step, per point, and against Exudyn's C++ springs")
     return 0
 

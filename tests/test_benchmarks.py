@@ -80,6 +80,17 @@ def test_benchmark_timings_positive_and_finite(bench_out):
     C = read_table(bench_out / "force_call.csv")
     assert C["K [-]"] == [1.0, 4.0, 16.0, 64.0] and C["in_contact [-]"] == C["K [-]"]
     assert _positive_finite(C["callback [us]"]) and _positive_finite(C["entry [us]"])
+    # scale (issue 16): every (M, variant) measured; a group calls Exudyn's force callback once per
+    # residual (M per residual for one set per body: counted, not assumed); memory of fresh processes
+    S = read_table(bench_out / "scale.csv")
+    assert sorted(set(S["contact [-]"])) == ["empty", "group", "sets", "springs"]
+    assert _positive_finite(S["per_body_per_step [us]"]) and _positive_finite(S["ratio_to_springs [-]"])
+    for M, c, f in zip(S["bodies [-]"], S["contact [-]"], S["force_calls_per_newton [-]"]):
+        if c in ("sets", "group"):
+            per_residual = f * (1.0 if c == "group" else 1.0 / M)
+            assert 1.0 < per_residual < 2.0, (M, c, f)     # one call per residual, plus the initial ones
+    Mem = read_table(bench_out / "memory.csv")
+    assert _positive_finite(Mem["peak [MB]"]) and all(p >= b for p, b in zip(Mem["peak [MB]"], Mem["after_build [MB]"]))
 
 
 def test_target_yardstick_is_a_cube_on_springs():
