@@ -119,3 +119,108 @@ def startup_impulse_error(case, mu, radius, gravity, speed, dt):
     if case == "cavity":
         return mu * speed * dt / (2.0 * radius)
     raise ValueError(f"startup_impulse_error: case must be 'departure' or 'cavity'; got {case!r}")
+
+
+def conveying_velocity(amplitude, frequency, throw_angle, mu, gravity=9.81, periods=2000, samples=2000,
+                       tolerance=1e-7):
+    """Mean transport velocity [m/s] of a part on a linear vibratory conveyor, by the one-dimensional
+    stick-slip analysis of Coulomb friction (the classic model of vibratory conveying).
+
+    The track moves harmonically along the throw direction, ``amplitude`` A [m] at ``frequency`` f
+    [Hz] and ``throw_angle`` beta [rad] from the track plane: u(t) = A sin(w t) (cos beta, sin beta)
+    (tangential, normal), w = 2 pi f. The part stays on the track (throw number
+    Gamma = A w^2 sin(beta) / g < 1), so its normal force per mass is n(t) = g - A w^2 sin(beta)
+    sin(w t) > 0; along the track (friction coefficient ``mu`` in that direction, the track's
+    direction of a principal axis of an orthotropic net, so no force across it) it
+    * sticks, v = A w cos(beta) cos(w t), while the track's tangential acceleration can be carried:
+      A w^2 cos(beta) |sin(w t)| <= mu n(t);
+    * slides otherwise: dv/dt = -mu n(t) sign(v - w_t(t)), in closed form between events,
+      v(t) = v0 - s mu (g (t - t0) + A w sin(beta) (cos(w t) - cos(w t0))), s = sign(v - w_t).
+    Events (the relative velocity's zero; the stick limit) are located by scanning ``samples`` points
+    per period and refining with brentq. The part starts at rest at t = 0 (the track at u = 0,
+    moving); the result is the mean velocity over the first period after which two successive
+    periods' means differ by less than ``tolerance`` times the track's velocity amplitude (at most
+    ``periods`` periods; ValueError if not settled)."""
+    for name, v in (("amplitude", amplitude), ("frequency", frequency), ("mu", mu), ("gravity", gravity)):
+        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"conveying_velocity: {name} must be a finite number > 0; got {v!r}")
+    if not (math.isfinite(throw_angle) and 0.0 <= throw_angle < 0.5 * math.pi):
+        raise ValueError(f"conveying_velocity: throw_angle must lie in [0, pi/2) rad; got {throw_angle!r}")
+    w = 2.0 * math.pi * frequency
+    a_t, a_n = amplitude * w * w * math.cos(throw_angle), amplitude * w * w * math.sin(throw_angle)
+    if a_n >= gravity:
+        raise ValueError(f"conveying_velocity: the part leaves the track (throw number A w^2 sin(beta) / g = "
+                         f"{a_n / gravity:.4g} >= 1); the analysis needs it on the track")
+    V = amplitude * w * math.cos(throw_angle)          # track's tangential velocity amplitude
+    T = 1.0 / frequency
+    dt = T / samples
+
+    def track_v(t):
+        return V * math.cos(w * t)
+
+    def carried(t):                                     # > 0 while sticking is possible
+        return mu * (gravity - a_n * math.sin(w * t)) - a_t * abs(math.sin(w * t))
+
+    def slide_v(t, t0, v0, s):
+        return v0 - s * mu * (gravity * (t - t0) + a_n / w * (math.cos(w * t) - math.cos(w * t0)))
+
+    def first_root(f, t0, t_max):
+        """First t in (t0 + 1e-9 T, t_max] where f changes sign (an event right at t0 is the one that
+        started the phase: skipped, so every phase advances the time)."""
+        ta = min(t0 + 1e-9 * T, t_max)
+        fa = f(ta)
+        while ta < t_max:
+            tb = min(ta + dt, t_max)
+            fb = f(tb)
+            if fa == 0.0:
+                return ta
+            if fa * fb <= 0.0:
+                return brentq(f, ta, tb, xtol=1e-15 * T, rtol=1e-15)
+            ta, fa = tb, fb
+        return None
+
+    # piecewise motion: phases (kind, t0, v0, s); the mean velocity per period integrates v exactly
+    t, v = 0.0, 0.0
+    mode = "slip"
+    s = 1.0 if v - track_v(0.0) > 0 else -1.0
+    means, horizon = [], periods * T
+    x_period, period_end = 0.0, T
+
+    def slide_x(t1, t0, v0, s):   # integral of slide_v from t0 to t1
+        return (v0 * (t1 - t0) - s * mu * (0.5 * gravity * (t1 - t0) ** 2
+                + a_n / w * (math.sin(w * t1) / w - math.sin(w * t0) / w - math.cos(w * t0) * (t1 - t0))))
+
+    def stick_x(t1, t0):
+        return amplitude * math.cos(throw_angle) * (math.sin(w * t1) - math.sin(w * t0))
+
+    phases = 0
+    while t < horizon:
+        phases += 1
+        if phases > 100 * periods:
+            raise RuntimeError(f"conveying_velocity: more than {100 * periods} stick/slip phases in {periods} periods "
+                               f"(t = {t:.6g} s): the event search does not advance")
+        if mode == "slip":
+            t0, v0 = t, v
+            t_end = first_root(lambda tt: slide_v(tt, t0, v0, s) - track_v(tt), t0, period_end)
+        else:
+            t0 = t
+            t_end = first_root(carried, t0, period_end)
+        t_next = period_end if t_end is None else t_end
+        x_period += slide_x(t_next, t0, v0, s) if mode == "slip" else stick_x(t_next, t0)
+        v = slide_v(t_next, t0, v0, s) if mode == "slip" else track_v(t_next)
+        t = t_next
+        if t_end is not None:                            # an event: decide the next phase
+            eps = 1e-9 * T
+            if mode == "slip" and carried(t + eps) > 0.0:
+                mode, v = "stick", track_v(t)
+            else:                                        # (re)start sliding: the direction of the relative motion
+                mode = "slip"
+                acc_track = -a_t * math.sin(w * t)
+                s = -1.0 if acc_track > 0.0 else 1.0     # the track runs away from the part: v - w_t turns negative
+        if t >= period_end - 1e-12 * T:
+            means.append(x_period / T)
+            x_period, period_end = 0.0, period_end + T
+            if len(means) >= 3 and abs(means[-1] - means[-2]) < tolerance * V:
+                return means[-1]
+    raise ValueError(f"conveying_velocity: no periodic state within {periods} periods (last means "
+                     f"{means[-3:]}); raise periods")

@@ -229,12 +229,20 @@ class _Rigid6(_Model):
         """F_world (3), M_world (3), dF/dr (3,3), dM_world/dyaw (3)."""
         raise NotImplementedError
 
+    def master(self, t):
+        """Displacement and velocity (3,), (3,) of a master that only translates (prescribed), or
+        None (ground): the law sees the points relative to it; forces and tangents are unchanged."""
+        return None
+
     def evaluate(self, q, v, t, H, tangent=True, dt=None):
         r, R, yaw = q
         Om = v[3:]
         RS = self.s @ R.T                                         # R s_k, rows
         X = r + RS
         V = v[:3] + np.cross(Om, self.s) @ R.T
+        moving = self.master(t)
+        if moving is not None:
+            X, V = X - moving[0], V - moving[1]
         st = self.law.evaluate(X, V, H, tangent, dt)
         f = st.force
         fb = f @ R                                                # R^T f_k, rows
@@ -293,6 +301,36 @@ class _BlockFull(_Rigid6):
         F, _, _, _ = self.external(q, t)
         return dict(x=r[0], y=r[1], theta=yaw, vx=v[0], vy=v[1], omega=w[2], z=r[2], vz=v[2],
                     tilt=math.acos(max(-1.0, min(1.0, R[2, 2]))), drive_force=float(F @ self.d))
+
+
+class _FeederPart(_Rigid6):
+    """One part of the feeder scene (exu_aniso.scene_feeder) on the track, whose harmonic motion is
+    prescribed exactly (scene_feeder.plate_motion): weight as the external force, the law at the
+    points relative to the track."""
+
+    def __init__(self, p, law, x0):
+        from .scene_feeder import part_inertia, part_points
+        mass, J = part_inertia(p)
+        super().__init__(law, part_points(p), mass, J, x0, p.part_size)
+        self.p = p
+        self.weight = np.array([0.0, 0.0, -mass * p.gravity])
+
+    def master(self, t):
+        from .scene_feeder import plate_motion
+        u, ud = plate_motion(self.p, t)
+        return u[0], ud[0]
+
+    def points0(self, q, v):
+        r, R, _ = q
+        u, ud = self.master(0.0)
+        return r + self.s @ R.T - u, np.zeros_like(self.s) - ud
+
+    def external(self, q, t):
+        return self.weight, np.zeros(3), np.zeros((3, 3)), np.zeros(3)
+
+    def record(self, q, v, t, st):
+        r, R, yaw = q
+        return dict(x=r[0], y=r[1], z=r[2], vx=v[0], vy=v[1], vz=v[2], yaw=yaw, contact_force=st.force.sum(axis=0))
 
 
 class _MassPoint(_Model):
@@ -752,3 +790,40 @@ def simulate_particle(params=None, **options):
     summary.update(particle_energy(p, traj, model.law, H))
     info.update(engine="reference")
     return Result(traj, summary, p, info)
+
+
+def simulate_feeder(params=None, **options):
+    """Feeder scene (exu_aniso.scene_feeder) with the reference integrator: the track's motion
+    prescribed exactly, every part integrated on its own (parts do not touch). params: FeederParams
+    (defaults if None); options as for simulate_block. The trajectory and the summary are those of
+    models/feeder.py (scene_feeder.COLUMNS, feeder_summary with the parts' energy ledger), sampled
+    at the nominal steps."""
+    from .scene_feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary, finish_trajectory,
+                               part_positions, plate_motion, throw_direction)
+    p = FeederParams() if params is None else params
+    if not isinstance(p, FeederParams):
+        raise TypeError(f"params must be FeederParams; got {type(p).__name__}")
+    check_keywords("simulate_feeder", options, _RUN_OPTIONS)
+    law = feeder_contact_law(p)
+    grid = np.minimum(np.arange(int(math.ceil(p.t_end / p.dt - 1e-9)) + 1) * p.dt, p.t_end)
+    runs, wall, iters, steps, info = [], 0.0, 0, 0, {}
+    for x0 in part_positions(p):
+        model = _FeederPart(p, law, x0)
+        traj, w, it, st, info, motion, H = _run(model, p, floor=1e-6 * p.eps_n * p.part_size, **dict(options))
+        on_grid = np.searchsorted(traj["t"], grid - 1e-12 * p.dt)     # rows at the nominal steps (halvings between)
+        runs.append((traj, motion, H, on_grid))
+        wall, iters, steps = wall + w, iters + it, steps + st
+    pick = lambda a, rows: np.asarray(a)[rows]                       # noqa: E731
+    P = np.stack([np.column_stack([pick(tr[k], g) for k in ("x", "y", "z")]) for tr, _, _, g in runs], axis=1)
+    V = np.stack([np.column_stack([pick(tr[k], g) for k in ("vx", "vy", "vz")]) for tr, _, _, g in runs], axis=1)
+    yaw = np.stack([pick(tr["yaw"], g) for tr, _, _, g in runs], axis=1)
+    forces = np.stack([pick(tr["contact_force"], g) for tr, _, _, g in runs], axis=1)
+    H = np.stack([pick(h, g) for _, _, h, g in runs], axis=1)
+    motions = [energy.RigidMotion(*(pick(a, g) for a in m)) for _, m, _, g in runs]
+    u, ud = plate_motion(p, grid)
+    out = dict(t=grid, plate_u=u @ throw_direction(p))
+    finish_trajectory(out, P, V, yaw, H[:, :, :, 5].sum(axis=(1, 2)))
+    summary = feeder_summary(out, P, yaw, p, wall, steps, iters)
+    summary.update(feeder_energy(p, out, motions, forces, law, H, (u, ud)))
+    info.update(engine="reference", K=4 * p.parts)
+    return Result(out, summary, p, info)

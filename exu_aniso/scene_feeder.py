@@ -1,0 +1,305 @@
+"""Feeder scene: parts conveyed on a vibrating track, the way linear vibratory feeders convey and
+orient parts (issue 16).
+
+The track (the master surface, the plane z = 0 of a heavy plate) vibrates harmonically along the
+throw direction d = (cos(beta), 0, sin(beta)), beta = ``throw_angle`` from the track plane:
+u(t) = amplitude sin(2 pi frequency t) d. ``parts`` identical cubes (edge ``part_size``, mass
+``part_mass``, under gravity) stand on it in a row across the track (y = (i - (parts - 1)/2)
+``spacing``), each on its 4 bottom corners, starting at rest. They do not touch each other (no
+part-to-part contact is modelled: ``spacing`` must exceed ``part_size``).
+
+The track's surface carries a net: ``net`` isotropic (mu_1, eps_1 in every direction) or
+orthotropic, direction 1 at ``net_angle`` from the track's x axis (the conveying direction), with
+friction mu_1 along it and mu_2 across, adhesion eps_1 / eps_2 likewise (per point). An oblique net
+steers the parts sideways.
+
+Engines: Exudyn (``models/feeder.py``: the plate is a free rigid body of ``plate_mass`` on C++
+spring-dampers tuned so that the integrator's discrete frequency is ``frequency``, rotations locked;
+each part one contact set with the plate as moving master) and the reference engine
+(``reference.simulate_feeder``: the plate's motion prescribed exactly, every part integrated on
+its own).
+
+Measured (every engine; ``feeder_summary``): over the whole periods in the second half of the run,
+every part's mean transport velocity (vx, vy), their mean, its direction and the spread between
+parts (largest minus smallest x velocity); every part's yaw at the end (its orientation). Theory:
+the one-dimensional stick-slip analysis of vibratory conveying, ``oracles.conveying_velocity``
+(the part on the track, the net isotropic or aligned with the track, so no force across it).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import energy, oracles
+from .contact import ContactLaw
+from .fields import Adhesion, Friction
+from .geometry import Plane
+from .law import RETURN_MAPS
+from .scenes import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin
+
+FEEDER_PARAMS = {
+    "parts": (3, "-", "number of parts, in a row across the track", "int >= 1"),
+    "spacing": (0.05, "m", "distance between neighbouring parts across the track (> part_size)", "> 0"),
+    "part_size": (0.02, "m", "edge of a cubic part", "> 0"),
+    "part_mass": (0.02, "kg", "mass of a part", "> 0"),
+    "amplitude": (2e-4, "m", "track vibration amplitude along the throw direction", "> 0"),
+    "frequency": (50.0, "Hz", "track vibration frequency", "> 0"),
+    "throw_angle": (20.0, "deg", "angle of the vibration from the track plane, in [0, 90)", "(-90, 90)"),
+    "net": ("orthotropic", "-", "net of the track surface (friction and adhesion)", ("isotropic", "orthotropic")),
+    "net_angle": (0.0, "deg", "direction 1 of the net from the track's x axis (conveying direction)", "real"),
+    "mu_1": (0.3, "-", "friction coefficient along net direction 1 (isotropic: every direction)", "> 0"),
+    "mu_2": (0.6, "-", "friction coefficient across (net direction 2)", "> 0"),
+    "eps_n": (1e5, "N/m", "normal penalty stiffness per point", "> 0"),
+    "eps_1": (2e4, "N/m", "sticking stiffness along net direction 1 per point (isotropic: every direction)", "> 0"),
+    "eps_2": (2e4, "N/m", "sticking stiffness across per point", "> 0"),
+    "normal_damping_ratio": (0.5, "-", "damping ratio of a part's normal contact vibration (normal dashpot "
+                             "sqrt(eps_n part_mass) times this per point)", ">= 0"),
+    "gravity": (9.81, "m/s^2", "gravity (along -z)", "> 0"),
+    "plate_mass": (1e4, "kg", "mass of the vibrating plate (the parts' reaction moves it by part/plate mass)",
+                   "> 0"),
+    "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
+    "t_end": (0.6, "s", "simulated time", "> 0"),
+    "dt": (5e-5, "s", "time step", "> 0"),
+    "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
+}
+
+_FD = {k: v[0] for k, v in FEEDER_PARAMS.items()}
+
+
+@dataclass(frozen=True)
+class FeederParams(_ParamsMixin):
+    """Parts on a vibrating track; see FEEDER_PARAMS for units and meaning."""
+
+    TABLE = FEEDER_PARAMS
+
+    parts: int = _FD["parts"]
+    spacing: float = _FD["spacing"]
+    part_size: float = _FD["part_size"]
+    part_mass: float = _FD["part_mass"]
+    amplitude: float = _FD["amplitude"]
+    frequency: float = _FD["frequency"]
+    throw_angle: float = _FD["throw_angle"]
+    net: str = _FD["net"]
+    net_angle: float = _FD["net_angle"]
+    mu_1: float = _FD["mu_1"]
+    mu_2: float = _FD["mu_2"]
+    eps_n: float = _FD["eps_n"]
+    eps_1: float = _FD["eps_1"]
+    eps_2: float = _FD["eps_2"]
+    normal_damping_ratio: float = _FD["normal_damping_ratio"]
+    gravity: float = _FD["gravity"]
+    plate_mass: float = _FD["plate_mass"]
+    return_map: str = _FD["return_map"]
+    t_end: float = _FD["t_end"]
+    dt: float = _FD["dt"]
+    solver: str = _FD["solver"]
+
+    def _check_scene(self):
+        if not self.throw_angle >= 0.0:
+            raise ValueError(f"throw_angle must lie in [0, 90) deg; got {self.throw_angle!r}")
+        if self.parts > 1 and not self.spacing > self.part_size:
+            raise ValueError(f"spacing must be > part_size (parts must not touch: no part-to-part contact is "
+                             f"modelled); got spacing={self.spacing!r} <= part_size={self.part_size!r}")
+        gamma = throw_number(self)
+        if not gamma < 1.0:
+            raise ValueError(f"the parts would leave the track: throw number amplitude (2 pi frequency)^2 "
+                             f"sin(throw_angle) / gravity = {gamma:.4g} must be < 1 (amplitude={self.amplitude!r}, "
+                             f"frequency={self.frequency!r}, throw_angle={self.throw_angle!r})")
+        if not self.dt <= 0.02 / self.frequency:
+            raise ValueError(f"dt must be <= 1/(50 frequency) = {0.02 / self.frequency:.3g} s (50 steps per "
+                             f"vibration period at least); got dt={self.dt!r}")
+        if not self.t_end >= 4.0 / self.frequency:
+            raise ValueError(f"t_end must be >= 4 / frequency = {4.0 / self.frequency:.3g} s (the velocity is "
+                             f"measured over whole periods in the second half); got t_end={self.t_end!r}")
+
+
+assert [f.name for f in dataclasses.fields(FeederParams)] == list(FEEDER_PARAMS)
+
+COLUMNS = {"t": "s", "plate_u": "m", "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "yaw": "rad",
+           "mean_x": "m", "mean_y": "m", "spread_x": "m", "dissipated_energy": "J",
+           **{k: "J" for k in ENERGY_COLUMNS}}
+"""trajectory.csv: the plate's displacement along the throw direction, part 0's position, velocity
+and yaw, the parts' mean position and the spread of their x (largest minus smallest), the total
+dissipated energy and the energy ledger of the parts (work in: done on them by the track)."""
+TITLE_KEYS = ("transport_velocity", "transport_velocity_theory")
+
+
+# ----------------------------------------------------------------------------------------------
+# geometry, law, motion of the track, initial state
+
+def throw_number(p):
+    """A w^2 sin(beta) / g: the part leaves the track when it reaches 1."""
+    w = 2.0 * math.pi * p.frequency
+    return p.amplitude * w * w * math.sin(math.radians(p.throw_angle)) / p.gravity
+
+
+def throw_direction(p):
+    b = math.radians(p.throw_angle)
+    return np.array([math.cos(b), 0.0, math.sin(b)])
+
+
+def plate_motion(p, t):
+    """Displacement and velocity (n, 3) of the track at times t (the exact harmonic motion)."""
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    w = 2.0 * math.pi * p.frequency
+    d = throw_direction(p)
+    return (p.amplitude * np.sin(w * t))[:, None] * d, (p.amplitude * w * np.cos(w * t))[:, None] * d
+
+
+def feeder_contact_law(p):
+    a = math.radians(p.net_angle)
+    if p.net == "isotropic":
+        B, F = Adhesion.isotropic(p.eps_1), Friction.isotropic(p.mu_1)
+    else:
+        B, F = Adhesion.orthotropic(p.eps_1, p.eps_2, angle=a), Friction.orthotropic(p.mu_1, p.mu_2, angle=a)
+    return ContactLaw(Plane(), B, F, normal_stiffness=p.eps_n, return_map=p.return_map,
+                      normal_damping=normal_damping(p))
+
+
+def normal_damping(p):
+    """Normal dashpot per point [N s/m]: the 4 corners (4 eps_n, 4 d_N) under the part's mass m have
+    the damping ratio 4 d_N / (2 sqrt(4 eps_n m)) = normal_damping_ratio. (No tangential dashpot: one
+    parallel to friction would drag the part along with the track whatever the friction.)"""
+    return p.normal_damping_ratio * math.sqrt(p.eps_n * p.part_mass)
+
+
+def part_points(p):
+    """Body-local contact points (4, 3): the bottom corners of the cube (centre of mass at the origin)."""
+    a = 0.5 * p.part_size
+    return np.array([[sx * a, sy * a, -a] for sy in (-1.0, 1.0) for sx in (-1.0, 1.0)])
+
+
+def part_inertia(p):
+    """Mass and principal inertia (3,) of a cubic part about its centre."""
+    return p.part_mass, np.full(3, p.part_mass * p.part_size ** 2 / 6.0)
+
+
+def part_positions(p):
+    """Initial centres (parts, 3): in a row across the track, resting on it at the static penetration."""
+    y = (np.arange(p.parts) - 0.5 * (p.parts - 1)) * p.spacing
+    z = 0.5 * p.part_size - p.part_mass * p.gravity / (4.0 * p.eps_n)
+    return np.column_stack([np.zeros(p.parts), y, np.full(p.parts, z)])
+
+
+def theory_mu(p):
+    """(mu along the track, None), or (None, reason) when the one-dimensional theory does not apply."""
+    if p.net == "isotropic":
+        return p.mu_1, None
+    if p.net_angle % 180.0 == 0.0:
+        return p.mu_1, None
+    if p.net_angle % 180.0 == 90.0:
+        return p.mu_2, None
+    return None, (f"orthotropic net at net_angle {p.net_angle:g} deg: friction pushes the parts across the track, "
+                  "the one-dimensional theory does not apply")
+
+
+# ----------------------------------------------------------------------------------------------
+# trajectory, summary, energy (every engine)
+
+def finish_trajectory(traj, P, V, yaw, H_total):
+    """traj (dict with t, plate_u) completed from every part's centre P (n, parts, 3), velocity V
+    (n, parts, 3), yaw (n, parts) and the total dissipated energy H_total (n,)."""
+    traj.update(x=P[:, 0, 0], y=P[:, 0, 1], z=P[:, 0, 2], vx=V[:, 0, 0], vy=V[:, 0, 1], yaw=yaw[:, 0],
+                mean_x=P[:, :, 0].mean(axis=1), mean_y=P[:, :, 1].mean(axis=1),
+                spread_x=P[:, :, 0].max(axis=1) - P[:, :, 0].min(axis=1), dissipated_energy=H_total)
+    return traj
+
+
+def measure_window(p, t):
+    """(t0, t1): the whole vibration periods in the second half of the run, ending at the last sample."""
+    T = 1.0 / p.frequency
+    t1 = float(t[-1])
+    n = max(1, int(math.floor((t1 - 0.5 * t1) / T + 1e-9)))
+    return t1 - n * T, t1
+
+
+def _at(t, y, tq):
+    return np.array([np.interp(tq, t, y[:, i]) for i in range(y.shape[1])])
+
+
+def feeder_summary(traj, P, yaw, params, wall_s, steps, newton_iterations):
+    """Summary of a feeder run (any engine): per part mean velocity over measure_window, their mean,
+    direction and spread, yaws at the end, the theory (``oracles.conveying_velocity``) and cost."""
+    p = params
+    t = np.asarray(traj["t"], dtype=float)
+    t0, t1 = measure_window(p, t)
+    vx = (_at(t, P[:, :, 0], t1) - _at(t, P[:, :, 0], t0)) / (t1 - t0)
+    vy = (_at(t, P[:, :, 1], t1) - _at(t, P[:, :, 1], t0)) / (t1 - t0)
+    s = dict(t_end=float(t[-1]), wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
+             measured_from=t0, throw_number=throw_number(p),
+             part_velocity_x=vx.tolist(), part_velocity_y=vy.tolist(),
+             transport_velocity_x=float(vx.mean()), transport_velocity_y=float(vy.mean()),
+             transport_velocity=float(math.hypot(vx.mean(), vy.mean())),
+             transport_direction_deg=float(math.degrees(math.atan2(vy.mean(), vx.mean()))),
+             velocity_spread=float(vx.max() - vx.min()),
+             part_yaw_end_deg=np.degrees(yaw[-1]).tolist(), yaw_spread_deg=float(np.degrees(np.ptp(yaw[-1]))))
+    undefined = {}
+    mu, why = theory_mu(p)
+    if mu is None:
+        s["transport_velocity_theory"] = None
+        undefined["transport_velocity_theory"] = why
+    else:
+        s["transport_velocity_theory"] = oracles.conveying_velocity(p.amplitude, p.frequency,
+                                                                    math.radians(p.throw_angle), mu, p.gravity)
+    s["undefined"] = undefined
+    return s
+
+
+def feeder_energy(p, traj, motions, forces, law, H, plate):
+    """Energy ledger of the parts (any engine), as scenes.block_energy: adds ENERGY_COLUMNS to traj.
+
+    motions: per part an energy.RigidMotion (world frame); forces (n, parts, 3): the resultant
+    contact force on each part (the track only translates, so the power it delivers is that force
+    times its velocity); H (n, parts, 4, 9); plate: the track's displacement and velocity (n, 3)
+    each, as the engine moved it. Work in: the track's work on the parts (trapezoid over its
+    displacement); kinetic and potential (gravity) of the parts; stored and dissipated of the
+    contact in the track's frame (positions relative to the track)."""
+    u, ud = plate
+    mass, J = part_inertia(p)
+    work = kinetic = potential = stored = diss = 0.0
+    for i, m in enumerate(motions):
+        work = work + energy.work_trapezoid(forces[:, i], u)
+        kinetic = kinetic + energy.rigid_kinetic(m, mass, np.diag(J))
+        potential = potential + mass * p.gravity * (m.position[:, 2] - m.position[0, 2])
+        X, V = energy.point_motion(m, part_points(p))
+        s_i, d_i = energy.contact_energy(law, X - u[:, None, :], V - ud[:, None, :], H[:, i])
+        stored, diss = stored + s_i, diss + d_i
+    return _energy(dict(work_in=work, kinetic=kinetic, potential=potential, stored=stored, dissipated=diss),
+                   traj, "feeder run")
+
+
+# ----------------------------------------------------------------------------------------------
+# plot
+
+def PlotFeeder(traj, params, fig):
+    """Two panels: part 0's and the mean x against t with the theory's transport line (when it
+    applies), and the parts' mean path in the track plane."""
+    p = params
+    a1, a2 = fig.subplots(2, 1)
+    t = np.asarray(traj["t"], float)
+    a1.plot(t, traj["x"], "C0-", lw=0.8, label="part 0: x")
+    a1.plot(t, traj["mean_x"], "C1-", lw=1.2, label="mean x of the parts")
+    mu, _ = theory_mu(p)
+    if mu is not None:
+        v = oracles.conveying_velocity(p.amplitude, p.frequency, math.radians(p.throw_angle), mu, p.gravity)
+        t0 = measure_window(p, t)[0]
+        x0 = float(np.interp(t0, t, traj["mean_x"]))
+        a1.plot(t, x0 + v * (t - t0), "C3--", lw=1.0, label=f"1D theory: {v * 1e3:.2f} mm/s")
+    a1.set(xlabel="t [s]", ylabel="x [m]", title="conveying")
+    a1.grid(True, alpha=0.3)
+    a1.legend(fontsize=7)
+    a2.plot(traj["mean_x"], traj["mean_y"], "C1-", label="mean path of the parts")
+    a2.plot(traj["x"], traj["y"], "C0-", lw=0.8, label="part 0")
+    a2.set(xlabel="x [m]", ylabel="y [m]", title=f"net {p.net}, net_angle {p.net_angle:g} deg")
+    a2.grid(True, alpha=0.3)
+    a2.legend(fontsize=7)
+    return a1, a2
+
+
+def simulate_feeder(params=None, **options):
+    """The feeder scene with the reference integrator; see reference.simulate_feeder."""
+    from .reference import simulate_feeder as run
+    return run(params, **options)
