@@ -4,7 +4,7 @@
                             [--quiet] [--snapshot] [--view]
     exu-aniso params SCENE
 
-SCENE: one of the scene catalog (``exu_aniso.scene_catalog``: block, screw, particle, capstan).
+SCENE: one of the scene catalog (``exu_aniso.scene_catalog``: block, screw, particle, capstan, feeder).
 
 ``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
 summary.json), DIR/summary.json

@@ -89,6 +89,11 @@ def _capstan():     # no reference-engine model of the ANCF rope: the oracle is 
     return Scene("capstan", CapstanParams, COLUMNS, TITLE_KEYS, PlotCapstan, "capstan", None, (6.0, 6.5))
 
 
-_ENTRIES = (_block, _screw, _particle, _capstan)
+def _feeder():
+    from .scene_feeder import COLUMNS, TITLE_KEYS, FeederParams, PlotFeeder, simulate_feeder
+    return Scene("feeder", FeederParams, COLUMNS, TITLE_KEYS, PlotFeeder, "feeder", simulate_feeder, (6.0, 6.5))
+
+
+_ENTRIES = (_block, _screw, _particle, _capstan, _feeder)
 
 SCENES = {s.name: s for s in (entry() for entry in _ENTRIES)}

@@ -53,8 +53,8 @@ FEEDER_PARAMS = {
     "mu_1": (0.3, "-", "friction coefficient along net direction 1 (isotropic: every direction)", "> 0"),
     "mu_2": (0.6, "-", "friction coefficient across (net direction 2)", "> 0"),
     "eps_n": (1e5, "N/m", "normal penalty stiffness per point", "> 0"),
-    "eps_1": (2e4, "N/m", "sticking stiffness along net direction 1 per point (isotropic: every direction)", "> 0"),
-    "eps_2": (2e4, "N/m", "sticking stiffness across per point", "> 0"),
+    "eps_1": (2e5, "N/m", "sticking stiffness along net direction 1 per point (isotropic: every direction)", "> 0"),
+    "eps_2": (2e5, "N/m", "sticking stiffness across per point", "> 0"),
     "normal_damping_ratio": (0.5, "-", "damping ratio of a part's normal contact vibration (normal dashpot "
                              "sqrt(eps_n part_mass) times this per point)", ">= 0"),
     "gravity": (9.81, "m/s^2", "gravity (along -z)", "> 0"),
@@ -62,7 +62,7 @@ FEEDER_PARAMS = {
                    "> 0"),
     "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
     "t_end": (0.6, "s", "simulated time", "> 0"),
-    "dt": (5e-5, "s", "time step", "> 0"),
+    "dt": (2.5e-5, "s", "time step", "> 0"),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
 }
 
