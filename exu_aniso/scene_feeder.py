@@ -10,8 +10,9 @@ part-to-part contact is modelled: ``spacing`` must exceed ``part_size``).
 
 The track's surface carries a net: ``net`` isotropic (mu_1, eps_1 in every direction) or
 orthotropic, direction 1 at ``net_angle`` from the track's x axis (the conveying direction), with
-friction mu_1 along it and mu_2 across, adhesion eps_1 / eps_2 likewise (per point). An oblique net
-steers the parts sideways.
+friction mu_1 along it and mu_2 across, adhesion eps_1 / eps_2 likewise. Stiffnesses and the
+normal dashpot are a part's totals, split over its 4 corners (README "Parameter conventions"). An
+oblique net steers the parts sideways.
 
 Engines: Exudyn (``models/feeder.py``: the plate is a free rigid body of ``plate_mass`` on C++
 spring-dampers tuned so that the integrator's discrete frequency is ``frequency``, rotations locked;
@@ -52,11 +53,12 @@ FEEDER_PARAMS = {
     "net_angle": (0.0, "deg", "direction 1 of the net from the track's x axis (conveying direction)", "real"),
     "mu_1": (0.3, "-", "friction coefficient along net direction 1 (isotropic: every direction)", "> 0"),
     "mu_2": (0.6, "-", "friction coefficient across (net direction 2)", "> 0"),
-    "eps_n": (1e5, "N/m", "normal penalty stiffness per point", "> 0"),
-    "eps_1": (2e5, "N/m", "sticking stiffness along net direction 1 per point (isotropic: every direction)", "> 0"),
-    "eps_2": (2e5, "N/m", "sticking stiffness across per point", "> 0"),
-    "normal_damping_ratio": (0.5, "-", "damping ratio of a part's normal contact vibration (normal dashpot "
-                             "sqrt(eps_n part_mass) times this per point)", ">= 0"),
+    "eps_n": (4e5, "N/m", "normal penalty stiffness of a part (total of its 4 corners)", "> 0"),
+    "eps_1": (8e5, "N/m", "sticking stiffness of a part along net direction 1 (total; isotropic: every "
+              "direction)", "> 0"),
+    "eps_2": (8e5, "N/m", "sticking stiffness of a part across (total)", "> 0"),
+    "normal_damping_ratio": (0.5, "-", "damping ratio of a part's normal contact vibration (dashpot "
+                             "2 ratio sqrt(eps_n part_mass), total)", ">= 0"),
     "gravity": (9.81, "m/s^2", "gravity (along -z)", "> 0"),
     "plate_mass": (1e4, "kg", "mass of the vibrating plate (the parts' reaction moves it by part/plate mass)",
                    "> 0"),
@@ -151,19 +153,23 @@ def plate_motion(p, t):
 
 def feeder_contact_law(p):
     a = math.radians(p.net_angle)
+    k = 1.0 / POINTS                                   # the parameters are a part's totals (README conventions)
     if p.net == "isotropic":
-        B, F = Adhesion.isotropic(p.eps_1), Friction.isotropic(p.mu_1)
+        B, F = Adhesion.isotropic(k * p.eps_1), Friction.isotropic(p.mu_1)
     else:
-        B, F = Adhesion.orthotropic(p.eps_1, p.eps_2, angle=a), Friction.orthotropic(p.mu_1, p.mu_2, angle=a)
-    return ContactLaw(Plane(), B, F, normal_stiffness=p.eps_n, return_map=p.return_map,
-                      normal_damping=normal_damping(p))
+        B, F = Adhesion.orthotropic(k * p.eps_1, k * p.eps_2, angle=a), Friction.orthotropic(p.mu_1, p.mu_2, angle=a)
+    return ContactLaw(Plane(), B, F, normal_stiffness=k * p.eps_n, return_map=p.return_map,
+                      normal_damping=k * normal_damping(p))
+
+
+POINTS = 4                                             # a part's contact points (its bottom corners)
 
 
 def normal_damping(p):
-    """Normal dashpot per point [N s/m]: the 4 corners (4 eps_n, 4 d_N) under the part's mass m have
-    the damping ratio 4 d_N / (2 sqrt(4 eps_n m)) = normal_damping_ratio. (No tangential dashpot: one
-    parallel to friction would drag the part along with the track whatever the friction.)"""
-    return p.normal_damping_ratio * math.sqrt(p.eps_n * p.part_mass)
+    """A part's normal dashpot [N s/m] (total): the damping ratio normal_damping_ratio of its mass
+    on eps_n, 2 ratio sqrt(eps_n m). (No tangential dashpot: one parallel to friction would drag the
+    part along with the track whatever the friction.)"""
+    return 2.0 * p.normal_damping_ratio * math.sqrt(p.eps_n * p.part_mass)
 
 
 def part_points(p):
@@ -180,7 +186,7 @@ def part_inertia(p):
 def part_positions(p):
     """Initial centres (parts, 3): in a row across the track, resting on it at the static penetration."""
     y = (np.arange(p.parts) - 0.5 * (p.parts - 1)) * p.spacing
-    z = 0.5 * p.part_size - p.part_mass * p.gravity / (4.0 * p.eps_n)
+    z = 0.5 * p.part_size - p.part_mass * p.gravity / p.eps_n
     return np.column_stack([np.zeros(p.parts), y, np.full(p.parts, z)])
 
 
