@@ -647,7 +647,9 @@ def check_polar_vs_cartesian(law, x0, x1, v):
     rel = 1e-12 + CHART_CONSTANT * ratio ** 2 + 4 * EPS / np.maximum(ratio, 1e-300)
     scale = np.abs(r_a.force).max(axis=1) + 1e-300
     assert np.all(np.abs(r_a.force - r_b.force).max(axis=1) <= rel * scale)
-    assert np.all(np.abs(r_a.dissipation - r_b.dissipation) <= rel * np.abs(r_a.dissipation) + 1e-300)
+    # the dissipation -(T_n + T)/2 . d xi is a product of two such quantities: twice the relative
+    # error (found by the fuzzer: a near-cancelling increment, |dx| / r = 6e-6, 2.9e-10 against rel 1.8e-10)
+    assert np.all(np.abs(r_a.dissipation - r_b.dissipation) <= 2 * rel * np.abs(r_a.dissipation) + 1e-300)
 
 
 # the largest (difference / force) / (|dx| / r)^2 seen in 10^3 generated cases was 0.032: a bound of 1

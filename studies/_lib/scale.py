@@ -34,6 +34,7 @@ from exu_aniso.scenes import BlockParams, block_contact_law, block_points
 
 from .baseline import _cartesian_springs
 from .studylib import markdown_table
+from .targets import exudyn_defaults
 
 CONTACTS = ("sets", "group", "springs", "empty")
 BODIES = (4, 16, 64)
@@ -79,15 +80,7 @@ def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False):
     elif contact == "empty":
         _empty_group(mbs, bodies)
     mbs.Assemble()
-    if contact in ("sets", "group"):
-        ss, _ = SimulationSettingsFor(p)
-    else:
-        ss = exu.SimulationSettings()
-        ss.timeIntegration.numberOfSteps = int(round(t_end / dt))
-        ss.timeIntegration.endTime = t_end
-        ss.timeIntegration.verboseMode = 0
-        ss.solution.file.write = False
-        ss.solution.sensors.writePeriod = 0
+    ss = SimulationSettingsFor(p)[0] if contact in ("sets", "group") else exudyn_defaults(t_end, dt)
     ss.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     return dict(mbs=mbs, simulationSettings=ss, solverType=exu.DynamicSolverType.GeneralizedAlpha,
                 contacts=contacts, SC=SC)

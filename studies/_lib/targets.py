@@ -63,13 +63,20 @@ def BuildCube(K, t_end, dt, p=None):
     mbs.AddSensor(SensorNode(nodeNumber=mbs.GetObject(oCube)["nodeNumber"], storeInternal=True,
                              outputVariableType=exu.OutputVariableType.Position))
     mbs.Assemble()
+    return dict(SC=SC, mbs=mbs, simulationSettings=exudyn_defaults(t_end, dt),
+                solverType=exu.DynamicSolverType.GeneralizedAlpha)
+
+
+def exudyn_defaults(t_end, dt):
+    """A fresh exu.SimulationSettings() (Exudyn's defaults) for t_end at step dt, silent, no file,
+    sensors every step."""
     ss = exu.SimulationSettings()
     ss.timeIntegration.numberOfSteps = int(round(t_end / dt))
     ss.timeIntegration.endTime = t_end
     ss.timeIntegration.verboseMode = 0
     ss.solution.file.write = False
     ss.solution.sensors.writePeriod = 0
-    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=exu.DynamicSolverType.GeneralizedAlpha)
+    return ss
 
 
 def plate_builder(p, speed=0.0, nodeType=exu.NodeType.RotationEulerParameters, implementation="auto",
