@@ -132,8 +132,10 @@ def test_throw_number():
 
 def test_cli_runs_the_feeder(tmp_path):
     out = tmp_path / "feeder"
+    # from tmp_path: `python -m` puts the working directory first on sys.path, and the source tree
+    # has no exu_aniso.models (README quick start)
     subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "feeder", "--quiet", "--set", "parts=2",
-                    "--set", "t_end=0.1", "--out", str(out)], check=True, timeout=300)
+                    "--set", "t_end=0.1", "--out", str(out)], check=True, timeout=300, cwd=tmp_path)
     s = json.loads((out / "summary.json").read_text())
     assert s["complete"] and s["energy_ok"] and len(s["part_velocity_x"]) == 2
     assert s["transport_velocity_theory"] == pytest.approx(0.013778, rel=1e-4)
