@@ -91,7 +91,7 @@ def _capstan():     # no reference-engine model of the ANCF rope: the oracle is 
 
 def _feeder():
     from .scene_feeder import COLUMNS, TITLE_KEYS, FeederParams, PlotFeeder, simulate_feeder
-    return Scene("feeder", FeederParams, COLUMNS, TITLE_KEYS, PlotFeeder, "feeder", simulate_feeder, (6.0, 6.5))
+    return Scene("feeder", FeederParams, COLUMNS, TITLE_KEYS, PlotFeeder, "feeder", simulate_feeder, (7.5, 6.5))
 
 
 _ENTRIES = (_block, _screw, _particle, _capstan, _feeder)

@@ -300,6 +300,7 @@ def PlotFeeder(traj, params, fig):
     a2.plot(traj["mean_x"], traj["mean_y"], "C1-", label="mean path of the parts")
     a2.plot(traj["x"], traj["y"], "C0-", lw=0.8, label="part 0")
     a2.set(xlabel="x [m]", ylabel="y [m]", title=f"net {p.net}, net_angle {p.net_angle:g} deg")
+    a2.set_aspect("equal", adjustable="datalim")        # a round-off drift across is not blown up to the axis
     a2.grid(True, alpha=0.3)
     a2.legend(fontsize=7)
     return a1, a2
