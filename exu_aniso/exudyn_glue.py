@@ -642,13 +642,10 @@ class _CompiledGroupSet(_CompiledSet):
     ``fastpath.evaluate_group`` (``kernel.CovariantGroupSet``): one compiled call for all bodies;
     the Jacobian goes to Exudyn as a sparse matrix of the bodies' diagonal blocks."""
 
-    def __init__(self, mbs, law, slave, points, master):
-        self._bodies = len(slave.bodies)
-        super().__init__(mbs, law, slave, points, master)
-
-    def _pack(self, law, kind, slave, points, master):
+    @staticmethod
+    def _pack(law, kind, slave, points, master):
         from .kernel import CovariantGroupSet
-        return CovariantGroupSet(law, kind, slave.ref, points, self._bodies)
+        return CovariantGroupSet(law, kind, slave.ref, points, len(slave.bodies))
 
 
 def _body_node(mbs, bodyNumber):

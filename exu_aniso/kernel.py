@@ -396,7 +396,7 @@ class CovariantSet:
     history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
 
     def __init__(self, contact_law, node_kind, ref, points):
-        from .fastpath import NODE_COORDINATES, NODE_KINDS, SCRATCH_SLOTS, announce_compile
+        from .fastpath import NODE_COORDINATES, NODE_KINDS, announce_compile
         announce_compile(entry=evaluate_covariant_linear if isinstance(node_kind, LinearMap) else evaluate_covariant)
         self.law = _law_bundle(contact_law)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
@@ -408,11 +408,7 @@ class CovariantSet:
             nq = NODE_COORDINATES[self.kind]
             b = np.asarray(points, dtype=float)
         self.ref = np.asarray(ref, dtype=float)
-        self.P = np.zeros((3, b.shape[0], 9))
-        self.P[0, :, :3] = b
-        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
-        self.H, self.Hn = self.P[1], self.P[2]
-        self.X = np.full((2, nq), np.nan)          # state of the last residual (mode 0)
+        self._buffers(b, nq)
         if self.linear is not None:
             self.Q, self.J = np.zeros(nq), np.zeros((nq, nq))
         else:
@@ -426,6 +422,17 @@ class CovariantSet:
         else:
             self._fn, self.tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.X, self.kind)
         self._entry = None
+
+    def _buffers(self, b, n):
+        """The packed arrays of K points b (K, 3) over n coordinates: P (3, K, 9) (points, converged
+        history H, candidate Hn), the scratch S and X (2, n), the state (q, q_t) of the last residual
+        (mode 0), whose candidate Hn holds."""
+        from .fastpath import SCRATCH_SLOTS
+        self.P = np.zeros((3, b.shape[0], 9))
+        self.P[0, :, :3] = b
+        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
+        self.H, self.Hn = self.P[1], self.P[2]
+        self.X = np.full((2, n), np.nan)
 
     def evaluate(self, mode, q, q_t, fq, fv, dt):
         """One compiled call (mode: see evaluate_covariant); q, q_t: the set's coordinates. Returns
@@ -453,7 +460,7 @@ class CovariantPairSet(CovariantSet):
     evaluate, entry."""
 
     def __init__(self, contact_law, node_kind, ref, points, master_kind, master_ref):
-        from .fastpath import NODE_COORDINATES, NODE_KINDS, PAIR_SLOTS, SCRATCH_SLOTS, announce_compile
+        from .fastpath import NODE_COORDINATES, NODE_KINDS, PAIR_SLOTS, announce_compile
         announce_compile(entry=evaluate_covariant_pair)
         if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
             raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
@@ -475,14 +482,10 @@ class CovariantPairSet(CovariantSet):
         self.ref = np.ascontiguousarray(np.concatenate([np.asarray(ref, dtype=float), np.asarray(master_ref, dtype=float)]))
         if self.ref.shape != (n,):
             raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {ns} slave and {nm} master coordinates")
-        self.P = np.zeros((3, b.shape[0], 9))
-        self.P[0, :, :3] = b
-        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
+        self._buffers(b, n)
         w = max(9, m + nm)
         self.T = np.zeros((PAIR_SLOTS, w, w))
         self.cols = np.zeros(m + nm, dtype=np.int64)
-        self.H, self.Hn = self.P[1], self.P[2]
-        self.X = np.full((2, n), np.nan)           # state of the last residual (mode 0)
         self.Q, self.J = np.zeros(n), np.zeros((n, n))
         self._fn = evaluate_covariant_pair
         self.tail = (self.ref, self.law, self.P, self.S, self.X, self.T, self.kind, self.mkind, idx, Sm, c, self.cols,
@@ -500,7 +503,7 @@ class CovariantGroupSet(CovariantSet):
     def __init__(self, contact_law, node_kind, ref, points, nb):
         import scipy.sparse as sp
 
-        from .fastpath import NODE_COORDINATES, NODE_KINDS, SCRATCH_SLOTS, announce_compile
+        from .fastpath import NODE_COORDINATES, NODE_KINDS, announce_compile
         announce_compile(entry=evaluate_covariant_group)
         self.law = _law_bundle(contact_law)
         self.linear = None
@@ -508,15 +511,10 @@ class CovariantGroupSet(CovariantSet):
         nq = NODE_COORDINATES[self.kind]
         n = nb * nq
         b = np.asarray(points, dtype=float)
-        K = b.shape[0]
         self.ref = np.ascontiguousarray(ref, dtype=float)
         if self.ref.shape != (n,):
             raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {nb} nodes of {nq} coordinates")
-        self.P = np.zeros((3, nb * K, 9))
-        self.P[0, :, :3] = np.tile(b, (nb, 1))
-        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
-        self.H, self.Hn = self.P[1], self.P[2]
-        self.X = np.full((2, n), np.nan)
+        self._buffers(np.tile(b, (nb, 1)), n)
         self.Q = np.zeros(n)
         self.Jb = np.zeros((nb, nq, nq))
         rows = np.arange(n)

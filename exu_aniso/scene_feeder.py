@@ -218,7 +218,7 @@ def measure_window(p, t):
     """(t0, t1): the whole vibration periods in the second half of the run, ending at the last sample."""
     T = 1.0 / p.frequency
     t1 = float(t[-1])
-    n = max(1, int(math.floor((t1 - 0.5 * t1) / T + 1e-9)))
+    n = max(1, int(math.floor(0.5 * t1 / T + 1e-9)))
     return t1 - n * T, t1
 
 

@@ -8,7 +8,6 @@ Usage: python studies/feeder.py [--quick] [--serial] [--out DIR]
 from __future__ import annotations
 
 import json
-import math
 import os
 import sys
 

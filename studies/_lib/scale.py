@@ -91,7 +91,7 @@ def _empty_group(mbs, bodies):
     Jacobian) and the post-Newton function that does nothing."""
     import scipy.sparse as sp
     nodes = [mbs.GetObject(o)["nodeNumber"] for o in bodies]
-    n = 7 * len(nodes)
+    n = sum(len(mbs.GetNodeParameter(nd, "referenceCoordinates")) for nd in nodes)
     zq, zJ = np.zeros(n), sp.csr_matrix((n, n))
     mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=lambda mbs, t, i, q, q_t: zq,
                                     jacobianUserFunction=lambda mbs, t, i, q, q_t, fq, fv: zJ))
