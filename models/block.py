@@ -38,7 +38,8 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, MarkerNo
                                   ObjectGenericODE2, ObjectRigidBody2D, SensorNode, VNodePointGround,
                                   VObjectConnectorCoordinate, VObjectConnectorCoordinateSpringDamper,
                                   VObjectRigidBody2D)
-from exudyn.rigidBodyUtilities import RotationMatrixX, RotationMatrixZ
+from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RotationMatrixX,
+                                       RotationMatrixZ, RotationVector2RotationMatrix)
 from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
@@ -115,6 +116,52 @@ def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
 
     return mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nodeNumber], massMatrix=np.zeros((n, n)),
                                            forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
+
+
+def _skew(a):
+    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+
+def _wrap(a):
+    return math.pi - (math.pi - a) % (2.0 * math.pi)
+
+
+def AddYawDrive(mbs, nodeNumber, nodeType, torque):
+    """A torque tau about the world z axis on a 3D rigid body's node (``nodeType`` "RotVecLG" or
+    "EP"), ``torque(yaw, t) -> (tau, dtau/dyaw)``, with yaw the unwrapped angle atan2(A_10, A_00) of
+    the body's rotation (a torsional spring to a driver: tau = k (omega t - yaw), dtau/dyaw = -k).
+    An ``AddNodeDrive`` (Python ObjectGenericODE2) with its exact Jacobian with respect to the local
+    rotation increment. Returns the object number."""
+    ep = nodeType == "EP"
+    nq = 7 if ep else 6
+    yaw_last = [0.0]   # last evaluated yaw: only used to unwrap (per-step change << pi)
+
+    def Kinematics(q):
+        if ep:
+            e = q[3:7] + np.array([1.0, 0.0, 0.0, 0.0])
+            return np.asarray(EulerParameters2RotationMatrix(e)), np.asarray(EulerParameters2GLocal(e))
+        return np.asarray(RotationVector2RotationMatrix(q[3:6])), np.eye(3)
+
+    def Yaw(A):
+        yaw = yaw_last[0] + _wrap(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])
+        yaw_last[0] = yaw
+        return yaw
+
+    def DriveForce(t, q):
+        A, G = Kinematics(q)
+        tau, _ = torque(Yaw(A), t)
+        Q = np.zeros(nq)
+        Q[3:] = G.T @ (A[2, :] * tau)       # local torque A^T (0, 0, tau)
+        return Q
+
+    def DriveJacobian(t, q):                # -dQ/dq, with respect to the local rotation increment
+        A, G = Kinematics(q)
+        tau, dtau = torque(Yaw(A), t)
+        Kq = np.zeros((nq, nq))
+        Kq[3:, 3:] = -G.T @ (_skew(A[2, :] * tau) + dtau * np.outer(A[2, :], A[2, :])) @ G
+        return Kq
+
+    return AddNodeDrive(mbs, nodeNumber, nq, DriveForce, DriveJacobian)
 
 
 # Exudyn's implicit solvers (the scenes' own); the explicit ones cannot solve constraints

@@ -32,26 +32,17 @@ import numpy as np
 from exudyn import graphics
 from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2, ObjectGenericODE2,
                                   SensorNode, VObjectGenericODE2)
-from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RigidBodyInertia,
-                                       RotationMatrixZ, RotationVector2RotationMatrix)
+from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.failure import SimulationFailure
 from exu_aniso.progress import make_progress
-from exu_aniso.models.block import (IMPLICIT_SOLVERS, NODE_TYPES, AddNodeDrive, AddSpringDrive, BodyMotion,
+from exu_aniso.models.block import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive, AddYawDrive, BodyMotion,
                                    HistoryOutputs, SimulationSettingsFor, SolveTimed, StoreSolution, Unwrap,
                                    WriteSnapshot)
 from exu_aniso.reference import Result
 from exu_aniso.scenes import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.validation import check_bool, check_instance
-
-
-def _skew(a):
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-
-
-def _wrap(a):
-    return math.pi - (math.pi - a) % (2.0 * math.pi)
 
 
 def _drive_torque(p, psi, t):
@@ -143,39 +134,11 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
         if p.drive == "torque":
             mbs.CreateTorque(itemNumber=oScrew, loadVector=[0.0, 0.0, p.torque])
         mbs.CreateForce(itemNumber=oScrew, loadVector=[0.0, 0.0, p.axial_load])
-        ep = nodeType == "EP"
-        nq = 7 if ep else 6
         if p.drive == "axial":                    # z is coordinate 2 of both rigid node types
+            nq = 7 if nodeType == "EP" else 6
             oDrive = AddSpringDrive(mbs, nScrew, np.eye(nq)[2], p.drive_stiffness, p.axial_speed, python=explicit)
         elif p.drive == "rotation":
-            yaw_last = [0.0]   # last evaluated yaw: only used to unwrap (per-step change << pi)
-
-            def Kinematics(q):
-                if ep:
-                    e = q[3:7] + np.array([1.0, 0.0, 0.0, 0.0])
-                    return np.asarray(EulerParameters2RotationMatrix(e)), np.asarray(EulerParameters2GLocal(e))
-                return np.asarray(RotationVector2RotationMatrix(q[3:6])), np.eye(3)
-
-            def Yaw(A):
-                yaw = yaw_last[0] + _wrap(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])
-                yaw_last[0] = yaw
-                return yaw
-
-            def DriveForce(t, q):
-                A, G = Kinematics(q)
-                tau, _ = _drive_torque(p, Yaw(A), t)
-                Q = np.zeros(nq)
-                Q[3:] = G.T @ (A[2, :] * tau)       # local torque A^T (0, 0, tau)
-                return Q
-
-            def DriveJacobian(t, q):                # -dQ/dq, with respect to the local rotation increment
-                A, G = Kinematics(q)
-                tau, dtau = _drive_torque(p, Yaw(A), t)
-                Kq = np.zeros((nq, nq))
-                Kq[3:, 3:] = -G.T @ (_skew(A[2, :] * tau) + dtau * np.outer(A[2, :], A[2, :])) @ G
-                return Kq
-
-            oDrive = AddNodeDrive(mbs, nScrew, nq, DriveForce, DriveJacobian)
+            oDrive = AddYawDrive(mbs, nScrew, nodeType, lambda yaw, t: _drive_torque(p, yaw, t))
         for name, ovt in (("sPosition", "Position"), ("sVelocity", "Velocity"),
                           ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")):
             sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nScrew, storeInternal=True,
