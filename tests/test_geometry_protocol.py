@@ -10,10 +10,12 @@ import math
 import numpy as np
 import pytest
 
-from exu_aniso.geometry import Cone, Cylinder, Plane, Sphere, Torus
+from exu_aniso.geometry import Cone, Cylinder, Helicoid, Plane, Sphere, Torus
 from exu_aniso.geometry import _core
 
 RNG = np.random.default_rng(7)
+
+THREAD_BOX = [(-7, 7), (0.6 * 4.513e-3, 1.4 * 4.513e-3)]     # (phi, r) of an M10 thread's flank
 
 # surfaces with the part of the chart where the tests draw coordinates (away from poles and axes)
 SURFACES = [
@@ -28,12 +30,25 @@ SURFACES = [
     (Sphere(0.7, center=(1, 2, 3), axis_direction=(1, 0, 0), side="inside"), [(-3, 3), (0.3, 2.8)]),
     (Torus(1.0, 0.3), [(-3, 3), (-3, 3)]),
     (Torus(1.0, 0.3, axis_direction=(0, 0, -1), side="inside"), [(-3, 3), (-3, 3)]),
+    # an M10 thread's flanks (P 1.5 mm, d2 9.026 mm, 60 deg) over two turns each way, r off the axis
+    (Helicoid(1.5e-3, math.pi / 3, 9.026e-3), THREAD_BOX),
+    (Helicoid(1.5e-3, math.pi / 3, 9.026e-3, hand="left", side="backward"), THREAD_BOX),
+    (Helicoid(1.5e-3, math.pi / 3, 9.026e-3, axis_point=(0.01, -0.02, 0.03), axis_direction=(1, -2, 2),
+              flank_of="bolt"), THREAD_BOX),
+    (Helicoid(1.5e-3, 0.0, 9.026e-3, hand="left", flank_of="bolt", side="backward"), THREAD_BOX),  # plain
 ]
 IDS = [repr(s) for s, _ in SURFACES]
 
 
 def _draw(box, n=6):
     return [np.array([RNG.uniform(*box[0]), RNG.uniform(*box[1])]) for _ in range(n)]
+
+
+def _length(s):
+    """Length scale of the normal offsets of the round trip: 1 m, except the helicoid's pitch (its
+    sheets lie one pitch apart axially; a point farther than about half a pitch from the flank is
+    closer to the next turn)."""
+    return s.pitch if isinstance(s, Helicoid) else 1.0
 
 
 def _chart(s, xi):
@@ -66,7 +81,7 @@ def test_projection_round_trip(s, box):
     periodic coordinates agree modulo their period."""
     for xi in _draw(box):
         g = s.at(xi)
-        for xi3 in (-0.05, 0.0, 0.08):
+        for xi3 in (-0.05 * _length(s), 0.0, 0.08 * _length(s)):
             p = s.project(g.point + xi3 * g.n)
             d = s.increment(xi, p.xi)
             assert np.all(np.abs(d) < 1e-10), (xi, p.xi)
@@ -82,7 +97,7 @@ def test_gaussian_and_mean_curvature(s, box):
         g = s.at(xi)
         K = np.linalg.det(g.h) / np.linalg.det(g.m)
         H = 0.5 * np.trace(g.m_inv @ g.h)
-        side = 1.0 if getattr(s, "side", "front") in ("outside", "front") else -1.0
+        side = 1.0 if getattr(s, "side", "front") in ("outside", "front", "forward") else -1.0
         if isinstance(s, Plane):
             K0, H0 = 0.0, 0.0
         elif isinstance(s, Cylinder):
@@ -92,6 +107,20 @@ def test_gaussian_and_mean_curvature(s, box):
             K0, H0 = 0.0, -0.5 * math.cos(s.half_angle) / r
         elif isinstance(s, Sphere):
             K0, H0 = 1.0 / s.radius ** 2, -1.0 / s.radius
+        elif isinstance(s, Helicoid):
+            # x = (r cos phi, r sin phi, h phi + c r) (the shift -c r2 changes nothing), chart (phi, r):
+            # E = r^2 + h^2, F = h c, G = 1 + c^2, W^2 = E G - F^2; for the unit normal
+            # N = (r c e_r + h e_phi - r e_z) / W: L = x_phiphi . N = -r^2 c / W, M = x_phir . N = h / W,
+            # N_rr = 0; K = (L N_rr - M^2) / W^2, H = (E N_rr - 2 F M + G L) / (2 W^2). N points
+            # backward (N_z = -r / W < 0): the forward side's normal is -N, so H0 = -H(N)
+            h = (1.0 if s.hand == "right" else -1.0) * s.pitch / (2 * math.pi)
+            c = (math.tan(s.flank_angle / 2) * (1.0 if s.side == "forward" else -1.0)
+                 * (1.0 if s.flank_of == "nut" else -1.0))
+            r = xi[1]
+            E, F, G = r * r + h * h, h * c, 1.0 + c * c
+            W = math.sqrt(E * G - F * F)
+            L, M, N = -r * r * c / W, h / W, 0.0
+            K0, H0 = (L * N - M * M) / W ** 2, -(E * N - 2 * F * M + G * L) / (2 * W ** 2)
         else:
             R, a = s.major_radius, s.minor_radius
             w = R + a * math.cos(xi[1])
@@ -201,6 +230,7 @@ def test_increment_unwraps_periodic_coordinates_towards_the_prediction():
     lambda o, a: Cone(0.2, 0.5, axis_point=o, axis_direction=a),
     lambda o, a: Sphere(0.5, center=o, axis_direction=a),
     lambda o, a: Torus(1.0, 0.3, center=o, axis_direction=a),
+    lambda o, a: Helicoid(0.3, math.pi / 3, 1.0, axis_point=o, axis_direction=a, hand="left"),
 ])
 def test_objectivity_under_a_rigid_motion(make):
     """Moving surface and point together by a rigid motion changes no gap and no surface
@@ -226,6 +256,14 @@ def test_objectivity_under_a_rigid_motion(make):
     (lambda: Plane(side="outside"), "side must be 'front' or 'back'"),
     (lambda: Cylinder(1.0, axis_direction=(0, 0, 0)), "axis_direction must be a non-zero vector"),
     (lambda: Torus(1.0, 0.2, center=(0, math.nan, 0)), "center"),
+    (lambda: Helicoid(0.0, 1.0, 0.01), "pitch must be > 0"),
+    (lambda: Helicoid(-1e-3, 1.0, 0.01), "pitch must be > 0"),
+    (lambda: Helicoid(1e-3, math.pi, 0.01), r"flank_angle must lie in \[0, pi\)"),
+    (lambda: Helicoid(1e-3, -0.1, 0.01), r"flank_angle must lie in \[0, pi\)"),
+    (lambda: Helicoid(1e-3, 1.0, 0.0), "pitch_diameter must be > 0"),
+    (lambda: Helicoid(1e-3, 1.0, 0.01, hand="up"), "hand must be 'right' or 'left'"),
+    (lambda: Helicoid(1e-3, 1.0, 0.01, side="outside"), "side must be 'forward' or 'backward'"),
+    (lambda: Helicoid(1e-3, 1.0, 0.01, flank_of="screw"), "flank_of must be 'nut' or 'bolt'"),
 ])
 def test_bad_arguments_name_the_parameter(bad, match):
     with pytest.raises(ValueError, match=match):

@@ -539,11 +539,14 @@ def test_raytraced_image_shows_the_states():
 
 @pytest.mark.parametrize("make", [lambda: __import__("exu_aniso").Sphere(0.5, axis_direction=(1, 0, 0)),
                                   lambda: __import__("exu_aniso").Torus(1.0, 0.3),
-                                  lambda: __import__("exu_aniso").Cone(0.3, 0.5)], ids=["sphere", "torus", "cone"])
+                                  lambda: __import__("exu_aniso").Cone(0.3, 0.5),
+                                  lambda: __import__("exu_aniso.geometry").geometry.Helicoid(
+                                      0.1, math.pi / 3, 0.4, axis_direction=(0, 1, 1))],
+                         ids=["sphere", "torus", "cone", "helicoid"])
 def test_any_protocol_surface_is_drawn_from_its_chart(make):
-    """Surfaces without a drawing rule of their own (sphere, torus, cone) are drawn from their chart:
-    a face and the coordinate lines, every line point on the surface (to the float32 of the
-    graphics data), and the contact point."""
+    """Surfaces without a drawing rule of their own (sphere, torus, cone, helicoid: phi unbounded and
+    not periodic, r > 0) are drawn from their chart: a face and the coordinate lines, every line
+    point on the surface (to the float32 of the graphics data), and the contact point."""
     import exu_aniso  # noqa: F401  (mbs.CreateAnisotropicContact)
     from exu_aniso import Adhesion, Friction
     surf = make()

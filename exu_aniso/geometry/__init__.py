@@ -5,11 +5,12 @@ and the slip increment. See docs/adding_a_surface.md for how to add one (the tor
 from ._base import Point, Surface
 from .cone import Cone
 from .cylinder import Cylinder
+from .helicoid import Helicoid
 from .parametric import ParametricSurface
 from .plane import Plane
 from .revolution import SurfaceOfRevolution
 from .sphere import Sphere
 from .torus import Torus
 
-__all__ = ["Surface", "Point", "Plane", "Cylinder", "Cone", "Sphere", "Torus", "SurfaceOfRevolution",
-           "ParametricSurface"]
+__all__ = ["Surface", "Point", "Plane", "Cylinder", "Cone", "Sphere", "Torus", "Helicoid",
+           "SurfaceOfRevolution", "ParametricSurface"]
