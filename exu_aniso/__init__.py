@@ -10,7 +10,7 @@ from ._numba_cache import CACHE_DIR as NUMBA_CACHE_DIR   # first: before any com
 from .contact import HISTORY_FIELDS, OPEN, SLIP, STICK, ContactLaw, ContactState
 from .fields import Adhesion, Friction, TensorField
 from .law import RETURN_MAPS, return_map_batch, return_map_point
-from .geometry import Cone, Cylinder, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
+from .geometry import Cone, Cylinder, Helicoid, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
 
 try:   # Exudyn is a dependency, but the kernels and the reference engine also run without it
     import exudyn as _exudyn
@@ -20,6 +20,6 @@ if _exudyn is not None:
     from . import mainsystem as _mainsystem   # binds mbs.CreateAnisotropicContact (extension registry)
 
 __version__ = "0.1.0"
-__all__ = ["Adhesion", "Friction", "TensorField", "Plane", "Cylinder", "Cone", "Sphere", "Torus",
+__all__ = ["Adhesion", "Friction", "TensorField", "Plane", "Cylinder", "Cone", "Sphere", "Torus", "Helicoid",
            "SurfaceOfRevolution", "ParametricSurface", "ContactLaw", "ContactState",
            "HISTORY_FIELDS", "OPEN", "STICK", "SLIP", "RETURN_MAPS", "return_map_point", "return_map_batch"]

@@ -4,7 +4,8 @@
                             [--quiet] [--snapshot] [--view]
     exu-aniso params SCENE
 
-SCENE: one of the scene catalog (``exu_aniso.scene_catalog``: block, screw, particle, capstan, feeder).
+SCENE: one of the scene catalog (``exu_aniso.scene_catalog``: block, screw, particle, capstan, feeder,
+fastening).
 
 ``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
 summary.json), DIR/summary.json

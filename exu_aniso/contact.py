@@ -69,7 +69,7 @@ class ContactState:
 class ContactLaw:
     """Point-to-analytical-surface contact with anisotropic adhesion B and friction F.
 
-    surface: a surface of exu_aniso.geometry (Plane, Cylinder, Cone, Sphere, Torus,
+    surface: a surface of exu_aniso.geometry (Plane, Cylinder, Cone, Sphere, Torus, Helicoid,
     SurfaceOfRevolution, ParametricSurface); adhesion, friction: TensorField (see
     exu_aniso.fields); normal_stiffness eps_N [N/m per point]; normal_damping d_N [N s/m per
     point]; tangential_damping d_T [N s/m per point]; return_map: "seed" | "exact" | "radial".
@@ -82,7 +82,7 @@ class ContactLaw:
         if getattr(friction, "kind", None) != "friction":
             raise TypeError(f"friction must be a Friction field (exu_aniso.Friction.*); got {friction!r}")
         if not isinstance(surface, _geometry.Surface):
-            raise TypeError("surface must be a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, "
+            raise TypeError("surface must be a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, Helicoid, "
                             f"SurfaceOfRevolution, ParametricSurface); got {surface!r}")
         self._nets = (net_of(adhesion, surface), net_of(friction, surface))
         # the compiled kernel, or its plain-Python source for a user surface or field numba cannot compile

@@ -745,7 +745,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     length, applied to every element of the list (points ordered element by element: K = elements x
     points; x = Exudyn's Hermite shape functions, linear in the node coordinates, so the analytic
     Jacobian has no geometric terms); surface: a surface of
-    exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution, ParametricSurface) in the
+    exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, Helicoid, SurfaceOfRevolution, ParametricSurface) in the
     master frame; adhesion / friction: exu_aniso Adhesion / Friction fields; normalStiffness
     eps_N [N/m per point]; normalDamping d_N [N s/m per point, default 0]; tangentialDamping d_T
     [N s/m per point, default 0: a dashpot -d_T v_t parallel to friction while loaded];

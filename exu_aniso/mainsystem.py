@@ -54,7 +54,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         localPoints: list of K body-local contact points, each a 3D list or numpy array [m]; for cable
             elements [x, 0, 0] with 0 <= x <= element length, applied to every element in bodyNumber;
             for a group applied to every body (history rows body by body)
-        surface: a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution,
+        surface: a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, Helicoid, SurfaceOfRevolution,
             ParametricSurface), in the frame of the master (ground or masterBodyNumber)
         adhesion: exu_aniso Adhesion field (B), stiffness per point [N/m]
         friction: exu_aniso Friction field (F), Coulomb coefficients

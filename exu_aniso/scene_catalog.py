@@ -94,6 +94,11 @@ def _feeder():
     return Scene("feeder", FeederParams, COLUMNS, TITLE_KEYS, PlotFeeder, "feeder", simulate_feeder, (7.5, 6.5))
 
 
-_ENTRIES = (_block, _screw, _particle, _capstan, _feeder)
+def _fastening():     # no reference-engine model: the oracles are ISO 16047 / VDI 2230's closed forms
+    from .scene_fastening import COLUMNS, TITLE_KEYS, FasteningParams, PlotFastening
+    return Scene("fastening", FasteningParams, COLUMNS, TITLE_KEYS, PlotFastening, "fastening", None, (7.0, 7.0))
+
+
+_ENTRIES = (_block, _screw, _particle, _capstan, _feeder, _fastening)
 
 SCENES = {s.name: s for s in (entry() for entry in _ENTRIES)}

@@ -1,0 +1,183 @@
+"""Fastening scene (issue 15): a bolt tightened into a nut against ISO 16047 / VDI 2230.
+
+Oracles: the torque-tension formula (a Coulomb force balance on the flank at the pitch radius), its
+thread and head terms, the tightening slope with the compliances in series, the seating angle from
+the initial gap, the ISO 16047 evaluation formulas, the energy ledger, the associated law's ring
+torque on an orthotropic head bearing. The formula itself is re-derived here from the Helicoid's own
+normal (not from the module that states it). The reduced model (thread=net) is checked against the
+closed form it is calibrated with, and its known limit is recorded.
+"""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from exu_aniso import oracles
+from exu_aniso.calibration import steady_sliding
+from exu_aniso.geometry import Helicoid
+from exu_aniso.models.fastening import RunFastening
+from exu_aniso.scene_fastening import FasteningParams, calibrate_net, calibration_force, lead
+from exu_aniso.scenes import ScrewParams
+
+
+@pytest.fixture(scope="module")
+def flank():
+    return RunFastening(FasteningParams())
+
+
+def _rel(a, b):
+    return abs(a - b) / abs(b)
+
+
+def test_thread_formula_is_the_force_balance_on_the_helicoid():
+    """T/F of the formula equals the torque and axial force of N n - mu N t on the Helicoid at the
+    pitch radius (n the surface's normal toward the bolt, t the helix tangent the bolt slides along)."""
+    for beta_deg, P, d2, mu in ((60.0, 1.5e-3, 9.026e-3, 0.12), (30.0, 3e-3, 18.5e-3, 0.2), (0.0, 2e-3, 8e-3, 0.08)):
+        s = Helicoid(P, math.radians(beta_deg), d2, side="forward")
+        r, phi = 0.5 * d2, 0.7
+        x = np.array([r * math.cos(phi), r * math.sin(phi), P / (2 * math.pi) * phi])
+        gap, n = s.gap_and_normal(x)
+        assert abs(gap) < 1e-15
+        e_phi = np.array([-math.sin(phi), math.cos(phi), 0.0])
+        t = r * e_phi + np.array([0.0, 0.0, P / (2 * math.pi)])
+        t /= np.linalg.norm(t)
+        f = n - mu * t                                   # on the bolt, per unit normal force
+        torque = -r * f @ e_phi                          # the drive supplies minus the moment about +z
+        assert torque / f[2] == pytest.approx(oracles.thread_torque_per_force(d2, P, math.radians(beta_deg), mu),
+                                              rel=1e-12)
+
+
+def test_vdi2230_linearization_is_close_for_a_metric_thread():
+    """VDI 2230's 0.16 P + 0.58 d2 mu_G is within 0.5 % of the formula's thread term for M10 at mu 0.12
+    (it is a linearization for 60 deg threads; the study maps its error)."""
+    exact = oracles.thread_torque_per_force(9.026e-3, 1.5e-3, math.pi / 3, 0.12)
+    vdi = oracles.torque_per_clamp_force_vdi2230(9.026e-3, 1.5e-3, 0.12, 0.0, 0.0)
+    assert 0.0 < _rel(vdi, exact) < 5e-3
+
+
+def test_torque_per_clamp_force_matches_iso16047(flank):
+    """Isotropic flank and head: T/F within 1 % (the issue's bar) of the formula; measured 1.2e-4
+    (python -m pytest tests/test_fastening.py, 2026-11-26), the tolerance 1e-3 catches a wrong lead,
+    radius or flank normal (each moves T/F by percent)."""
+    s = flank.summary
+    assert s["energy_ok"] and not s["undefined"]
+    assert _rel(s["torque_per_clamp_force"], s["torque_per_clamp_force_theory"]) < 1e-3
+
+
+def test_thread_and_head_terms_alone(flank):
+    """The thread torque alone against its term, the head torque alone against mu_K r_K F
+    (measured 2.3e-4 and 5e-7)."""
+    s, p = flank.summary, flank.params
+    assert _rel(s["thread_torque_per_clamp_force"], s["thread_torque_per_clamp_force_theory"]) < 1e-3
+    assert _rel(s["head_torque_per_clamp_force"], p.mu_head * p.head_radius) < 1e-5
+    tr = flank.trajectory
+    late = tr["clamp_force"] > 0.5 * tr["clamp_force"][-1]  # drive torque = thread + head (quasi-static)
+    assert np.max(np.abs(tr["torque"][late] - tr["thread_torque"][late] - tr["head_torque"][late])) < 1e-3 * tr["torque"][-1]
+
+
+def test_tightening_slope_is_the_lead_over_the_compliances_in_series(flank):
+    """dF/dangle = (P / 2 pi) / (1/k_joint + 1/k_thread + 1/k_head), k_thread the flank contact's axial
+    stiffness while sliding; measured 6e-6. Without the contact compliance the slope would be 2.3 %
+    off: the correction is what the test sees."""
+    s, p = flank.summary, flank.params
+    assert _rel(s["clamp_force_per_angle"], s["clamp_force_per_angle_theory"]) < 1e-3
+    assert _rel(s["clamp_force_per_angle"], p.joint_stiffness * lead(p)) > 1e-2
+
+
+def test_seating_angle_is_the_initial_gap_over_the_lead(flank):
+    """The head touches after rundown_angle (the gap is lead * rundown_angle), to within the angle of one
+    step (the first loaded sample is interpolated linearly to zero force) and the elastic offsets."""
+    s, p = flank.summary, flank.params
+    assert abs(s["seating_angle"] - p.rundown_angle) < math.degrees(p.rotation_speed * p.dt) + 0.02
+
+
+def test_iso16047_evaluation_backs_out_the_friction(flank):
+    """The head's evaluation returns mu_K (its formula is exact for a ring at r_K). The thread's
+    evaluation (T_th/F - P/2 pi) / (0.577 d2) is an approximation: it returns the closed form's value
+    for the simulated torque, which lies above the mu_G put in (0.1211 for 0.12)."""
+    s, p = flank.summary, flank.params
+    assert s["mu_head_iso16047"] == pytest.approx(p.mu_head, rel=1e-5)
+    beta = math.radians(p.flank_angle)
+    expected = (oracles.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread) - p.pitch / (2 * math.pi)) \
+        * 2 * math.cos(beta / 2) / p.d2
+    assert s["mu_thread_iso16047"] == pytest.approx(expected, rel=1e-3)
+    assert s["mu_thread_iso16047"] > p.mu_thread * 1.005
+
+
+def test_energy_ledger_and_no_wobble(flank):
+    """The ledger closes; a symmetric bolt with an isotropic head does not tilt (< 0.01 deg) or move
+    off the axis (< 1e-5 m)."""
+    s = flank.summary
+    assert s["energy_ok"] and abs(s["energy"]["residual"]) < 1e-4 * s["energy"]["work_in"]
+    assert s["tilt_max_deg"] < 1e-2 and s["lateral_max"] < 1e-5
+
+
+def test_orthotropic_head_bearing_follows_the_associated_ring_torque():
+    """A machined lay (mu 0.12 along, 0.24 across) under the exact map: the head torque per clamp force
+    is r_K times the ring mean of sqrt(mu_1^2 cos^2 a + mu_2^2 sin^2 a) (oracles.orthotropic_ring_torque_factor),
+    which lies between the two coefficients."""
+    p = FasteningParams(head_net="orthotropic", mu_head=0.12, mu_head_2=0.24, head_lay_angle=20.0)
+    s = RunFastening(p).summary
+    assert s["energy_ok"]
+    assert 0.12 < s["head_torque_per_clamp_force_theory"] / p.head_radius < 0.24
+    assert _rel(s["head_torque_per_clamp_force"], s["head_torque_per_clamp_force_theory"]) < 1e-3
+    assert _rel(s["torque_per_clamp_force"], s["torque_per_clamp_force_theory"]) < 1e-3
+
+
+def test_net_model_is_calibrated_by_the_closed_form_and_misses_the_torque_tension_line():
+    """thread=net (a spiral net on a cylinder): its friction along the helix is calibrated with
+    exu_aniso.calibration.steady_sliding to the flank's thread torque at the predicted end force. The
+    simulation's thread torque at its own end force equals that closed form (the engine does what the
+    calibration assumes, 1e-2). Its normal force is the interference's, not the load's, so the thread
+    torque hardly grows with the clamp force: T_thread/F is a fraction of the flank's (measured 0.22x,
+    the calibration only holds near one force). Recorded as the reduced model's limit."""
+    p = FasteningParams(thread="net")
+    mu1 = calibrate_net(p)
+    r = RunFastening(p)
+    s = r.summary
+    assert s["energy_ok"]
+    Fa = float(r.trajectory["clamp_force"][-1]) + p.axial_load
+    base = ScrewParams(radius=0.5 * p.d2, helix_angle=math.degrees(oracles.lead_angle(p.d2, p.pitch)),
+                       interference=p.net_normal_force / p.thread_stiffness, eps_n=p.thread_stiffness,
+                       adhesion="isotropic", friction="spiral", mu_1=mu1, mu_2=p.net_mu_across, return_map="exact",
+                       axial_load=-Fa)
+    assert _rel(float(r.trajectory["thread_torque"][-1]), steady_sliding(base).torque) < 1e-2
+    assert s["thread_torque_per_clamp_force"] < 0.5 * s["thread_torque_per_clamp_force_theory"]
+    assert calibration_force(p) > Fa          # the net advances less than a pitch per turn under load
+
+
+@pytest.mark.parametrize("bad,match", [
+    (dict(flank_angle=180.0), "flank_angle must lie in"),
+    (dict(head_radius=4e-3), "head_radius must be > d2/2"),
+    (dict(mu_thread=20.0), "mu_thread"),
+    (dict(points_per_turn=2), "points_per_turn"),
+    (dict(turns=30), "turns \\* pitch"),
+    (dict(spectral_radius=1.5), "spectral_radius"),
+])
+def test_bad_parameters_name_the_rule(bad, match):
+    with pytest.raises(ValueError, match=match):
+        FasteningParams(**bad)
+
+
+def test_net_that_cannot_carry_the_torque_is_a_clear_error():
+    with pytest.raises(ValueError, match="net_normal_force"):
+        calibrate_net(FasteningParams(thread="net", net_normal_force=10.0))
+
+
+def test_fastening_cli_writes_the_iso_values(tmp_path):
+    out = tmp_path / "f"
+    subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "fastening", "--quiet", "--set", "t_end=0.8",
+                    "--out", str(out)], check=True, timeout=300, cwd=tmp_path)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["complete"] and s["energy_ok"]
+    for k in ("seating_angle", "torque_end", "clamp_force_end", "torque_per_clamp_force",
+              "torque_per_clamp_force_theory", "mu_thread_iso16047", "mu_head_iso16047"):
+        assert s[k] is not None, k
+    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    assert {"angle", "torque", "thread_torque", "head_torque", "clamp_force"} <= set(header)
+    assert (out / "trajectory.png").stat().st_size > 0
