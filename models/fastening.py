@@ -19,13 +19,13 @@ import exudyn as exu
 import numpy as np
 from exudyn import graphics
 from exudyn.itemInterface import SensorNode
-from exudyn.rigidBodyUtilities import RigidBodyInertia
+from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixX
 from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso import energy, oracles
 from exu_aniso.failure import SimulationFailure
-from exu_aniso.models.block import (NODE_TYPES, AddYawDrive, SimulationSettingsFor, SolveTimed, StoreSolution, Unwrap,
+from exu_aniso.models.block import (NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, SimulationSettingsFor, SolveTimed, StoreSolution, Unwrap,
                                     WriteSnapshot)
 from exu_aniso.progress import make_progress
 from exu_aniso.reference import Result
@@ -37,7 +37,9 @@ from exu_aniso.validation import check_instance
 # Newton's relative and absolute tolerance: the round-off floor of the residual is ~1e-9 N here (contact
 # stiffness ~4e8 N/m per point times round-off of positions ~1e-2 m); the scenes' 1e-10 lies below it
 NEWTON_TOLERANCE = 1e-8
-PART_SIZE = (0.03, 0.03, 0.01)          # drawn clamped part [m]; its mass is the scene's part_mass
+PART_SIZE = (0.03, 0.03, 0.01)
+# the scene's z axis points from the head to the tip: the snapshot turns it over, head up
+SNAPSHOT_VIEW = (SNAPSHOT_ROTATION @ RotationMatrixX(math.pi)).tolist()          # drawn clamped part [m]; its mass is the scene's part_mass
 
 
 def DriveTorque(p, angle, t):
@@ -83,7 +85,8 @@ def BuildFastening(p: FasteningParams, jacobian="analytic", implementation="auto
                                 graphicsDataList=BoltGraphics(p))
     nBolt = mbs.GetObject(oBolt)["nodeNumber"]
     if p.axial_load:
-        mbs.CreateForce(itemNumber=oBolt, loadVector=[0.0, 0.0, -p.axial_load])
+        load = mbs.CreateForce(itemNumber=oBolt, loadVector=[0.0, 0.0, -p.axial_load])
+        mbs.SetLoadParameter(load, "Vshow", False)       # CreateForce(show=False) draws it all the same
     oDrive = AddYawDrive(mbs, nBolt, nodeType, lambda angle, t: DriveTorque(p, angle, t))
 
     z0 = part_top_z(p)
@@ -178,7 +181,7 @@ def RunFastening(p: FasteningParams = None, progress=False, snapshot=None, solut
                 K=len(thread_points(p)) + len(head_points(p)), newton=options.get("newton", "modified"),
                 implementation=contacts[0]["implementation"], thread_law=repr(contacts[0]["law"]))
     if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot)
+        info["snapshot"] = WriteSnapshot(model, snapshot, modelRotation=SNAPSHOT_VIEW)
     return Result(traj, summary, p, info)
 
 
