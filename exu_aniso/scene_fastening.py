@@ -50,7 +50,11 @@ FASTENING_PARAMS = {
     "d2": (9.026e-3, "m", "pitch diameter (M10: 9.026 mm)", "> 0"),
     "pitch": (1.5e-3, "m", "thread pitch P (M10: 1.5 mm)", "> 0"),
     "flank_angle": (60.0, "deg", "thread angle beta, full (metric: 60), in [0, 180)", ">= 0"),
-    "mu_thread": (0.12, "-", "thread friction mu_G (flank; net: see net_mu_along)", "> 0"),
+    "mu_thread": (0.12, "-", "thread friction mu_G (flank; orthotropic: along the helix; net: see net_mu_along)",
+                  "> 0"),
+    "thread_net": ("isotropic", "-", "friction field on the flank: isotropic or orthotropic (direction 1 along the "
+                   "helix, the phi coordinate line)", ("isotropic", "orthotropic")),
+    "mu_thread_2": (0.3, "-", "flank friction across the helix (thread_net orthotropic)", "> 0"),
     "mu_head": (0.12, "-", "head bearing friction mu_K (orthotropic: along the lay)", "> 0"),
     "head_net": ("isotropic", "-", "head bearing field: isotropic or orthotropic (a machined lay)",
                  ("isotropic", "orthotropic")),
@@ -98,6 +102,8 @@ class FasteningParams(_ParamsMixin):
     pitch: float = _D["pitch"]
     flank_angle: float = _D["flank_angle"]
     mu_thread: float = _D["mu_thread"]
+    thread_net: str = _D["thread_net"]
+    mu_thread_2: float = _D["mu_thread_2"]
     mu_head: float = _D["mu_head"]
     head_net: str = _D["head_net"]
     mu_head_2: float = _D["mu_head_2"]
@@ -260,8 +266,10 @@ def thread_contact_law(p):
         a = oracles.lead_angle(p.d2, p.pitch)
         return ContactLaw(thread_surface(p), Adhesion.isotropic(eps_t), Friction.spiral(mu1, p.net_mu_across, a),
                           normal_stiffness=p.thread_stiffness / K, return_map=p.return_map)
-    return ContactLaw(thread_surface(p), Adhesion.isotropic(eps_t), Friction.isotropic(p.mu_thread),
-                      normal_stiffness=p.thread_stiffness / K, return_map=p.return_map)
+    F = (Friction.orthotropic(p.mu_thread, p.mu_thread_2, angle=0.0) if p.thread_net == "orthotropic"
+         else Friction.isotropic(p.mu_thread))
+    return ContactLaw(thread_surface(p), Adhesion.isotropic(eps_t), F, normal_stiffness=p.thread_stiffness / K,
+                      return_map=p.return_map)
 
 
 def head_contact_law(p):
@@ -298,8 +306,13 @@ def theory(p):
     apply (under 'undefined')."""
     beta = math.radians(p.flank_angle)
     out, undefined = {}, {}
-    # the net is calibrated to reproduce the flank's thread torque: the same theory is its target
+    # the net is calibrated to reproduce the flank's thread torque: the same theory is its target. An
+    # orthotropic flank slides along its direction 1 (the helix), where the associated law's friction is mu_thread
     thread = oracles.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
+    if p.thread_net == "orthotropic" and p.return_map != "exact":
+        thread = None
+        undefined["thread_torque_per_clamp_force_theory"] = (f"orthotropic flank under the {p.return_map!r} map: "
+                                                             "the formula is checked for the exact map")
     k_thread = (oracles.thread_axial_stiffness(p.thread_stiffness, p.d2, p.pitch, beta, p.mu_thread)
                 if p.thread == "flank" else None)
     if p.head_net == "isotropic":
@@ -318,9 +331,9 @@ def theory(p):
         undefined["torque_per_clamp_force_theory"] = "a term has no theory (see its entry)"
     out["torque_per_clamp_force_vdi2230"] = (oracles.torque_per_clamp_force_vdi2230(p.d2, p.pitch, p.mu_thread,
                                                                                    p.mu_head, p.head_radius)
-                                             if p.head_net == "isotropic" else None)
+                                             if p.head_net == "isotropic" and thread is not None else None)
     if out["torque_per_clamp_force_vdi2230"] is None:
-        undefined["torque_per_clamp_force_vdi2230"] = "VDI 2230's formula is for an isotropic head bearing"
+        undefined["torque_per_clamp_force_vdi2230"] = "VDI 2230's formula is for an isotropic head bearing and flank"
     comp = [1.0 / p.head_stiffness] + ([1.0 / k_thread] if k_thread else [])
     out["clamp_force_per_angle_theory"] = (oracles.clamp_force_per_angle(p.joint_stiffness, p.pitch, comp)
                                            if k_thread else None)

@@ -181,3 +181,14 @@ def test_fastening_cli_writes_the_iso_values(tmp_path):
     header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
     assert {"angle", "torque", "thread_torque", "head_torque", "clamp_force"} <= set(header)
     assert (out / "trajectory.png").stat().st_size > 0
+
+
+def test_orthotropic_flank_sliding_along_its_net_direction_is_the_isotropic_thread():
+    """A spiral net on the flank (direction 1 along the helix, the phi line of the Helicoid's
+    non-orthogonal chart, mu 0.12 along and 0.3 across): the bolt slides along direction 1, where the
+    associated law's friction is mu_1, so T/F equals the isotropic flank's formula. A wrong direction 1
+    (not the helix, e.g. built from a non-unit or skewed basis) mixes in mu_2 and moves T/F by percent."""
+    p = FasteningParams(thread_net="orthotropic", mu_thread=0.12, mu_thread_2=0.3, t_end=1.0)
+    s = RunFastening(p).summary
+    assert s["energy_ok"]
+    assert _rel(s["thread_torque_per_clamp_force"], s["thread_torque_per_clamp_force_theory"]) < 1e-3
