@@ -317,7 +317,7 @@ def theory(p):
                 if p.thread == "flank" else None)
     if p.head_net == "isotropic":
         head = p.mu_head * p.head_radius
-    elif p.return_map == "exact":
+    elif p.return_map == "exact":      # at the start orientation; fastening_summary follows the ring as it turns
         head = p.head_radius * oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2,
                                                                       math.radians(p.head_lay_angle), p.head_points)
     else:
@@ -405,6 +405,15 @@ def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     s["thread_torque_per_clamp_force"] = _slope(F[tight], Tt[tight])
     s["head_torque_per_clamp_force"] = _slope(F[tight], Th[tight])
     s["clamp_force_per_angle"] = _slope(ang[tight], F[tight])
+    if s["head_torque_per_clamp_force_theory"] is not None and p.head_net == "orthotropic":
+        # the ring turns with the bolt over the lay: the formula at the ring's orientation in every sample
+        lay = math.radians(p.head_lay_angle)
+        g = np.array([oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2, lay - a, p.head_points)
+                      for a in ang[tight]])
+        s["head_torque_per_clamp_force_theory"] = _slope(F[tight], p.head_radius * g * F[tight])
+        if s["thread_torque_per_clamp_force_theory"] is not None:
+            s["torque_per_clamp_force_theory"] = (s["thread_torque_per_clamp_force_theory"]
+                                                  + s["head_torque_per_clamp_force_theory"])
     beta = math.radians(p.flank_angle)
     s["mu_thread_iso16047"] = oracles.mu_thread_iso16047(s["thread_torque_per_clamp_force"], p.d2, p.pitch, beta)
     s["mu_head_iso16047"] = oracles.mu_head_iso16047(s["head_torque_per_clamp_force"], p.head_radius)

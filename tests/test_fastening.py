@@ -119,13 +119,14 @@ def test_energy_ledger_and_no_wobble(flank):
 
 def test_orthotropic_head_bearing_follows_the_associated_ring_torque():
     """A machined lay (mu 0.12 along, 0.24 across) under the exact map: the head torque per clamp force
-    is r_K times the ring mean of sqrt(mu_1^2 cos^2 a + mu_2^2 sin^2 a) (oracles.orthotropic_ring_torque_factor),
-    which lies between the two coefficients."""
+    is r_K times the ring mean of sqrt(mu_1^2 cos^2 a + mu_2^2 sin^2 a) (oracles.orthotropic_ring_torque_factor)
+    at the ring's orientation as it turns over the lay, which lies between the two coefficients. The
+    8-point ring's factor varies by 0.18 % with its orientation: the summary follows it (measured 2e-7)."""
     p = FasteningParams(head_net="orthotropic", mu_head=0.12, mu_head_2=0.24, head_lay_angle=20.0)
     s = RunFastening(p).summary
     assert s["energy_ok"]
     assert 0.12 < s["head_torque_per_clamp_force_theory"] / p.head_radius < 0.24
-    assert _rel(s["head_torque_per_clamp_force"], s["head_torque_per_clamp_force_theory"]) < 1e-3
+    assert _rel(s["head_torque_per_clamp_force"], s["head_torque_per_clamp_force_theory"]) < 1e-5
     assert _rel(s["torque_per_clamp_force"], s["torque_per_clamp_force_theory"]) < 1e-3
 
 
@@ -149,6 +150,18 @@ def test_net_model_is_calibrated_by_the_closed_form_and_misses_the_torque_tensio
     assert _rel(float(r.trajectory["thread_torque"][-1]), steady_sliding(base).torque) < 1e-2
     assert s["thread_torque_per_clamp_force"] < 0.5 * s["thread_torque_per_clamp_force_theory"]
     assert calibration_force(p) > Fa          # the net advances less than a pitch per turn under load
+
+
+@pytest.mark.parametrize("over", [dict(points_per_turn=4, turns=2), dict(pitch=3e-3)])
+def test_layouts_that_used_to_stop_at_the_start_run_through(over):
+    """Under the default modified Newton these stopped in the first steps: a Newton iterate put a thread
+    point off its flank, where the projection did not converge or hit a centre of curvature (4 x 2
+    points), or onto the next turn, which let the bolt fall out of the thread (pitch 3 mm). Now the point's
+    turn follows its last projection and such an iterate is a rejected step (UNRESOLVED); both runs close
+    their ledger and give the formula's T/F."""
+    s = RunFastening(FasteningParams(t_end=1.0, **over)).summary
+    assert s["energy_ok"]
+    assert _rel(s["torque_per_clamp_force"], s["torque_per_clamp_force_theory"]) < 1e-3
 
 
 @pytest.mark.parametrize("bad,match", [
@@ -192,3 +205,35 @@ def test_orthotropic_flank_sliding_along_its_net_direction_is_the_isotropic_thre
     s = RunFastening(p).summary
     assert s["energy_ok"]
     assert _rel(s["thread_torque_per_clamp_force"], s["thread_torque_per_clamp_force_theory"]) < 1e-3
+
+
+def test_fastening_study_quick(tmp_path, quick_study):
+    """studies/fastening.py --quick: the 2 x 2 torque-tension grid within 1e-2 of the formula (T/F and the
+    clamp force at 30 N m) with the scatter band of torque-controlled tightening (mu 0.08 to 0.16: the
+    clamp force spreads by 1.8x); the square-thread flank where VDI 2230 is 10 % off and the simulation on
+    the exact term; the machined head between its two coefficients and on the ring formula at its current
+    orientation; the net far off the torque-tension line; the report's verdict and figures."""
+    from exu_aniso.output import read_table
+    quick_study("fastening", tmp_path, timeout=300)
+    T = read_table(tmp_path / "torque_tension.csv")
+    assert len(T["T/F_error [-]"]) == 4 and set(T["status [-]"]) == {"ok"}
+    assert all(abs(e) < 1e-2 for e in T["T/F_error [-]"] + T["clamp_force_error [-]"])
+    F = T["clamp_force_at_target [N]"]
+    assert 1.7 < max(F) / min(F) < 1.9
+    S = read_table(tmp_path / "vdi_simulated.csv")
+    i = S["flank_angle [deg]"].index(0.0)
+    assert abs(S["simulated_error [-]"][i]) < 1e-2 < abs(S["vdi_error [-]"][i])
+    H = read_table(tmp_path / "head_lay.csv")
+    orth = [k for k, h in enumerate(H["head [-]"]) if h == "orthotropic"]
+    assert H["lay_angle [deg]"][orth[0]] == 0.0 and len(orth) == 2
+    for k in orth:
+        assert 0.12 < H["head_T/F [m]"][k] / FasteningParams().head_radius < 0.24
+        assert H["ring_instantaneous_error [-]"][k] < 1e-3 and abs(H["head_error [-]"][k]) < 1e-2
+    P = read_table(tmp_path / "speed_error.csv")
+    assert P["status [-]"][0] == "ok" and abs(P["T/F_error [-]"][0]) < 1e-2
+    net = P["model [-]"].index("net")
+    assert P["status [-]"][net] == "ok" and P["T/F_error [-]"][net] < -0.1
+    report = (tmp_path / "report.md").read_text()
+    assert "Verdict: PASS" in report and "python studies/fastening.py --quick" in report
+    for fig in ("torque_tension.png", "vdi_error.png", "head_lay.png", "speed_error.png"):
+        assert f"](./{fig})" in report and (tmp_path / fig).stat().st_size > 0

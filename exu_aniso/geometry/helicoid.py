@@ -52,7 +52,11 @@ def guess(p, y, xi1, xi2):
     h, c = p.lead_per_radian, p.flank_slope
     rho = math.hypot(y[0], y[1])
     a = math.atan2(y[1], y[0])
-    # the turn whose sheet at azimuth a and radius rho lies nearest in z (floor(q + 0.5): round)
+    if xi1 == xi1:
+        # a point in contact (its last projection as the hint) stays on its turn: it cannot cross the
+        # flank, and a Newton iterate that moves it by half a pitch must not land it on the next turn
+        return a + TWO_PI * math.floor((xi1 - a) / TWO_PI + 0.5), rho, False
+    # no hint: the turn whose sheet at azimuth a and radius rho lies nearest in z (floor(q + 0.5): round)
     q = ((y[2] - c * (rho - p.pitch_radius)) / h - a) / TWO_PI
     return a + TWO_PI * math.floor(q + 0.5), rho, False
 
