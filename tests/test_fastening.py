@@ -207,7 +207,6 @@ def test_orthotropic_flank_sliding_along_its_net_direction_is_the_isotropic_thre
     assert _rel(s["thread_torque_per_clamp_force"], s["thread_torque_per_clamp_force_theory"]) < 1e-3
 
 
-@pytest.mark.slow     # ~50 s; the default run is over its 10 minutes already, and every oracle here has a unit test above
 def test_fastening_study_quick(tmp_path, quick_study):
     """studies/fastening.py --quick: the 2 x 2 torque-tension grid within 1e-2 of the formula (T/F and the
     clamp force at 30 N m) with the scatter band of torque-controlled tightening (mu 0.08 to 0.16: the
