@@ -122,21 +122,17 @@ class ContactLaw:
     def _net_components(self, net, anchors):
         anchors = np.asarray(anchors, dtype=float)
         from . import kernel
-        net_at = kernel.net_at if self.compiled else kernel.plain_python().net_at
+        batch = kernel.net_at_batch if self.compiled else kernel.plain_python().net_at_batch
         out = np.empty((anchors.shape[0], 3))
-        for k, (a1, a2) in enumerate(anchors):
-            out[k] = net_at(self.surface.params, net, float(a1), float(a2))
+        batch(self.surface.params, net, np.ascontiguousarray(anchors.reshape(-1, 2)), out)
         return out
 
     def gap_and_normal(self, x):
         """Normal gap xi3 (K,) and unit normal n (K, 3) (towards the slave side) of slave points x
         (K, 3); the normal is NaN where the point is not in contact (xi3 >= 0)."""
-        x = np.asarray(x, dtype=float)
-        gap, n = np.empty(x.shape[0]), np.full(x.shape, np.nan)
-        for k in range(x.shape[0]):
-            gap[k], nk = self.surface.gap_and_normal(x[k])
-            if gap[k] < 0.0:
-                n[k] = nk
+        x = np.ascontiguousarray(x, dtype=float).reshape(-1, 3)
+        gap, n = np.empty(x.shape[0]), np.empty(x.shape)
+        self.surface.protocol.gap_and_normal_batch(self.surface.params, x, gap, n)
         return gap, n
 
     def traction_frames(self, x):
@@ -178,7 +174,7 @@ class ContactLaw:
             (K, N_HISTORY))
         from . import kernel
         from .kernel import LawParams, MAP_CODES
-        contact_point = kernel.contact_point if self.compiled else kernel.plain_python().contact_point
+        contact_points = kernel.contact_points if self.compiled else kernel.plain_python().contact_points
         K = x.shape[0]
         law = LawParams(self.eps_N, self.d_N, self.d_T, MAP_CODES[self.return_map])
         sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]
@@ -189,9 +185,8 @@ class ContactLaw:
         status = np.zeros(K, dtype=int)
         gap = np.zeros(K)
         W = np.zeros((3, 9, 9))
-        for k in range(K):
-            status[k], gap[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k], 0.0 if dt is None else float(dt),
-                                              tangent, force[k], stiff[k], damp[k], newH[k], W)
+        contact_points(sp, nB, nF, law, np.ascontiguousarray(x), np.ascontiguousarray(v), np.ascontiguousarray(H),
+                       0.0 if dt is None else float(dt), tangent, force, stiff, damp, newH, status, gap, W)
         closed = status != OPEN
         return ContactState(force, stiff if tangent else None, damp if tangent else None,
                             np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,

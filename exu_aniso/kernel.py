@@ -139,6 +139,23 @@ def net_at(sp, net, xi1, xi2):
 
 
 @njit(cache=True)
+def contact_points(sp, netB, netF, law, x, v, H, dt, tangent, f, Kx, Dv, Hn, status, gap, W):
+    """contact_point for every row k of x, v, H (K, 3), (K, 3), (K, 9) into f[k], Kx[k], Dv[k], Hn[k],
+    status[k], gap[k], in one call (ContactLaw.evaluate: post-processing evaluates every sample)."""
+    for k in range(x.shape[0]):
+        status[k], gap[k] = contact_point(sp, netB, netF, law, x[k], v[k], H[k], dt, tangent, f[k], Kx[k], Dv[k],
+                                          Hn[k], W)
+
+
+@njit(cache=True)
+def net_at_batch(sp, net, anchors, out):
+    """net_at at every row (xi1, xi2) of anchors (K, 2) into out (K, 3), in one call."""
+    for k in range(anchors.shape[0]):
+        c = net_at(sp, net, anchors[k, 0], anchors[k, 1])
+        out[k, 0], out[k, 1], out[k, 2] = c[0], c[1], c[2]
+
+
+@njit(cache=True)
 def _release(sp, netB, h, hn):
     """Contact lost: T . C^-1 T / 2 at the anchor of an active row h is booked as dissipated."""
     if not h[4] > 0.5:

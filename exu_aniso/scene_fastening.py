@@ -352,21 +352,23 @@ def contact_torques(law_thread, law_head, p, pos, vel, w, A, part_u, part_v, H_t
     the contact forces on the bolt about its axis through the bolt's centre) and the clamp force
     (minus the head's axial contact force on the bolt). pos, vel, w (n, 3), A (n, 3, 3) of the bolt;
     part_u, part_v (n, 3) the part's displacement and velocity; H_*: converged histories (n, K, 9),
-    each sample evaluated with the history of the sample before (what the solver saw)."""
-    n = len(pos)
-    Tt, Th, F = np.zeros(n), np.zeros(n), np.zeros(n)
-    st, sh = thread_points(p), head_points(p)
-    for i in range(n):
-        j = max(i - 1, 0)
-        arm = st @ A[i].T
-        f = law_thread.evaluate(pos[i] + arm, vel[i] + np.cross(w[i], arm), H_thread[j], tangent=False).force
-        Tt[i] = -np.sum(arm[:, 0] * f[:, 1] - arm[:, 1] * f[:, 0])
-        arm = sh @ A[i].T
-        x = pos[i] + arm - part_u[i] - part_top_z(p) * np.array([0.0, 0.0, 1.0])
-        f = law_head.evaluate(x, vel[i] + np.cross(w[i], arm) - part_v[i], H_head[j], tangent=False).force
-        Th[i] = -np.sum(arm[:, 0] * f[:, 1] - arm[:, 1] * f[:, 0])
-        F[i] = -np.sum(f[:, 2])
-    return Tt, Th, F
+    each sample evaluated with the history of the sample before (what the solver saw). The points
+    are independent given their history: every sample goes into one call of the law."""
+    prev = np.maximum(np.arange(len(pos)) - 1, 0)
+
+    def forces(law, b, shift, vshift, H):
+        arm = np.einsum("nij,kj->nki", A, b)                      # (n, K, 3) world arms
+        x = pos[:, None, :] + arm - shift[:, None, :]
+        v = vel[:, None, :] + np.cross(w[:, None, :], arm) - vshift[:, None, :]
+        n, K = arm.shape[:2]
+        f = law.evaluate(x.reshape(-1, 3), v.reshape(-1, 3), H[prev].reshape(-1, 9), tangent=False).force
+        f = f.reshape(n, K, 3)
+        return -np.sum(arm[:, :, 0] * f[:, :, 1] - arm[:, :, 1] * f[:, :, 0], axis=1), f
+
+    Tt, _ = forces(law_thread, thread_points(p), np.zeros_like(pos), np.zeros_like(vel), H_thread)
+    top = part_u + np.array([0.0, 0.0, part_top_z(p)])
+    Th, f = forces(law_head, head_points(p), top, part_v, H_head)
+    return Tt, Th, -np.sum(f[:, :, 2], axis=1)
 
 
 def _slope(x, y):

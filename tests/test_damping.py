@@ -74,8 +74,9 @@ def test_undamped_full_screw_flutters_at_a_resolved_step():
     """At dt = 1e-4 (the 3.6 kHz lateral mode resolved) the undamped full screw leaves the axis
     exponentially (offset from 1e-18 to > 1e-7 m in 0.3 s, measured 4.5e-6); the default damping
     keeps it at round-off."""
+    import os
     import sys
-    sys.path.insert(0, "studies")
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "studies"))   # any cwd
     from hard_cases import growth_rate
     runs = {d: RunScrew(ScrewParams(t_end=0.3, dt=1e-4, return_map="exact", model="full", normal_damping=d))
             for d in (0.0, SCREW_NORMAL_DAMPING)}

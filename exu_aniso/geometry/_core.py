@@ -224,6 +224,21 @@ def project(p, x, xi1, xi2):
 
 
 @njit(cache=True)
+def gap_and_normal_batch(p, X, gap, n):
+    """Normal gap gap[k] and unit normal n[k] of the points X (K, 3) (master frame), as
+    Surface.gap_and_normal point by point, in one call (the energy ledger projects every point of
+    every sample): n[k] is NaN where the point is not in contact or the projection has a status."""
+    for k in range(X.shape[0]):
+        xi1, xi2, xi3, status = project(p, (X[k, 0], X[k, 1], X[k, 2]), math.nan, math.nan)
+        gap[k] = xi3
+        if status == 0 and xi3 < 0.0:
+            nk = geometry(p, xi1, xi2)[3]
+            n[k, 0], n[k, 1], n[k, 2] = nk[0], nk[1], nk[2]
+        else:
+            n[k, 0], n[k, 1], n[k, 2] = math.nan, math.nan, math.nan
+
+
+@njit(cache=True)
 def unwrap(period, d, predicted):
     """The branch of a coordinate increment d of a coordinate with this period (0: none) closest to
     the predicted increment (e.g. from the velocity); (increment, distance to the prediction)."""
