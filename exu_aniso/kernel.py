@@ -196,10 +196,6 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     if pstat == 2 and not active:
         raise ValueError("slave point at a centre of curvature of the surface (on the cylinder axis, a cone's axis, "
                          "a sphere's centre or a torus's centre circle): the closest point is not unique there")
-    if pstat == 3 or not xi3 < 0.0:
-        raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
-                         "the sphere's chart, the polar origin, a cone's apex): choose axis_direction so that the "
-                         "path avoids it")
     if pstat == 1 or pstat == 2:
         # Newton's projection did not converge, or a point in contact at the last step lies at a centre of
         # curvature: a Newton iterate put it far off the surface. It gives no force in this iterate and
@@ -209,6 +205,10 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
             hn[i] = h[i]
         hn[7] = UNRESOLVED
         return UNRESOLVED, xi3
+    if pstat == 3 or not xi3 < 0.0:
+        raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
+                         "the sphere's chart, the polar origin, a cone's apex): choose axis_direction so that the "
+                         "path avoids it")
     y = _core.to_local(sp, (x[0], x[1], x[2]))
     vl = _rot_to_local(sp, (v[0], v[1], v[2]))
     r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)

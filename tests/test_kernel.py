@@ -264,3 +264,18 @@ def test_spiral_by_lead_equals_spiral_by_helix_angle():
         Adhesion.spiral(1e3, 1e5)
     with pytest.raises(ValueError, match="needs an angle as the first surface coordinate"):
         ContactLaw(geo.Plane(), Adhesion.spiral(1e3, 1e5, lead=0.1), Friction.isotropic(0.3), 1e5)
+
+
+def test_a_point_in_contact_thrown_to_a_centre_of_curvature_is_an_unresolved_step():
+    """A point in contact at the last step that a Newton iterate puts on the shaft's axis (its centre of
+    curvature) is no user error: it gives no force, keeps its history, and has the status UNRESOLVED,
+    which makes the engines reject the step and repeat it smaller. A new point there stays an error
+    (test_contact_on_a_pole_or_axis_is_a_clear_error)."""
+    from exu_aniso.contact import UNRESOLVED
+    law = ContactLaw(geo.Cylinder(0.5, side="outside"), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)
+    H = law.initial_history(1)
+    H[0, 2:5] = [0.3, 0.2, 1.0]                     # active, anchored at (phi, z) = (0.3, 0.2)
+    H[0, 0:2] = [1.5, -0.5]
+    st = law.evaluate(np.array([[0.0, 0.0, 0.2]]), None, H)
+    assert st.status[0] == UNRESOLVED and st.force[0].tolist() == [0.0, 0.0, 0.0]
+    np.testing.assert_array_equal(st.history[0, :7], H[0, :7])
