@@ -174,7 +174,9 @@ class ContactLaw:
             (K, N_HISTORY))
         from . import kernel
         from .kernel import LawParams, MAP_CODES
-        contact_points = kernel.contact_points if self.compiled else kernel.plain_python().contact_points
+        # a Python loop over the points: a compiled loop would inline the whole kernel once more per surface
+        # and field types (+2 s of compilation each, measured; the set kernels already hold their own copy)
+        contact_point = kernel.contact_point if self.compiled else kernel.plain_python().contact_point
         K = x.shape[0]
         law = LawParams(self.eps_N, self.d_N, self.d_T, MAP_CODES[self.return_map])
         sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]
@@ -185,8 +187,9 @@ class ContactLaw:
         status = np.zeros(K, dtype=int)
         gap = np.zeros(K)
         W = np.zeros((3, 9, 9))
-        contact_points(sp, nB, nF, law, np.ascontiguousarray(x), np.ascontiguousarray(v), np.ascontiguousarray(H),
-                       0.0 if dt is None else float(dt), tangent, force, stiff, damp, newH, status, gap, W)
+        for k in range(K):
+            status[k], gap[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k], 0.0 if dt is None else float(dt),
+                                              tangent, force[k], stiff[k], damp[k], newH[k], W)
         closed = status != OPEN
         return ContactState(force, stiff if tangent else None, damp if tangent else None,
                             np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,

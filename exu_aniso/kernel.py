@@ -139,15 +139,6 @@ def net_at(sp, net, xi1, xi2):
 
 
 @njit(cache=True)
-def contact_points(sp, netB, netF, law, x, v, H, dt, tangent, f, Kx, Dv, Hn, status, gap, W):
-    """contact_point for every row k of x, v, H (K, 3), (K, 3), (K, 9) into f[k], Kx[k], Dv[k], Hn[k],
-    status[k], gap[k], in one call (ContactLaw.evaluate: post-processing evaluates every sample)."""
-    for k in range(x.shape[0]):
-        status[k], gap[k] = contact_point(sp, netB, netF, law, x[k], v[k], H[k], dt, tangent, f[k], Kx[k], Dv[k],
-                                          Hn[k], W)
-
-
-@njit(cache=True)
 def net_at_batch(sp, net, anchors, out):
     """net_at at every row (xi1, xi2) of anchors (K, 2) into out (K, 3), in one call."""
     for k in range(anchors.shape[0]):
