@@ -25,8 +25,6 @@ Run ``python -m exu_aniso.models.screw`` (or this file) for plots of the default
 """
 from __future__ import annotations
 
-import math
-
 import exudyn as exu
 import numpy as np
 from exudyn import graphics
