@@ -371,6 +371,21 @@ def contact_torques(law_thread, law_head, p, pos, vel, w, A, part_u, part_v, H_t
     return Tt, Th, -np.sum(f[:, :, 2], axis=1)
 
 
+def tightening(clamp_force):
+    """Mask of the tightening phase: clamp force above TIGHTENING_FROM of its end value."""
+    F = np.asarray(clamp_force, float)
+    return F >= TIGHTENING_FROM * F[-1]
+
+
+def head_ring_factor(p, angle):
+    """The orthotropic head ring's torque factor (oracles.orthotropic_ring_torque_factor) at the bolt
+    angles ``angle`` [rad]: the ring turns with the bolt while the lay stays with the part, so the lay
+    lies at head_lay_angle - angle from the ring's points."""
+    lay = math.radians(p.head_lay_angle)
+    return np.array([oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2, lay - a, p.head_points)
+                     for a in np.atleast_1d(angle)])
+
+
 def _slope(x, y):
     return float(np.polyfit(x, y, 1)[0])
 
@@ -391,7 +406,7 @@ def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     keys = ("seating_angle", "torque_per_clamp_force", "thread_torque_per_clamp_force", "head_torque_per_clamp_force",
             "clamp_force_per_angle", "mu_thread_iso16047", "mu_head_iso16047", "mu_total_iso16047")
     touched = np.nonzero(F > 0.0)[0]
-    tight = F >= TIGHTENING_FROM * F[-1]
+    tight = tightening(F)
     if F[-1] <= 0.0 or len(touched) == 0 or np.count_nonzero(tight) < 3:
         why = (f"the head did not clamp enough: clamp force at the end {F[-1]:.3g} N, {np.count_nonzero(tight)} samples "
                f"above {TIGHTENING_FROM:g} of it (at least 3 needed); turn further (t_end, rotation_speed)")
@@ -409,9 +424,7 @@ def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     s["clamp_force_per_angle"] = _slope(ang[tight], F[tight])
     if s["head_torque_per_clamp_force_theory"] is not None and p.head_net == "orthotropic":
         # the ring turns with the bolt over the lay: the formula at the ring's orientation in every sample
-        lay = math.radians(p.head_lay_angle)
-        g = np.array([oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2, lay - a, p.head_points)
-                      for a in ang[tight]])
+        g = head_ring_factor(p, ang[tight])
         s["head_torque_per_clamp_force_theory"] = _slope(F[tight], p.head_radius * g * F[tight])
         if s["thread_torque_per_clamp_force_theory"] is not None:
             s["torque_per_clamp_force_theory"] = (s["thread_torque_per_clamp_force_theory"]

@@ -47,16 +47,15 @@ def ring_check(p, traj):
     """The head torque per clamp force against the ring formula at the ring's *current* orientation:
     the head's points turn with the bolt while the lay stays with the part, so at the bolt angle a the
     lay lies at head_lay_angle - a from the ring's points (oracles.orthotropic_ring_torque_factor).
-    Over the tightening phase (scene_fastening.TIGHTENING_FROM): the largest relative error, the range
+    Over the tightening phase (scene_fastening.tightening): the largest relative error, the range
     of the formula, the bolt angles, and a thinned trace (relative lay angle [deg], simulated, formula)."""
-    from exu_aniso import oracles
-    from exu_aniso.scene_fastening import TIGHTENING_FROM
+    from exu_aniso.scene_fastening import head_ring_factor, tightening
     F = np.asarray(traj["clamp_force"], float)
-    tight = F >= TIGHTENING_FROM * F[-1]
+    tight = tightening(F)
     ang = np.asarray(traj["angle"], float)[tight]
     sim = np.asarray(traj["head_torque"], float)[tight] / (F[tight] * p.head_radius)
     rel = math.radians(p.head_lay_angle) - ang
-    formula = np.array([oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2, a, p.head_points) for a in rel])
+    formula = head_ring_factor(p, ang)
     pick = np.unique(np.linspace(0, len(sim) - 1, TRACE_SAMPLES).round().astype(int))
     return dict(ring_max_error=float(np.max(np.abs(sim / formula - 1.0))),
                 ring_formula_min=float(formula.min()), ring_formula_max=float(formula.max()),
