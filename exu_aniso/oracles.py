@@ -261,11 +261,6 @@ def thread_torque_per_force(d2, pitch, flank_angle, mu_thread):
     return 0.5 * d2 * (t + m) / (1.0 - m * t)
 
 
-def torque_per_clamp_force(d2, pitch, flank_angle, mu_thread, mu_head, head_radius):
-    """Tightening torque per clamp force T/F [m]: thread_torque_per_force + mu_head head_radius."""
-    return thread_torque_per_force(d2, pitch, flank_angle, mu_thread) + mu_head * head_radius
-
-
 def torque_per_clamp_force_vdi2230(d2, pitch, mu_thread, mu_head, head_radius):
     """VDI 2230's linearization of T/F for metric threads (60 deg): 0.16 P + 0.58 d2 mu_G + mu_K r_K."""
     return 0.16 * pitch + 0.58 * d2 * mu_thread + mu_head * head_radius
