@@ -7,6 +7,12 @@ import numbers
 import numpy as np
 
 
+class ParameterError(ValueError):
+    """A parameter set that is valid value by value but cannot run as asked (a combination found
+    out of reach only while preparing the run, e.g. a calibration target no setting attains). The
+    command line treats it as bad input (exit code 2), like every other ValueError of validation."""
+
+
 def _describe(value):
     return f"{value!r} ({type(value).__name__})"
 
