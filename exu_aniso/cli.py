@@ -33,6 +33,7 @@ from .failure import SimulationFailure
 from .output import atomic_write as _atomic_write
 from .output import json_safe, write_json
 from .scene_catalog import MAIN_JOB, SCENES
+from .validation import ParameterError
 
 ENGINES = ("exudyn", "reference")
 # trajectory columns written to CSV, in this order, with their SI units (plain names are the public
@@ -125,28 +126,79 @@ def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=
     _atomic_write(path, lambda f: f.write(buf.getvalue()))
 
 
+RESULT_FILES = ("trajectory.csv", "trajectory.png", "summary.json", "snapshot.png")
+
+
+class NonFiniteState(RuntimeError):
+    """A run whose state went non-finite (overflow, NaN): its files are written with "complete": false
+    and the command exits 1."""
+
+
+def check_out(out):
+    """Refuse (UsageError) an --out that cannot take the results, before anything is simulated: a file
+    on its path, a directory that cannot be created or written, or a result file name that is taken by
+    something that is not a file. Leaves no directory behind (one made to try is removed)."""
+    path = os.path.abspath(out)
+    up = path
+    while not os.path.exists(up):
+        up = os.path.dirname(up)
+    if not os.path.isdir(up):
+        raise UsageError(f"--out must be a directory (created if missing); got {out!r}, but {up!r} is a file")
+    if up != path:        # try to create it, then remove what was made: a killed run leaves no empty --out
+        try:
+            os.makedirs(path)
+        except OSError as e:
+            raise UsageError(f"--out must be a directory that can be created; got {out!r}: "
+                             f"{e.strerror or e}") from None
+        d = path
+        while d != up:
+            os.rmdir(d)
+            d = os.path.dirname(d)
+    elif not os.access(path, os.W_OK | os.X_OK):
+        raise UsageError(f"--out must be a writable directory; got {out!r} (no write permission)")
+    for name in RESULT_FILES:
+        f = os.path.join(path, name)
+        if os.path.lexists(f) and not os.path.isfile(f):
+            raise UsageError(f"--out {out!r}: {name} exists and is not a file (a directory?); "
+                             "remove it or choose another --out")
+
+
 def run_scene(scene, params, engine, out, progress=False, snapshot=False, solution_file=None):
     """Simulate and write trajectory.csv, trajectory.png and summary.json ("complete": true), and
-    with ``snapshot`` snapshot.png (Exudyn engine; only when the run completes).
+    with ``snapshot`` snapshot.png (Exudyn engine; only when the run completes). ``out`` is created
+    only when the results are written, so a run killed while simulating leaves no empty directory.
 
     When the simulation fails with a SimulationFailure carrying a partial trajectory, the three
     files are still written ("complete": false, the failure message, the plot marked INCOMPLETE)
-    and the failure is re-raised; any other simulation error writes summary.json only."""
-    os.makedirs(out, exist_ok=True)
-    try:
-        res = simulate(scene, params, engine, progress=progress, solution_file=solution_file,
-                       snapshot=os.path.join(out, "snapshot.png") if snapshot else None)
-    except SimulationFailure as failure:
-        if failure.partial is not None:
-            write_outputs(scene, params, engine, out, failure.partial, failure.as_dict())
-        else:
-            write_summary(out, dict(failure.as_dict(), engine=engine, params=params.as_dict()))
-        raise
-    except Exception as e:
-        write_summary(out, dict(complete=False, failure=f"{type(e).__name__}: {e}", engine=engine,
-                                params=params.as_dict()))
-        raise
-    return write_outputs(scene, params, engine, out, res)
+    and the failure is re-raised; any other simulation error writes summary.json only. A run whose
+    state went non-finite writes its files with "complete": false and raises NonFiniteState."""
+    with tempfile.TemporaryDirectory(prefix="exu-aniso-snapshot-") as tmp:
+        shot = os.path.join(tmp, "snapshot.png") if snapshot else None
+        try:
+            res = simulate(scene, params, engine, progress=progress, solution_file=solution_file, snapshot=shot)
+        except SimulationFailure as failure:
+            os.makedirs(out, exist_ok=True)
+            if failure.partial is not None:
+                write_outputs(scene, params, engine, out, failure.partial, failure.as_dict())
+            else:
+                write_summary(out, dict(failure.as_dict(), engine=engine, params=params.as_dict()))
+            raise
+        except Exception as e:
+            os.makedirs(out, exist_ok=True)
+            write_summary(out, dict(complete=False, failure=f"{type(e).__name__}: {e}", engine=engine,
+                                    params=params.as_dict()))
+            raise
+        os.makedirs(out, exist_ok=True)
+        bad = res.summary.get("state_nonfinite")
+        if bad is not None:
+            message = (f"the state went non-finite: {bad['column']} at t = {bad['t']:.6g} s (an overflow or a NaN; "
+                       "check the parameters' magnitudes)")
+            write_outputs(scene, params, engine, out, res, dict(
+                complete=False, failure=message, time_reached=bad["t"], end_time=float(res.trajectory["t"][-1])))
+            raise NonFiniteState(message)
+        if shot is not None and os.path.exists(shot):
+            _atomic_write(os.path.join(out, "snapshot.png"), lambda f: f.write(open(shot, "rb").read()))
+        return write_outputs(scene, params, engine, out, res)
 
 
 def write_summary(out, summary):
@@ -216,11 +268,8 @@ def main(argv=None):
         if a.scene == "all" and sets:
             raise UsageError(f"--set applies to one scene; run one of {', '.join(SCENES)} to override parameters")
         jobs = [(s, make_params(s, sets), os.path.join(a.out, s) if a.scene == "all" else a.out) for s in scenes]
-        up = os.path.abspath(a.out)      # --out must be (or become) a directory: no existing file on its path
-        while not os.path.exists(up):
-            up = os.path.dirname(up)
-        if not os.path.isdir(up):
-            raise UsageError(f"--out must be a directory (created if missing); got {a.out!r}, but {up!r} is a file")
+        for _, _, out in jobs:
+            check_out(out)
         for s in scenes:
             if a.engine == "reference" and SCENES[s].reference is None:
                 raise UsageError(f"{s}: the reference engine has no model of this scene; use --engine exudyn")
@@ -250,6 +299,13 @@ def _run_jobs(jobs, a, tmp):
             print(f"exu-aniso: {scene} ({a.engine}) did not complete: {e}\n"
                   f"({kept} summary.json with \"complete\": false written to {out})", file=sys.stderr)
             return 1
+        except NonFiniteState as e:
+            print(f"exu-aniso: {scene} ({a.engine}) did not complete: {e}\n(trajectory.csv, trajectory.png and "
+                  f"summary.json with \"complete\": false written to {out})", file=sys.stderr)
+            return 1
+        except ParameterError as e:  # a combination found impossible while preparing the run: bad input
+            print(f"exu-aniso: error: {scene}: {e}", file=sys.stderr)
+            return 2
         except Exception as e:  # report the failure with context, keep the exit code meaningful
             print(f"exu-aniso: {scene} ({a.engine}) failed: {type(e).__name__}: {e}", file=sys.stderr)
             return 1

@@ -172,7 +172,24 @@ def contact_energy(law, X, V, H):
 ROUND_OFF_FLOOR = 1e-9
 
 
-def ledger(work_in, kinetic, potential, stored, dissipated, tolerance=ENERGY_TOLERANCE):
+def first_nonfinite(columns, t=None):
+    """Where the first non-finite value of ``columns`` (name -> array of samples) appears: None when
+    all are finite, else dict(column=name, index=sample, t=time [s] when t is given). The earliest
+    sample wins; among columns non-finite at that sample, the first in the mapping's order."""
+    first = None
+    for name, a in columns.items():
+        a = np.asarray(a, dtype=float)
+        bad = ~np.isfinite(a.reshape(len(a), -1)).all(axis=1) if a.size else np.zeros(0, bool)
+        if bad.any():
+            i = int(np.argmax(bad))
+            if first is None or i < first["index"]:
+                first = dict(column=name, index=i)
+    if first is not None and t is not None:
+        first["t"] = float(np.asarray(t, dtype=float)[first["index"]])
+    return first
+
+
+def ledger(work_in, kinetic, potential, stored, dissipated, tolerance=ENERGY_TOLERANCE, t=None):
     """The energy ledger of a run from per-sample terms (arrays of length n).
 
     Returns (columns, summary): columns are the changes from the first sample (work_in, kinetic,
@@ -181,36 +198,55 @@ def ledger(work_in, kinetic, potential, stored, dissipated, tolerance=ENERGY_TOL
     max over the run of |residual| / scale with scale = max over the run of max(|work in|,
     |kinetic| + |potential| + |stored| + |dissipated|), at least ROUND_OFF_FLOOR of the terms'
     absolute level (0 when nothing happens at all), and
-    ``energy_ok`` = residual <= tolerance (finite)."""
+    ``energy_ok`` = residual <= tolerance (finite).
+
+    A non-finite term anywhere (an overflowed kinetic energy, a NaN work) cannot be balanced: the
+    summary then has ``energy_ok`` False, ``residual`` NaN (null in JSON) and ``energy_nonfinite``
+    = dict(column, index[, t]) of its first appearance (t: the sample times [s], optional)."""
     terms = dict(work_in=work_in, kinetic=kinetic, potential=potential, stored=stored, dissipated=dissipated)
-    cols = {}
-    for k, a in terms.items():
-        a = np.asarray(a, dtype=float)
-        cols[k] = a - a[0]
+    terms = {k: np.asarray(a, dtype=float) for k, a in terms.items()}
+    cols = {k: a - a[0] for k, a in terms.items()}
     res = cols["work_in"] - (cols["kinetic"] + cols["potential"] + cols["stored"] + cols["dissipated"])
     cols["residual"] = res
+    bad = first_nonfinite(terms, t)
+    summary = {k: float(cols[k][-1]) for k in terms}
+    if bad is not None:
+        summary["residual"] = float("nan")
+        return cols, dict(energy=summary, energy_ok=False, energy_tolerance=tolerance,
+                          energy_nonfinite=dict(bad, column="energy_" + bad["column"]))
     scale = float(np.max(np.maximum(np.abs(cols["work_in"]), np.abs(cols["kinetic"]) + np.abs(cols["potential"])
                                     + np.abs(cols["stored"]) + np.abs(cols["dissipated"]))))
     # round-off floor: changes below 1e-9 of the energies' absolute level (e.g. the normal penalty
     # energy a screw at rest holds from t = 0) are no motion; without it a run where nothing happens
     # (changes of 1e-26 J) would report a relative residual of 1
-    level = max(float(np.max(np.abs(np.asarray(a, dtype=float)))) for a in terms.values())
+    level = max(float(np.max(np.abs(a))) for a in terms.values())
     scale = max(scale, ROUND_OFF_FLOOR * level)
     rel = float(np.max(np.abs(res)) / scale) if scale > 0.0 else 0.0
-    summary = {k: float(cols[k][-1]) for k in terms}
     summary["residual"] = rel
     ok = bool(math.isfinite(rel) and rel <= tolerance)
     return cols, dict(energy=summary, energy_ok=ok, energy_tolerance=tolerance)
 
 
-def warn_if_open(summary, what="run"):
-    """Warn (EnergyWarning, stderr by default) when a ledger summary does not close."""
-    if not summary.get("energy_ok", True):
-        warnings.warn(f"energy ledger of this {what} does not close: relative residual "
-                      f"{summary['energy']['residual']:.3g} > tolerance {summary['energy_tolerance']:.3g} "
-                      f"(work in {summary['energy']['work_in']:.6g} J): energy is created or lost that the "
-                      "model does not account for, so the results may be wrong; reduce dt (generalized_alpha "
-                      "also damps vibrations numerically: try solver=trapezoidal), see README 'Energy ledger'", EnergyWarning, stacklevel=3)
+DEFAULT_ADVICE = "reduce dt"
+
+
+def warn_if_open(summary, what="run", advice=DEFAULT_ADVICE):
+    """Warn (EnergyWarning, stderr by default) when a ledger summary does not close; ``advice``: what
+    to try, a phrase the scene chooses (it knows which solver settings suit it)."""
+    if summary.get("energy_ok", True):
+        return
+    bad = summary.get("energy_nonfinite")
+    if bad is not None:
+        where = f"at t = {bad['t']:.6g} s" if "t" in bad else f"at sample {bad['index']}"
+        warnings.warn(f"energy ledger of this {what} cannot close: {bad['column']} is not finite {where} "
+                      "(an overflow or a NaN in the state or the contact), so the results are not to be trusted; "
+                      "check the parameters' magnitudes", EnergyWarning, stacklevel=3)
+        return
+    warnings.warn(f"energy ledger of this {what} does not close: relative residual "
+                  f"{summary['energy']['residual']:.3g} > tolerance {summary['energy_tolerance']:.3g} "
+                  f"(work in {summary['energy']['work_in']:.6g} J): energy is created or lost that the "
+                  f"model does not account for, so the results may be wrong; {advice}, see README 'Energy ledger'",
+                  EnergyWarning, stacklevel=3)
 
 
 def balance(work_in, kinetic, dissipation, stored):

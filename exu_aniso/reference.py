@@ -82,7 +82,8 @@ import numpy as np
 from .contact import UNRESOLVED, ContactLaw
 from . import energy
 from .scenes import (BlockParams, ScrewParams, block_contact_law, block_energy, block_inertia, block_points,
-                     block_summary, screw_contact_law, screw_energy, screw_inertia, screw_points, screw_summary)
+                     block_summary, screw_contact_law, screw_energy, screw_inertia, screw_points, screw_summary,
+                     time_grid, time_step)
 from .validation import check_bool, check_in_range, check_instance, check_integer, check_keywords, check_positive
 
 # ----------------------------------------------------------------------------------------------
@@ -643,7 +644,7 @@ def jacobian_check(params, steps=50, rho_inf=0.8):
     model, floor = _model_for(params)
     st = _Stepper(model, params.solver, rho_inf, "analytic", 1e-10, 25, 12, floor)
     S = st.initial(0.0)
-    h, t = params.dt, 0.0
+    h, t = time_step(params), 0.0
 
     def advance(S, t, h, depth=0):
         new = st.step(S, t, h)
@@ -697,8 +698,8 @@ def _run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_ne
         rows.append(row)
 
     rec(0.0, S, 0, 0.0)
-    n_steps = int(math.ceil(p.t_end / p.dt - 1e-9))
-    grid = np.minimum(np.arange(n_steps + 1) * p.dt, p.t_end)
+    grid = time_grid(p)
+    n_steps = len(grid) - 1
 
     def advance(S, t, h, depth, forced_reject, forced_split):
         if not forced_split:
@@ -805,7 +806,7 @@ def simulate_feeder(params=None, **options):
         raise TypeError(f"params must be FeederParams; got {type(p).__name__}")
     check_keywords("simulate_feeder", options, _RUN_OPTIONS)
     law = feeder_contact_law(p)
-    grid = np.minimum(np.arange(int(math.ceil(p.t_end / p.dt - 1e-9)) + 1) * p.dt, p.t_end)
+    grid = time_grid(p)
     runs, wall, iters, steps, info = [], 0.0, 0, 0, {}
     for x0 in part_positions(p):
         model = _FeederPart(p, law, x0)

@@ -231,6 +231,22 @@ def _check(name, value, rule):
     return v
 
 
+def step_count(p):
+    """Number of time steps of a run: N = round(t_end / dt) (at least 1), the same for every engine."""
+    return max(1, int(round(p.t_end / p.dt)))
+
+
+def time_step(p):
+    """The step both engines take [s]: t_end / step_count(p), which is dt when t_end is a whole number
+    of dt and otherwise the nearest step that divides t_end (relative change below 1 / (2 N))."""
+    return p.t_end / step_count(p)
+
+
+def time_grid(p):
+    """The N + 1 sample times [s] of a run, 0 to t_end in steps of time_step(p) (every engine's grid)."""
+    return np.linspace(0.0, p.t_end, step_count(p) + 1)
+
+
 class _ParamsMixin:
     """Shared parsing, validation and description for the scene parameter dataclasses."""
 
@@ -525,10 +541,28 @@ def _undefined_heading(vx, vy):
 ENERGY_COLUMNS = tuple("energy_" + k for k in energy.LEDGER_KEYS)
 
 
-def _energy(terms, traj, what):
-    cols, summary = energy.ledger(**terms)
+def solver_advice(p):
+    """What to try when the ledger of a run with parameters p does not close (energy.warn_if_open)."""
+    if p.solver == "generalized_alpha":
+        return ("reduce dt (generalized_alpha damps vibrations numerically, rho_inf 0.8: the energy it removes "
+                "shows as a residual that falls with dt)")
+    return "reduce dt"
+
+
+def _energy(terms, traj, what, advice=energy.DEFAULT_ADVICE):
+    """Energy ledger of a run: adds the ENERGY_COLUMNS to traj and returns the summary entries.
+
+    The trajectory's own columns (the state) are checked too: a non-finite value there makes
+    ``energy_ok`` False and is named under ``state_nonfinite`` = dict(column, index, t) (the command
+    line then exits 1); a non-finite ledger term under ``energy_nonfinite`` (energy.ledger)."""
+    state = energy.first_nonfinite({k: v for k, v in traj.items() if not k.startswith("energy_")}, traj["t"])
+    cols, summary = energy.ledger(**terms, t=traj["t"])
     traj.update({"energy_" + k: v for k, v in cols.items()})
-    energy.warn_if_open(summary, what)
+    if state is not None:
+        summary.update(energy_ok=False, state_nonfinite=state)
+        summary.setdefault("energy_nonfinite", state)
+        summary["energy"]["residual"] = float("nan")
+    energy.warn_if_open(summary, what, advice)
     return summary
 
 
@@ -550,7 +584,7 @@ def block_energy(p, traj, motion, law, H, extra_work=None):
     return _energy(dict(work_in=work if extra_work is None else work + extra_work,
                         kinetic=energy.rigid_kinetic(motion, mass, J),
                         potential=p.normal_load * (traj["z"] - traj["z"][0]), stored=stored, dissipated=diss),
-                   traj, "block run")
+                   traj, "block run", solver_advice(p))
 
 
 def screw_energy(p, traj, motion, points, law, H):
@@ -562,7 +596,8 @@ def screw_energy(p, traj, motion, points, law, H):
     stored, diss = energy.contact_energy(law, X, V, H)
     work = energy.work_trapezoid(traj["torque"], traj["angle"]) + energy.work_trapezoid(traj["axial_force"], traj["z"])
     return _energy(dict(work_in=work, kinetic=energy.rigid_kinetic(motion, mass, J),
-                        potential=np.zeros(len(traj["t"])), stored=stored, dissipated=diss), traj, "screw run")
+                        potential=np.zeros(len(traj["t"])), stored=stored, dissipated=diss), traj, "screw run",
+                   solver_advice(p))
 
 
 def block_summary(traj, wall_s, steps, newton_iterations):

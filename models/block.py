@@ -49,7 +49,7 @@ from exu_aniso.output import atomic_write
 from exu_aniso.progress import exudyn_pre_step, make_progress
 from exu_aniso.reference import Result
 from exu_aniso.energy import RigidMotion, motion_about_z
-from exu_aniso.scenes import BlockParams, block_contact_law, block_energy, block_points, block_summary
+from exu_aniso.scenes import BlockParams, block_contact_law, block_energy, block_points, block_summary, step_count
 from exu_aniso.validation import check_in_range, check_instance, check_positive
 
 SOLVER_TYPES = {"trapezoidal": exu.DynamicSolverType.TrapezoidalIndex2,
@@ -68,6 +68,10 @@ NODE_TYPES = {"RotVecLG": exu.NodeType.RotationRotationVector, "EP": exu.NodeTyp
 # "full": a fresh Jacobian at every iteration.
 NEWTON_MODES = ("modified", "full")
 NEWTON_CONTRACTIVITY = 0.01
+# Floor of Exudyn's step reduction, relative to the nominal step: 10 halvings. A run whose step
+# collapses below it stops with a SimulationFailure that says so, instead of creeping on for hours at
+# a thousandth of dt (Exudyn's own floor is an absolute 1e-8 s, 1e5 times below the scenes' dt).
+MIN_STEP_FRACTION = 2.0 ** -10
 
 
 def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None, newton="modified"):
@@ -75,7 +79,8 @@ def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None,
 
     newton: "modified" (Exudyn's modified Newton with a Jacobian update when an iteration contracts
     by less than NEWTON_CONTRACTIVITY) or "full" (useModifiedNewton False); relative/absolute Newton
-    tolerance ``newtonTolerance``; numberOfSteps = round(t_end / dt), sensors every step, no solution
+    tolerance ``newtonTolerance``; numberOfSteps = scenes.step_count(p) (round(t_end / dt)), the step's
+    floor MIN_STEP_FRACTION of the nominal step, sensors every step, no solution
     file, silent. p.solver "trapezoidal" -> TrapezoidalIndex2 (Newmark beta 1/4, gamma 1/2, as the
     reference); "generalized_alpha" -> GeneralizedAlpha with spectralRadius = rhoInf (reference
     rho_inf). solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check)."""
@@ -87,8 +92,9 @@ def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None,
         check_instance("solverType", solverType, exu.DynamicSolverType, "exudyn.DynamicSolverType")
     ss = exu.SimulationSettings()
     ti = ss.timeIntegration
-    ti.numberOfSteps = int(round(p.t_end / p.dt))
+    ti.numberOfSteps = step_count(p)
     ti.endTime = p.t_end
+    ti.minimumStepSize = MIN_STEP_FRACTION * p.t_end / ti.numberOfSteps
     ti.verboseMode = 0
     ti.newton.useModifiedNewton = newton == "modified"
     ti.newton.modifiedNewtonContractivity = NEWTON_CONTRACTIVITY
@@ -308,9 +314,10 @@ def _Failure(mbs, simulationSettings, it, steps, error, contacts, output):
         states.append(contact_state_from_history(h, getattr(law, "eps_N", None), getattr(law, "d_N", 0.0)))
     hint = ""
     if type(error).__name__ == "SolverError":
-        hint = (f"(minimumStepSize {ti.minimumStepSize:.3g} s, automaticStepSize {bool(ti.automaticStepSize)}, "
-                f"Newton maxIterations {ti.newton.maxIterations}; try a smaller dt, softer penalties or another "
-                f"return map)")
+        h = float(ti.endTime) / max(1.0, float(ti.numberOfSteps))
+        hint = (f"(the step fell to its floor, minimumStepSize {ti.minimumStepSize:.3g} s = "
+                f"{ti.minimumStepSize / h:.3g} of the nominal step {h:.3g} s; Newton maxIterations "
+                f"{ti.newton.maxIterations}; try a smaller dt, softer penalties or another return map)")
     cause = _cause(error)
     msg = failure_message(t_reached, float(ti.endTime), float(it.currentStepSize), cause, states, steps=steps,
                           newton_iterations=int(it.newtonStepsCount), hint=hint)
