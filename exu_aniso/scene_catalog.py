@@ -65,7 +65,9 @@ def _block():
     from .scenes import BlockParams
     return Scene("block", BlockParams,
                  {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
-                  "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N", **_LEDGER},
+                  "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N",
+                  # the full model's other motions (the planar model holds z and has no vz, tilt, omega_x, omega_y)
+                  "z": "m", "vz": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s", **_LEDGER},
                  ("heading_deg", "r_mean"), _plot_block, "block", simulate_block, (5.5, 5.0))
 
 
@@ -74,7 +76,10 @@ def _screw():
     from .scenes import ScrewParams
     return Scene("screw", ScrewParams,
                  {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
-                  "axial_force": "N", "dissipated_energy": "J", **_LEDGER},
+                  "axial_force": "N", "dissipated_energy": "J",
+                  # the full model's other motions (axis_*: the screw's axis in the world)
+                  "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s",
+                  "axis_x": "-", "axis_y": "-", "axis_z": "-", **_LEDGER},
                  ("advance_per_rev", "torque_mean"), _plot_screw, "screw", simulate_screw, (6.0, 6.5))
 
 

@@ -45,6 +45,7 @@ import ast
 import dataclasses
 import math
 import operator
+import os
 import re
 from dataclasses import dataclass
 
@@ -133,8 +134,10 @@ SCREW_PARAMS = {
     "axial_speed": (0.01, "m/s", "speed of the axial driver (drive = 'axial')", "real"),
     "drive_stiffness": (1.0, "N m/rad | N/m", "drive spring stiffness (rotation: N m/rad; axial: N/m)", "> 0"),
     "axial_load": (0.0, "N", "constant axial force along +z (all drives)", "real"),
-    "rings": (3, "-", "rings of contact points along the length", "int >= 1"),
-    "points_per_ring": (8, "-", "contact points per ring, equally spaced in angle", "int >= 1"),
+    "rings": (3, "-", "rings of contact points along the length (the reduced model on the cylinder evaluates "
+              "one point carrying the totals: by symmetry every layout gives the same result)", "int >= 1"),
+    "points_per_ring": (8, "-", "contact points per ring, equally spaced in angle (reduced model: one per ring, "
+                        "exact by symmetry)", "int >= 1"),
     "t_end": (1.0, "s", "simulated time", "> 0"),
     "dt": (1e-3, "s", "time step", "> 0"),
     "model": ("reduced", "-", "reduced (rotation angle, axial position) or full 6-DOF rigid body",
@@ -199,8 +202,64 @@ def _parse_number(name, value, integer=False):
     return v
 
 
-def _check(name, value, rule):
-    """Parse/validate one value against its rule; returns the clean value."""
+# Physical range of a scene parameter by its unit: (smallest value a "> 0" parameter may take or None,
+# largest magnitude). Wide enough for any machine part a multibody contact model describes (lengths of
+# a nanometre to a kilometre, stiffnesses up to 1e14 N/m, friction coefficients up to 1e3); outside it
+# a double loses the contact's resolution or overflows (mu 1e300, a size of 1e300 m), and the value is
+# refused here with its name rather than failing deep inside.
+MAGNITUDE_LIMITS = {
+    "m": (1e-9, 1e3), "kg": (1e-9, 1e6), "kg/m": (1e-9, 1e6), "s": (1e-12, 1e5),
+    "-": (None, 1e3), "deg": (None, 3600.0), "N": (None, 1e9), "N m": (None, 1e7),
+    "N/m": (None, 1e14), "N/m^2": (None, 1e14), "N m/rad": (None, 1e12), "N m/rad | N/m": (None, 1e14),
+    "N m^2": (None, 1e9), "N s/m": (None, 1e12), "N s/m^2": (None, 1e12), "m/s": (None, 1e4),
+    "m/s^2": (None, 1e4), "rad/s": (None, 1e5), "Hz": (None, 1e6), "1/s": (None, 1e6),
+}
+MAX_COUNT = 1_000_000        # largest value of any integer count parameter (before the cost checks below)
+
+# What a run may cost, checked from the parameters before anything is built (``_ParamsMixin.check_cost``):
+MAX_STEPS = 1_000_000        # time steps N = round(t_end / dt)
+MAX_CONTACT_POINTS = 10_000  # contact points of the whole scene
+MAX_POINT_STEPS = 1e9        # contact points x steps (~25 min at the block's 1.4 us per point and step)
+MEMORY_SHARE = 0.8           # of the machine's available memory a run's estimate may take
+
+
+def _check_magnitude(name, value, unit):
+    lo, hi = MAGNITUDE_LIMITS.get(unit, (None, None))
+    u = "" if unit in (None, "-") else " " + unit
+    if hi is not None and not abs(value) <= hi:
+        raise ValueError(f"{name} must satisfy |{name}| <= {hi:g}{u} (the physical range of this unit in "
+                         f"exu_aniso's scenes); got {value!r}")
+    if lo is not None and 0.0 < value < lo:
+        raise ValueError(f"{name} must be 0 or >= {lo:g}{u} (the physical range of this unit in exu_aniso's "
+                         f"scenes); got {value!r}")
+    return value
+
+
+def available_memory_bytes():
+    """Memory the system can still give a process [bytes] (Linux MemAvailable), or None if unknown."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def estimated_memory_bytes(steps, points):
+    """A coarse upper estimate of a run's peak memory for its results [bytes]: per step, some 200
+    numbers of trajectory, sensors and CSV text, and 40 per contact point (the stored history, 9
+    numbers, and the ledger's per-point arrays, in several copies), at 8 bytes each."""
+    return 8.0 * (200.0 + 40.0 * points) * (steps + 1)
+
+
+def _check(name, value, rule, unit=None):
+    """Parse/validate one value against its rule (and the physical range of its unit); returns the
+    clean value."""
     if isinstance(rule, tuple):
         if not isinstance(value, str) or value.strip() not in rule:
             raise ValueError(f"{name} must be one of {rule}; got {value!r}")
@@ -216,10 +275,10 @@ def _check(name, value, rule):
         raise ValueError(f"{name} must be {_POINTS_RULE}; got {value!r}")
     if rule == "int >= 1":
         v = _parse_number(name, value, integer=True)
-        if v < 1:
-            raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+        if not 1 <= v <= MAX_COUNT:
+            raise ValueError(f"{name} must be an integer in [1, {MAX_COUNT}]; got {value!r}")
         return v
-    v = _parse_number(name, value)
+    v = _check_magnitude(name, _parse_number(name, value), unit)
     if rule == "> 0" and not v > 0.0:
         raise ValueError(f"{name} must be > 0; got {value!r}")
     if rule == ">= 0" and not v >= 0.0:
@@ -253,10 +312,11 @@ class _ParamsMixin:
     TABLE: dict = {}
 
     def __post_init__(self):
-        for name, (_, _, _, rule) in self.TABLE.items():
-            object.__setattr__(self, name, _check(name, getattr(self, name), rule))
+        for name, (_, unit, _, rule) in self.TABLE.items():
+            object.__setattr__(self, name, _check(name, getattr(self, name), rule, unit))
         if not self.dt <= self.t_end:
             raise ValueError(f"dt must be <= t_end; got dt={self.dt!r} > t_end={self.t_end!r}")
+        self.check_cost()
         self._check_scene()
         if getattr(self, "model", None) == "full" and getattr(self, "points_per_ring", 3) < 3:
             raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); "
@@ -264,6 +324,35 @@ class _ParamsMixin:
 
     def _check_scene(self):
         """Rules that tie several parameters together (scene-specific)."""
+
+    def contact_points(self):
+        """Number of contact points of the whole scene as laid out by the parameters (scene-specific)."""
+        return 1
+
+    def check_cost(self):
+        """Refuse a run whose cost is out of bounds before anything is built: steps <= MAX_STEPS, contact
+        points <= MAX_CONTACT_POINTS, their product <= MAX_POINT_STEPS, and estimated_memory_bytes within
+        MEMORY_SHARE of the machine's available memory. Messages name the parameters."""
+        steps, K = step_count(self), self.contact_points()
+        if steps > MAX_STEPS:
+            raise ValueError(f"t_end / dt must be <= {MAX_STEPS:,} steps (a bound on a run's cost); got "
+                             f"t_end={self.t_end!r} / dt={self.dt!r} = {steps:,} steps: raise dt or shorten t_end")
+        if K > MAX_CONTACT_POINTS:
+            raise ValueError(f"the scene's contact points must be <= {MAX_CONTACT_POINTS:,} (a bound on a run's "
+                             f"cost); the parameters lay out {K:,} ({self._layout_text()})")
+        if K * steps > MAX_POINT_STEPS:
+            raise ValueError(f"contact points x steps must be <= {MAX_POINT_STEPS:.0e} (a bound on a run's cost); "
+                             f"got {K:,} points ({self._layout_text()}) x {steps:,} steps (t_end / dt)")
+        need, have = estimated_memory_bytes(steps, K), available_memory_bytes()
+        if have is not None and need > MEMORY_SHARE * have:
+            raise ValueError(f"the run needs an estimated {need / 2**30:.3g} GiB for {steps:,} steps (t_end / dt) x "
+                             f"{K:,} contact points ({self._layout_text()}), more than {MEMORY_SHARE:.0%} of the "
+                             f"{have / 2**30:.3g} GiB this machine has available: raise dt, shorten t_end or use "
+                             "fewer points")
+
+    def _layout_text(self):
+        """The parameters that set contact_points(), as 'name=value' text (scene-specific)."""
+        return "the scene's layout"
 
     @classmethod
     def _unknown(cls, names):
@@ -344,6 +433,12 @@ class BlockParams(_ParamsMixin):
     normal_damping: float = _BD["normal_damping"]
     tangential_damping: float = _BD["tangential_damping"]
 
+    def contact_points(self):
+        return _n_block_points(self)
+
+    def _layout_text(self):
+        return f"points={self.points}"
+
     def _check_scene(self):
         # positions far beyond the block: a double at |x0| resolves only |x0| * 2.2e-16, and at
         # 1e6 size that is 2.2e-10 size -- the limit where contact slips (~1e-5 m) still resolve;
@@ -391,6 +486,12 @@ class ScrewParams(_ParamsMixin):
     tangential_damping: float = _SD["tangential_damping"]
     surface: str = _SD["surface"]
     half_angle: float = _SD["half_angle"]
+
+    def contact_points(self):
+        return self.rings * self.points_per_ring
+
+    def _layout_text(self):
+        return f"rings={self.rings} x points_per_ring={self.points_per_ring}"
 
 
 assert [f.name for f in dataclasses.fields(BlockParams)] == list(BLOCK_PARAMS)
@@ -574,7 +675,10 @@ def block_energy(p, traj, motion, law, H, extra_work=None):
     evaluated at block_points(p); H (n, K, 9): converged history per sample. Work in: the drive
     force along the drive direction; potential: normal_load (z - z0) (the load stands in for the
     weight; constant in the planar model); extra_work: cumulative work [J] of loads the scene does
-    not know (e.g. a lift pulse of a study), added to the work in."""
+    not know (e.g. a lift pulse of a study), added to the work in. The full model's trajectory gains
+    omega_x, omega_y (world), so its kinetic energy can be recomputed from trajectory.csv."""
+    if p.model == "full":        # what the kinetic energy needs, in the file too (J of the cube is isotropic)
+        traj.update(omega_x=motion.omega[:, 0], omega_y=motion.omega[:, 1])
     d = np.array([math.cos(math.radians(p.drive_angle)), math.sin(math.radians(p.drive_angle))])
     s = d[0] * traj["x"] + d[1] * traj["y"]
     mass, J = block_inertia(p)
@@ -590,7 +694,13 @@ def block_energy(p, traj, motion, law, H, extra_work=None):
 def screw_energy(p, traj, motion, points, law, H):
     """Energy ledger of a screw run (any engine), as block_energy; points: the body-local points
     the engine evaluates with law (one representative point carrying the totals under symmetry).
-    Work in: drive torque over the angle plus axial force (drive and axial_load) over z."""
+    Work in: drive torque over the angle plus axial force (drive and axial_load) over z. The full
+    model's trajectory gains vx, vy, omega_x, omega_y and the axis (axis_x, axis_y, axis_z: the body's
+    z axis in the world), so its kinetic energy can be recomputed from trajectory.csv."""
+    if p.model == "full":        # what the kinetic energy needs, in the file too: lateral velocity, spin, axis
+        traj.update(vx=motion.velocity[:, 0], vy=motion.velocity[:, 1], omega_x=motion.omega[:, 0],
+                    omega_y=motion.omega[:, 1], axis_x=motion.rotation[:, 0, 2], axis_y=motion.rotation[:, 1, 2],
+                    axis_z=motion.rotation[:, 2, 2])
     mass, J = screw_inertia(p)
     X, V = energy.point_motion(motion, points)
     stored, diss = energy.contact_energy(law, X, V, H)
