@@ -386,6 +386,13 @@ class _ParamsMixin:
         rows = []
         for name, (default, unit, desc, rule) in cls.TABLE.items():
             allowed = " | ".join(rule) if isinstance(rule, tuple) else rule
+            lo, hi = MAGNITUDE_LIMITS.get(unit, (None, None)) if rule in ("real", "> 0", ">= 0") else (None, None)
+            if rule == "int >= 1":
+                allowed = f"int in [1, {MAX_COUNT:.0e}]"
+            elif hi is not None:       # the physical range of the unit (MAGNITUDE_LIMITS)
+                allowed = {"real": f"[-{hi:g}, {hi:g}]",
+                           "> 0": f"(0, {hi:g}]" if lo is None else f"[{lo:g}, {hi:g}]",
+                           ">= 0": f"[0, {hi:g}]" if lo is None else f"0 or [{lo:g}, {hi:g}]"}[rule]
             rows.append(f"{name:16s} {default!s:14s} {unit:14s} {allowed:34s} {desc}")
         return "\n".join(rows)
 
