@@ -122,7 +122,7 @@ def startup_impulse_error(case, mu, radius, gravity, speed, dt):
 
 
 def conveying_velocity(amplitude, frequency, throw_angle, mu, gravity=9.81, periods=2000, samples=2000,
-                       tolerance=1e-7):
+                       tolerance=1e-7, period_means=False):
     """Mean transport velocity [m/s] of a part on a linear vibratory conveyor, by the one-dimensional
     stick-slip analysis of Coulomb friction (the classic model of vibratory conveying).
 
@@ -140,7 +140,15 @@ def conveying_velocity(amplitude, frequency, throw_angle, mu, gravity=9.81, peri
     per period and refining with brentq. The part starts at rest at t = 0 (the track at u = 0,
     moving); the result is the mean velocity over the first period after which two successive
     periods' means differ by less than ``tolerance`` times the track's velocity amplitude (at most
-    ``periods`` periods; ValueError if not settled)."""
+    ``periods`` periods; ValueError if not settled). With ``period_means`` it returns (that velocity,
+    the list of every period's mean velocity from the start): the transient from rest, which a
+    measurement over a finite window sees.
+
+    Assumptions (the domain a simulation must lie in to be compared with it): a point mass (no
+    rocking: the friction force's moment about the centre of mass must not lift an edge), rigid
+    contact (stick means moving with the track exactly; no normal or tangential compliance or
+    dashpot), one dimension (friction along the track only), the track's motion prescribed
+    (unaffected by the part), Gamma < 1 (no flight phase), the periodic state reached."""
     for name, v in (("amplitude", amplitude), ("frequency", frequency), ("mu", mu), ("gravity", gravity)):
         if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
             raise ValueError(f"conveying_velocity: {name} must be a finite number > 0; got {v!r}")
@@ -221,7 +229,7 @@ def conveying_velocity(amplitude, frequency, throw_angle, mu, gravity=9.81, peri
             means.append(x_period / T)
             x_period, period_end = 0.0, period_end + T
             if len(means) >= 3 and abs(means[-1] - means[-2]) < tolerance * V:
-                return means[-1]
+                return (means[-1], list(means)) if period_means else means[-1]
     raise ValueError(f"conveying_velocity: no periodic state within {periods} periods (last means "
                      f"{means[-3:]}); raise periods")
 

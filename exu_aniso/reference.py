@@ -798,7 +798,15 @@ def simulate_feeder(params=None, **options):
     prescribed exactly, every part integrated on its own (parts do not touch). params: FeederParams
     (defaults if None); options as for simulate_block. The trajectory and the summary are those of
     models/feeder.py (scene_feeder.COLUMNS, feeder_summary with the parts' energy ledger), sampled
-    at the nominal steps."""
+    at the nominal steps.
+
+    Counts as the Exudyn engine's, for the whole system: summary ``steps`` = the nominal steps of the
+    run (not their sum over the parts); ``extra_steps`` = accepted steps beyond them (halvings; a
+    time at which any part took one counts once, as a joint integration would take it);
+    ``newton_iterations`` = per nominal step the most iterations any part took (a joint Newton solve
+    of independent parts converges when the slowest does). Per-part counts are in info:
+    part_steps, part_newton_iterations (every iteration, rejected attempts included),
+    part_rejected_steps."""
     from .scene_feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary, finish_trajectory,
                                part_positions, plate_motion, throw_direction)
     p = FeederParams() if params is None else params
@@ -807,13 +815,23 @@ def simulate_feeder(params=None, **options):
     check_keywords("simulate_feeder", options, _RUN_OPTIONS)
     law = feeder_contact_law(p)
     grid = time_grid(p)
-    runs, wall, iters, steps, info = [], 0.0, 0, 0, {}
+    runs, wall, info = [], 0.0, {}
+    per_step, times, part_steps, part_iters, part_rejected = [], [], [], [], []
     for x0 in part_positions(p):
         model = _FeederPart(p, law, x0)
         traj, w, it, st, info, motion, H = _run(model, p, floor=1e-6 * p.eps_n * p.part_size, **dict(options))
         on_grid = np.searchsorted(traj["t"], grid - 1e-12 * p.dt)     # rows at the nominal steps (halvings between)
         runs.append((traj, motion, H, on_grid))
-        wall, iters, steps = wall + w, iters + it, steps + st
+        wall += w
+        per_step.append(np.diff(np.cumsum(traj["newton_iterations"])[on_grid]))   # iterations per nominal step
+        times.append(np.asarray(traj["t"]))
+        part_steps.append(st)
+        part_iters.append(it)
+        part_rejected.append(info.get("rejected_steps", 0))
+    steps = len(grid) - 1
+    iters = int(np.max(per_step, axis=0).sum())
+    instants = np.unique(np.round(np.concatenate(times) / (1e-9 * p.dt)))
+    extra = int(len(instants) - len(grid))
     pick = lambda a, rows: np.asarray(a)[rows]                       # noqa: E731
     P = np.stack([np.column_stack([pick(tr[k], g) for k in ("x", "y", "z")]) for tr, _, _, g in runs], axis=1)
     V = np.stack([np.column_stack([pick(tr[k], g) for k in ("vx", "vy", "vz")]) for tr, _, _, g in runs], axis=1)
@@ -824,7 +842,8 @@ def simulate_feeder(params=None, **options):
     u, ud = plate_motion(p, grid)
     out = dict(t=grid, plate_u=u @ throw_direction(p))
     finish_trajectory(out, P, V, yaw, H[:, :, :, 5].sum(axis=(1, 2)))
-    summary = feeder_summary(out, P, yaw, p, wall, steps, iters)
+    summary = feeder_summary(out, P, yaw, p, wall, steps, iters, extra_steps=extra)
     summary.update(feeder_energy(p, out, motions, forces, law, H, (u, ud)))
-    info.update(engine="reference", K=4 * p.parts)
+    info.update(engine="reference", K=4 * p.parts, part_steps=part_steps, part_newton_iterations=part_iters,
+                part_rejected_steps=part_rejected)
     return Result(out, summary, p, info)

@@ -154,11 +154,83 @@ class CapstanParams(_ParamsMixin):
 # trajectory columns -> SI unit (CSV order)
 COLUMNS = {"t": "s", "force_in": "N", "force_out": "N", "tension_in": "N", "tension_out": "N", "tension_ratio": "-",
            "u_in": "m", "u_out": "m",
+           "x_in": "m", "y_in": "m", "vx_in": "m/s", "vy_in": "m/s",
+           "x_out": "m", "y_out": "m", "vx_out": "m/s", "vy_out": "m/s",
            "slip_fraction": "-", "contact_fraction": "-", "dissipated_energy": "J",
            **{k: "J" for k in ENERGY_COLUMNS}}
+"""trajectory.csv: the applied end forces (force_in, force_out: along ``end_directions(p)``) and the
+tensions at the rope's ends (less the end dashpots), their ratio, the ends' travel along the forces
+(u_in towards the drum from t_load on, u_out away from it), the end nodes' positions (x, y) and
+velocities (vx, vy) in the plane, the sliding and loaded fractions of the contact points, the
+contact's history dissipation (friction; dissipated_energy) and the energy ledger. From these and
+the parameters one recomputes the ledger's work in (the end forces over the end positions) and the
+end dashpots' share of energy_dissipated (end_damping |v|^2 over the steps); the rope's kinetic and
+strain energy (every node's coordinates and slopes) and the contact's penalty energy and normal
+dashpot (every contact point) are not in the file."""
 
 # summary keys for the plot title
 TITLE_KEYS = ("tension_ratio", "tension_ratio_theory")
+
+
+def end_directions(p):
+    """Unit vectors (2,) of the in- and out-end forces, along the tails away from the drum: d_in =
+    (-cos(phi/2), -sin(phi/2)), d_out = (cos(phi/2), -sin(phi/2)), phi = wrap_angle."""
+    h = 0.5 * math.radians(p.wrap_angle)
+    return np.array([-math.cos(h), -math.sin(h)]), np.array([math.cos(h), -math.sin(h)])
+
+
+# the domain of Euler-Eytelwein (capstan_theory): measured on the defaults (180 deg, mu 0.3,
+# tests/test_capstan.py), relative error of the slip-onset ratio against exp(mu_1 phi)
+BENDING_NUMBER_MAX = 2e-3
+"""Largest EI / (T_in R^2) (bending_stiffness over tension_in radius^2) for which the rope counts as
+perfectly flexible: the ratio falls with it by about 0.3 times the number (measured: -1.2e-4 at
+1e-3, -3.8e-4 at 2e-3, -1.1e-3 at 3e-3, -3.3e-3 at 1e-2, -2.8e-2 at 0.1; +3.2e-4 at 2e-3 and 90 deg)."""
+QUASI_STATIC_MAX = 1e-2
+"""Largest ramp_rate * L sqrt(mass_per_length / axial_stiffness) (the ramp's relative rise while an
+axial wave crosses the rope of length L = radius phi + 2 tail_length) for which the loading counts
+as quasi-static (a massless rope): measured +4.7e-4 at 6.5e-3 (ramp 4/s), +8e-5 at 1.3e-2 (8/s),
++3.3e-3 at 2.0e-2 (12/s), +4.6e-3 at 2.6e-2 (16/s), no established slip at 5.2e-2 (32/s); a heavier
+rope: +6.0e-4 at 5.1e-3 (mass_per_length 1), +4.6e-4 at 8.9e-3 (3), no established slip at 1.6e-2
+(10)."""
+
+
+def bending_number(p):
+    """EI / (T_in R^2): the rope's bending stiffness against the tension at the held end."""
+    return p.bending_stiffness / (p.tension_in * p.radius ** 2)
+
+
+def quasi_static_number(p):
+    """ramp_rate * L sqrt(m' / EA), L the rope's length (arc and tails)."""
+    L = p.radius * math.radians(p.wrap_angle) + 2.0 * p.tail_length
+    return p.ramp_rate * L * math.sqrt(p.mass_per_length / p.axial_stiffness)
+
+
+def capstan_theory(p):
+    """(exp(mu_1 phi), None) where Euler-Eytelwein applies to the scene, else (None, reason naming the
+    parameter that breaks it). Its assumptions and how the scene meets them:
+
+    * a perfectly flexible rope: ``bending_number(p)`` <= BENDING_NUMBER_MAX (else the reason names
+      bending_stiffness);
+    * a massless rope loaded quasi-statically (slip of the whole wrap at rest, no inertia):
+      ``quasi_static_number(p)`` <= QUASI_STATIC_MAX (else ramp_rate and mass_per_length);
+    * Coulomb friction mu_1 along the rope: the rope slides along e1 (circumference) only, a
+      principal axis of the net (the scene's nets are never turned), so mu_2 and the return map change
+      nothing (measured: seed, exact and radial maps equal to 1e-13 with mu_2 0.8);
+    * the rope conforms to the drum (pressure T / R per length): the penalty eps_n's penetration
+      T / (eps_n R) is 1e-5 m on the defaults, and the contact points' polygon is refined away
+      (tests/test_capstan.py: 6 to 48 elements within 1e-3);
+    * an extensible rope changes nothing at the onset of gross slip (the classic result); no
+      tangential dashpot (the scene's law has none); the end dashpots are taken out of the tensions;
+      the normal dashpot acts on normal velocities, zero at slip onset; no gravity (the scene has none)."""
+    b = bending_number(p)
+    if b > BENDING_NUMBER_MAX:
+        return None, (f"bending_stiffness: EI / (tension_in radius^2) = {b:.3g} > {BENDING_NUMBER_MAX:g}: the rope "
+                      "is not perfectly flexible (its bending stiffness lowers the ratio by ~0.3 times that number)")
+    q = quasi_static_number(p)
+    if q > QUASI_STATIC_MAX:
+        return None, (f"ramp_rate, mass_per_length: ramp_rate L sqrt(mass_per_length / axial_stiffness) = {q:.3g} > "
+                      f"{QUASI_STATIC_MAX:g}: the loading is not quasi-static (the rope's inertia delays the slip)")
+    return math.exp(p.mu_1 * math.radians(p.wrap_angle)), None
 
 
 def element_length(p):
@@ -220,15 +292,19 @@ def slip_onset(traj, p):
 
 def capstan_summary(traj, p, wall_s, steps, newton_iterations):
     """summary.json of a capstan run: tension_ratio (slip onset, ``slip_onset``), the theory
-    exp(mu_1 phi), their relative difference, the cross-check at slip_displacement, cost figures;
-    ``undefined`` maps every None value to its reason."""
+    exp(mu_1 phi) where it applies (``capstan_theory``: None outside its domain), their relative
+    difference, the cross-check at slip_displacement, cost figures; ``undefined`` maps every None
+    value to its reason."""
     phi = math.radians(p.wrap_angle)
-    theory = math.exp(p.mu_1 * phi)
+    theory, why_theory = capstan_theory(p)
     undefined = {}
+    if theory is None:
+        undefined["tension_ratio_theory"] = undefined["tension_ratio_error"] = why_theory
     k, why = slip_onset(traj, p)
     ratio = t_slip = None
     if k is None:
-        undefined["tension_ratio"] = undefined["t_slip"] = undefined["tension_ratio_error"] = why
+        undefined["tension_ratio"] = undefined["t_slip"] = why
+        undefined.setdefault("tension_ratio_error", why)
     else:
         ratio, t_slip = float(traj["tension_ratio"][k]), float(traj["t"][k])
     moved = np.nonzero((np.asarray(traj["u_in"]) >= p.slip_displacement) & (np.asarray(traj["t"]) > p.t_load))[0]
@@ -239,7 +315,7 @@ def capstan_summary(traj, p, wall_s, steps, newton_iterations):
         undefined["tension_ratio_displacement"] = (f"the in-end never moved slip_displacement = "
                                                    f"{p.slip_displacement:g} m towards the drum")
     return dict(tension_ratio=ratio, tension_ratio_theory=theory,
-                tension_ratio_error=None if ratio is None else (ratio - theory) / theory,
+                tension_ratio_error=None if ratio is None or theory is None else (ratio - theory) / theory,
                 tension_ratio_displacement=ratio_disp, t_slip=t_slip, wrap_angle_rad=phi,
                 t_end_reached=float(traj["t"][-1]), dissipated_energy=float(traj["dissipated_energy"][-1]),
                 wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
@@ -259,15 +335,17 @@ def capstan_energy(traj, law, X, V, H, kinetic, potential, work_in, end_dissipat
 
 def PlotCapstan(traj, params, fig):
     """The capstan's trajectory figure on the matplotlib Figure fig: tensions T_in, T_out and the
-    theoretical slip limit T_in exp(mu_1 phi) over time (top), in-end travel and the fraction of
-    sliding contact points (bottom); the slip onset marked when there is one."""
+    theoretical slip limit T_in exp(mu_1 phi) over time (top; where ``capstan_theory`` applies), in-end
+    travel and the fraction of sliding contact points (bottom); the slip onset marked when there is one."""
     p = params
     a1, a2 = fig.subplots(2, 1, sharex=True)
     t = np.asarray(traj["t"])
-    theory = p.tension_in * math.exp(p.mu_1 * math.radians(p.wrap_angle))
     a1.plot(t, traj["tension_out"], label="$T_{out}$ (pulled end of the rope)")
     a1.plot(t, traj["tension_in"], label="$T_{in}$ (held end of the rope)")
-    a1.axhline(theory, color="k", ls="--", lw=0.8, label=r"$T_{in}\,e^{\mu_1\varphi}$ (Euler-Eytelwein)")
+    ratio, _ = capstan_theory(p)
+    if ratio is not None:
+        a1.axhline(p.tension_in * ratio, color="k", ls="--", lw=0.8,
+                   label=r"$T_{in}\,e^{\mu_1\varphi}$ (Euler-Eytelwein)")
     k, _ = slip_onset(traj, p)
     if k is not None:
         for ax in (a1, a2):

@@ -219,6 +219,12 @@ def CapstanTrajectory(model):
                 slip_fraction=np.divide(sliding.sum(axis=1), n_loaded, out=np.zeros(n), where=n_loaded > 0),
                 contact_fraction=n_loaded / Hall.shape[1],
                 dissipated_energy=sum(HistoryOutputs(mbs, c)[0] for c in model["contacts"]))
+    # the end nodes' positions and velocities in the plane (the ledger's work in and end dashpots)
+    for end, i in (("in", 0), ("out", -1)):
+        x0 = mbs.GetNodeOutput(model["nodes"][i], exu.OutputVariableType.Position,
+                               configuration=exu.ConfigurationType.Reference)
+        traj.update({f"x_{end}": x0[0] + Q[i, :, 1], f"y_{end}": x0[1] + Q[i, :, 2],
+                     f"vx_{end}": V[i, :, 1], f"vy_{end}": V[i, :, 2]})
     # u_in from t_load on: the criterion's travel (the in-tail's stretch during loading excluded)
     k_load = int(np.searchsorted(t, p.t_load, side="right")) - 1
     traj["u_in"] = traj["u_in"] - np.where(t > p.t_load, traj["u_in"][k_load], traj["u_in"])

@@ -134,11 +134,13 @@ def RunFeeder(p: FeederParams = None, progress=False, snapshot=None, solutionFil
     except SimulationFailure as failure:        # keep the trajectory up to the failure
         traj, P, yaw = FeederTrajectory(model)[:3]
         failure.partial = Result(traj, feeder_summary(traj, P, yaw, p, float("nan"), failure.steps,
-                                                      failure.newton_iterations),
+                                                      failure.newton_iterations, extra_steps=None),
                                  p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
         raise
     traj, P, yaw, motions, forces, H, plate = FeederTrajectory(model)
-    summary = feeder_summary(traj, P, yaw, p, wall, steps, iters)
+    # steps: the nominal steps of the run, as the reference engine counts them; Exudyn's step reductions apart
+    extra = max(0, steps - info["nominal_steps"])
+    summary = feeder_summary(traj, P, yaw, p, wall, steps - extra, iters, extra_steps=extra)
     summary.update(feeder_energy(p, traj, motions, forces, model["contacts"][0]["law"], H, plate))
     info.update(engine="exudyn", jacobian=options.get("jacobian", "analytic"), K=4 * p.parts,
                 newton=options.get("newton", "modified"), implementation=model["contacts"][0]["implementation"])

@@ -117,7 +117,7 @@ def test_exudyn_and_reference_agree():
     (dict(dt=1e-3), ("dt", "50 steps per")),
     (dict(t_end=0.05), ("t_end", "4 / frequency")),
     (dict(net="polar"), ("net", "'isotropic', 'orthotropic'")),
-    (dict(parts=0), ("parts", "integer >= 1")),
+    (dict(parts=0), ("parts", "integer")),
 ])
 def test_bad_parameters_are_named(kw, words):
     with pytest.raises(ValueError) as info:
@@ -138,7 +138,9 @@ def test_cli_runs_the_feeder(tmp_path):
                     "--set", "t_end=0.1", "--out", str(out)], check=True, timeout=300, cwd=tmp_path)
     s = json.loads((out / "summary.json").read_text())
     assert s["complete"] and s["energy_ok"] and len(s["part_velocity_x"]) == 2
-    assert s["transport_velocity_theory"] == pytest.approx(0.013778, rel=1e-4)
+    # 0.1 s: the second half still sees the start transient (the 1D model's own mean there is 10 % low)
+    assert s["transport_velocity_theory"] is None and "t_end" in s["undefined"]["transport_velocity_theory"]
+    assert s["steps"] == 4000 and s["extra_steps"] == 0
     assert (out / "trajectory.png").stat().st_size > 0 and "plate_u" in (out / "trajectory.csv").read_text()
 
 
@@ -149,3 +151,110 @@ def test_feeder_study_quick(tmp_path, quick_study):
     assert all(abs(r - 1.0) < 0.06 for r in F["vx/theory [-]"])
     assert A["net_angle [deg]"] == [0.0, 45.0] and A["vy [m/s]"][1] < -1e-3 and abs(A["vy [m/s]"][0]) < 1e-12
     assert "Verdict: PASS" in (tmp_path / "report.md").read_text()
+
+
+def test_theory_domain_edge_rocking():
+    """The 1D theory treats a part as a point mass: a cube does not rock while the friction force's
+    moment cannot lift its edge, mu < 1 (mu part_size/2 < N part_size/2). Just inside, mu_1 = 0.9: reported
+    and within THEORY_RTOL (measured -0.3 %; the tolerance is the elastic stick's bias, scene_feeder);
+    just outside, mu_1 = 1.0: None naming mu_1 (measured at 1.1: +33.5 %, the part walks on its edges)."""
+    from exu_aniso.scene_feeder import THEORY_RTOL
+    s = RunFeeder(FeederParams(parts=1, net="isotropic", mu_1=0.9, t_end=0.2)).summary
+    assert s["transport_velocity_theory"] is not None, s["undefined"]
+    assert abs(s["part_velocity_x"][0] / s["transport_velocity_theory"] - 1.0) < THEORY_RTOL
+    out = RunFeeder(FeederParams(parts=1, net="isotropic", mu_1=1.0, t_end=0.08)).summary
+    assert out["transport_velocity_theory"] is None and "mu_1" in out["undefined"]["transport_velocity_theory"]
+
+
+def test_theory_domain_edge_stick_stiffness():
+    """Rigid stick: reported while sqrt(eps_1 / part_mass) / (2 pi) >= STICK_FREQUENCY_MIN x frequency,
+    and then within THEORY_RTOL = 0.2 of the scene (its source: the elastic stick's bias -2.5 f / f_stick
+    at mu 0.3, scene_feeder). Just inside (ratio 15.2): reported and matches; just outside (14.8): None
+    naming eps_1."""
+    from exu_aniso.scene_feeder import STICK_FREQUENCY_MIN, THEORY_RTOL, stick_frequency
+    eps = lambda r: 0.02 * (2 * math.pi * 50.0 * r) ** 2            # noqa: E731
+    p = FeederParams(parts=1, net="isotropic", eps_1=eps(15.2), eps_2=eps(15.2), t_end=0.3)
+    assert stick_frequency(p) / p.frequency == pytest.approx(15.2) and 15.2 > STICK_FREQUENCY_MIN
+    s = RunFeeder(p).summary
+    assert s["transport_velocity_theory"] is not None, s["undefined"]
+    assert abs(s["part_velocity_x"][0] / s["transport_velocity_theory"] - 1.0) < THEORY_RTOL
+    out = RunFeeder(p.with_overrides(eps_1=eps(14.8), t_end=0.08)).summary
+    assert out["transport_velocity_theory"] is None and "eps_1" in out["undefined"]["transport_velocity_theory"]
+
+
+def test_theory_domain_plate_mass_and_transient():
+    """The theory prescribes the track's motion: parts part_mass / plate_mass <= MASS_RATIO_MAX (at 2e-2
+    measured +56 %): None naming plate_mass beyond. And its periodic state: the slow case mu 0.15 at
+    10 deg (42 periods to settle) measured over the second half of 0.08 s still sees the transient:
+    None naming t_end (no simulation needed for either: the rule is on the parameters)."""
+    from exu_aniso.scene_feeder import MASS_RATIO_MAX, feeder_theory, measure_window
+    p = FeederParams(parts=1, plate_mass=0.02 / (1.1 * MASS_RATIO_MAX))
+    v, why = feeder_theory(p)
+    assert v is None and "plate_mass" in why
+    assert feeder_theory(p.with_overrides(plate_mass=0.02 / (0.9 * MASS_RATIO_MAX)))[0] is not None
+    q = FeederParams(parts=1, net="isotropic", mu_1=0.15, throw_angle=10.0, amplitude=2e-4, t_end=0.08)
+    t0, t1 = measure_window(q, np.array([0.0, q.t_end]))
+    v, why = feeder_theory(q, t0, t1)
+    assert v is None and "t_end" in why
+    q = q.with_overrides(t_end=2.0)
+    assert feeder_theory(q, *measure_window(q, np.array([0.0, q.t_end])))[0] is not None
+
+
+def test_transport_direction_undefined_at_noise_level():
+    """throw_angle 0: a symmetric excitation conveys nothing in the periodic state (the theory gives 0
+    to 7e-9 m/s). Over the second half of 0.6 s the measured transport is noise (1.2e-7 m/s Exudyn,
+    1.3e-8 m/s reference: the engines disagree; below 1e-4 of the largest speed, 0.0159 m/s), so it has
+    no direction, with the reason. (Over 0.2 s both engines measure the same -2.7e-5 m/s, the decaying
+    start transient: a real drift, reported with its direction.)"""
+    for run in (RunFeeder, simulate_feeder):
+        s = run(FeederParams(parts=1, net="isotropic", throw_angle=0.0, t_end=0.6)).summary
+        assert s["transport_direction_deg"] is None
+        assert "no transport" in s["undefined"]["transport_direction_deg"]
+        assert s["transport_velocity"] < 1e-5
+    s = RunFeeder(FeederParams(parts=1, t_end=0.1)).summary
+    assert s["transport_direction_deg"] == pytest.approx(0.0, abs=1e-6)
+
+
+def test_steps_mean_the_same_on_both_engines():
+    """steps: the nominal time steps of the run (not summed over parts); newton_iterations of the whole
+    system per step; per-part counts in the reference engine's info."""
+    p = FeederParams(parts=3, net="isotropic", t_end=0.08)
+    a, b = RunFeeder(p), simulate_feeder(p)
+    assert a.summary["steps"] == b.summary["steps"] == round(p.t_end / p.dt) == len(b.trajectory["t"]) - 1
+    assert a.summary["extra_steps"] == 0 and b.summary["extra_steps"] == 0
+    assert b.info["part_steps"] == [b.summary["steps"]] * 3
+    assert max(b.info["part_newton_iterations"]) <= b.summary["newton_iterations"] <= sum(
+        b.info["part_newton_iterations"])
+
+
+@pytest.mark.parametrize("engine", ["exudyn", "reference"])
+def test_ledger_recomputed_from_csv(tmp_path, engine):
+    """trajectory.csv and the parameters recompute the parts' ledger: work in (the track's total force on
+    the parts over the plate's displacement, trapezoid), kinetic (m sum_v2 / 2 + J sum_omega2 / 2, J =
+    m part_size^2 / 6) and potential (parts m g (mean_z - mean_z(0))). The contact's penalty energy
+    (energy_stored) and normal-dashpot share of energy_dissipated need every corner's gap and velocity
+    and cannot be recomputed from the file: checked are the residual identity and that the dissipated
+    energy holds the history's friction dissipation plus a non-negative dashpot share."""
+    from exu_aniso import cli
+    from exu_aniso.output import read_table
+    out = tmp_path / engine
+    assert cli.main(["run", "feeder", "--engine", engine, "--out", str(out), "--quiet", "--set", "parts=2",
+                     "--set", "t_end=0.08"]) == 0
+    T = {k: np.asarray(v, float) for k, v in read_table(out / "trajectory.csv").items()}
+    p = FeederParams(parts=2, t_end=0.08)
+    m, J = p.part_mass, p.part_mass * p.part_size ** 2 / 6.0
+    F = np.column_stack([T["force_x"], T["force_y"], T["force_z"]])
+    U = np.column_stack([T["plate_x"], T["plate_y"], T["plate_z"]])
+    work = np.concatenate([[0.0], np.cumsum(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(U, axis=0), axis=1))])
+    kinetic = 0.5 * m * T["sum_v2"] + 0.5 * J * T["sum_omega2"]
+    potential = p.parts * m * p.gravity * (T["mean_z"] - T["mean_z"][0])
+    scale = np.abs(T["energy_work_in"]).max()
+    assert scale > 0.0
+    np.testing.assert_allclose(work, T["energy_work_in"], rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(kinetic - kinetic[0], T["energy_kinetic"], rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(potential, T["energy_potential"], rtol=0, atol=1e-9 * scale)
+    residual = T["energy_work_in"] - (T["energy_kinetic"] + T["energy_potential"] + T["energy_stored"]
+                                      + T["energy_dissipated"])
+    np.testing.assert_allclose(residual, T["energy_residual"], rtol=0, atol=1e-12 * scale)
+    dashpot = T["energy_dissipated"] - (T["dissipated_energy"] - T["dissipated_energy"][0])
+    assert dashpot[-1] > 0.0 and dashpot.min() >= -1e-9 * scale
