@@ -269,6 +269,9 @@ def test_incline_domain_edges():
     (dict(DEPARTURE, friction="orthotropic", mu_1=0.3, mu_2=0.15, angle=45.0), None, "angle=45"),
     (dict(CAVITY, tangential_damping=1e-6), None, "tangential_damping=1e-06"),
     (dict(CAVITY, normal_damping=1e6), 0.3, None),
+    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, angle=30.0, return_map="radial"), None, "return_map=radial"),
+    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, angle=30.0, return_map="exact"), 0.3, None),
+    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, angle=90.0, return_map="seed"), 0.3, None),
 ])
 def test_theory_domain_rules(values, mu, reason):
     """The rules of scene_particle.theory_domain (the measurements behind them: its docstring and the
@@ -280,6 +283,20 @@ def test_theory_domain_rules(values, mu, reason):
         assert why is None and path_mu(p)[0] == mu
     else:
         assert why is not None and reason in why, why
+
+
+def test_bent_friction_of_a_non_associated_map_has_no_theory():
+    """Just outside: radial map, B orthotropic at 30 deg (eps_2 = eps_1 / 10): the friction force turns
+    toward B v and the cavity's speed leaves exp(-mu psi) by 7 % (measured 7.3e-2); no theory. Just
+    inside: the exact map on the same B meets the oracle as with isotropic B (start-up term + 1e-5)."""
+    kw = dict(CAVITY, adhesion="orthotropic", eps_1=1e5, eps_2=1e4, angle=30.0)
+    startup = oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, 5e-4)
+    s = simulate_particle(ParticleParams(dt=5e-4, return_map="exact", **kw)).summary
+    assert abs(s["cavity_speed_error"] - startup) <= 1e-5, s["cavity_speed_error"]
+    s = simulate_particle(ParticleParams(dt=5e-4, return_map="radial", **kw)).summary
+    assert s["oracle_theory"] is None and "return_map=radial" in s["undefined"]["cavity_speed_error"]
+    textbook = math.exp(-0.3 * math.radians(s["cavity_psi_end_deg"]))
+    assert abs(s["cavity_speed_ratio"] / textbook - 1.0) > 100 * startup
 
 
 def test_ledger_recomputed_from_csv(tmp_path):
