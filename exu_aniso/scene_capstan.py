@@ -141,6 +141,12 @@ class CapstanParams(_ParamsMixin):
     dt: float = _CD["dt"]
     solver: str = _CD["solver"]
 
+    def contact_points(self):
+        return (self.elements + 2 * self.tail_elements) * self.points
+
+    def _layout_text(self):
+        return f"(elements={self.elements} + 2 x tail_elements={self.tail_elements}) x points={self.points}"
+
     def _check_scene(self):
         if not self.wrap_angle <= 360.0:
             raise ValueError(f"wrap_angle must lie in (0, 360] deg; got {self.wrap_angle!r}")

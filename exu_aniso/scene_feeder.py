@@ -39,7 +39,7 @@ from .contact import ContactLaw
 from .fields import Adhesion, Friction
 from .geometry import Plane
 from .law import RETURN_MAPS
-from .scenes import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin
+from .scenes import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin, solver_advice
 
 FEEDER_PARAMS = {
     "parts": (3, "-", "number of parts, in a row across the track", "int >= 1"),
@@ -98,6 +98,12 @@ class FeederParams(_ParamsMixin):
     t_end: float = _FD["t_end"]
     dt: float = _FD["dt"]
     solver: str = _FD["solver"]
+
+    def contact_points(self):
+        return 4 * self.parts                  # the corners of each part's bottom face
+
+    def _layout_text(self):
+        return f"4 corners x parts={self.parts}"
 
     def _check_scene(self):
         if not self.throw_angle >= 0.0:
@@ -380,7 +386,7 @@ def feeder_energy(p, traj, motions, forces, law, H, plate):
         s_i, d_i = energy.contact_energy(law, X - u[:, None, :], V - ud[:, None, :], H[:, i])
         stored, diss = stored + s_i, diss + d_i
     return _energy(dict(work_in=work, kinetic=kinetic, potential=potential, stored=stored, dissipated=diss),
-                   traj, "feeder run")
+                   traj, "feeder run", solver_advice(p))
 
 
 # ----------------------------------------------------------------------------------------------

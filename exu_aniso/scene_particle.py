@@ -74,7 +74,7 @@ from .contact import HISTORY_FIELDS, SLIP, ContactLaw
 from .fields import Adhesion, Friction
 from .geometry import Cone, Cylinder, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
 from .law import RETURN_MAPS
-from .scenes import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin
+from .scenes import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin, solver_advice
 
 SURFACES = ("plane", "cylinder", "cone", "sphere", "torus", "revolution", "parametric")
 SPHERES = ("sphere", "revolution", "parametric")
@@ -412,7 +412,8 @@ def particle_energy(p, traj, law, H):
     potential = -p.mass * (motion.position - motion.position[0]) @ gravity_vector(p)
     return _energy(dict(work_in=np.zeros(len(traj["t"])),
                         kinetic=0.5 * p.mass * np.sum(motion.velocity ** 2, axis=1),
-                        potential=potential, stored=stored, dissipated=diss), traj, "particle run")
+                        potential=potential, stored=stored, dissipated=diss), traj, "particle run",
+                   solver_advice(p))
 
 
 def _departure(p, traj):

@@ -276,7 +276,8 @@ def _check(name, value, rule, unit=None):
     if rule == "int >= 1":
         v = _parse_number(name, value, integer=True)
         if not 1 <= v <= MAX_COUNT:
-            raise ValueError(f"{name} must be an integer in [1, {MAX_COUNT}]; got {value!r}")
+            raise ValueError(f"{name} must be an integer >= 1 and <= {MAX_COUNT} (a bound on a run's cost); "
+                             f"got {value!r}")
         return v
     v = _check_magnitude(name, _parse_number(name, value), unit)
     if rule == "> 0" and not v > 0.0:

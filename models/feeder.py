@@ -31,15 +31,18 @@ from exu_aniso.progress import make_progress
 from exu_aniso.reference import Result
 from exu_aniso.scene_feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary,
                                     finish_trajectory, part_inertia, part_points, part_positions, throw_direction)
+from exu_aniso.scenes import time_step
 from exu_aniso.validation import check_instance
 
 PLATE_SIZE = (0.4, 0.4, 0.02)          # drawn plate [m]; its mass is the scene's plate_mass
 
 
 def plate_frequency(p):
-    """Angular frequency [rad/s] of the plate's spring: the integrator's discrete frequency is 2 pi f."""
+    """Angular frequency [rad/s] of the plate's spring: the integrator's discrete frequency, at the step it
+    takes (scenes.time_step), is 2 pi f."""
     if p.solver == "trapezoidal":
-        return 2.0 / p.dt * math.tan(math.pi * p.frequency * p.dt)
+        h = time_step(p)
+        return 2.0 / h * math.tan(math.pi * p.frequency * h)
     return 2.0 * math.pi * p.frequency
 
 
