@@ -1,4 +1,4 @@
-"""Fastening scene: a bolt tightened into a nut, as fastening engineers see it (issue 15).
+"""Fastening scene: a bolt tightened into a nut, as fastening engineers see it.
 
 A rigid bolt (6 DOF, axis z from its head towards its tip) is turned about +z by a rotation drive
 through a torsional spring (``drive_stiffness``, driver at ``rotation_speed``) slowly enough to be
@@ -25,13 +25,17 @@ across). Stiffnesses are totals, split over the points of a contact (README conv
 Measured (``fastening_summary``): the torque-angle curve (drive torque = the torsional spring's),
 the thread and head torques (the contact forces' moments about the axis, as the drive must supply
 them) and the clamp force (the head's axial contact force). In the tightening phase (clamp force
-above TIGHTENING_FROM of its end value) least squares give T/F, T_thread/F, T_head/F and dF/dangle;
-the theory is ISO 16047 / VDI 2230's (``exu_aniso.oracles``), and the ISO 16047 evaluation backs
-friction values out of the simulated torques.
+above TIGHTENING_FROM of its end value) least squares give T/F, T_thread/F, T_head/F and dF/dangle,
+and the seating (snug) angle where that line of clamp force over angle reaches zero force; the theory
+is ISO 16047 / VDI 2230's (``exu_aniso.oracles``; the seating angle: ``seating_angle_rad``), reported
+only inside its assumptions (else None with a reason under "undefined"), and the ISO 16047 evaluation
+backs friction values out of the simulated torques. solver=trapezoidal and spectral_radius above
+MAX_SPECTRAL_RADIUS are refused (the unresolved contact vibrations must be damped numerically).
 """
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -43,6 +47,7 @@ from .fields import Adhesion, Friction
 from .geometry import Cylinder, Helicoid, Plane
 from .law import RETURN_MAPS
 from .scenes import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin
+from .validation import ParameterError
 
 FASTENING_PARAMS = {
     "thread": ("flank", "-", "thread model: the nut's flank (helicoid) or a spiral net on a cylinder (reduced)",
@@ -83,12 +88,31 @@ FASTENING_PARAMS = {
     "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
     "t_end": (1.5, "s", "simulated time", "> 0"),
     "dt": (1e-3, "s", "time step", "> 0"),
-    "solver": ("generalized_alpha", "-", "time integrator (numerical damping of the stiff contact modes)", SOLVERS),
-    "spectral_radius": (0.0, "-", "generalized-alpha's rho_inf: 0 removes the unresolved contact and drive "
-                        "vibrations in one step (quasi-static tightening)", ">= 0"),
+    "solver": ("generalized_alpha", "-", "time integrator (numerical damping of the stiff contact modes; "
+               "trapezoidal is refused: it leaves them undamped and runs away)", SOLVERS),
+    "spectral_radius": (0.0, "-", "generalized-alpha's rho_inf, at most 0.6 here: 0 removes the unresolved contact "
+                        "and drive vibrations in one step (quasi-static tightening)", ">= 0"),
 }
 
 _D = {k: v[0] for k, v in FASTENING_PARAMS.items()}
+
+MAX_SPECTRAL_RADIUS = 0.6
+"""Largest generalized-alpha rho_inf the scene accepts. Its contact and drive vibrations (thread and head
+penalty modes ~4e5 rad/s, the drive spring's ~7e4 rad/s at the defaults) are far from resolved at any
+practical dt and must be damped numerically: left undamped they grow through the contact nonlinearity
+(stick and slip do not matter: mu_thread 1e-4 does the same). Measured at the defaults, dt 1 ms, t_end
+0.7 s (run-down and seating): rho_inf 0, 0.5, 0.6 run at dt; 0.7 reduces the step to dt/4; 0.8 and
+0.9 stop within 25 ms (the step at its floor); 1, and the trapezoidal rule (the same undamped rule:
+identical steps), tilt the bolt 1.4 deg and clamp 134 kN within 50 ms of run-down, the step down to
+4e-6 s, ledger residual 1.0 (the full run had not finished after 200 s)."""
+TRAPEZOIDAL_REFUSED = (
+    "solver='trapezoidal' is not available for the fastening scene: the rule is that its stiff contact and drive "
+    "vibrations (not resolved at any practical dt) must be damped numerically, and the trapezoidal rule does not "
+    "damp them, so they grow until the step collapses (default scene: the bolt tilts 1.4 deg within 50 ms of "
+    f"run-down); use solver='generalized_alpha' with spectral_radius <= {MAX_SPECTRAL_RADIUS:g} (default 0)")
+ENERGY_ADVICE = ("reduce dt (spectral_radius 0, the default, removes the unresolved contact and drive vibrations in "
+                 "one step; solver='trapezoidal' is not available for this scene)")
+"""The energy warning's advice for this scene (energy.warn_if_open): not the generic 'try trapezoidal'."""
 
 
 @dataclass(frozen=True)
@@ -147,22 +171,39 @@ class FasteningParams(_ParamsMixin):
         if not self.turns * self.pitch < 0.5 * self.bolt_length:
             raise ValueError(f"turns * pitch must be < bolt_length / 2 (the engaged thread fits on the shank); got "
                              f"{self.turns} * {self.pitch!r} >= {self.bolt_length!r} / 2")
+        if self.solver == "trapezoidal":
+            raise ValueError(TRAPEZOIDAL_REFUSED)
+        if not self.spectral_radius <= MAX_SPECTRAL_RADIUS:
+            raise ValueError(f"spectral_radius must be <= {MAX_SPECTRAL_RADIUS:g} for the fastening scene (its "
+                             "unresolved contact and drive vibrations must be damped numerically; at the defaults "
+                             "0.8 and above stop within 25 ms, 0.7 cuts the step to dt/4); got "
+                             f"{self.spectral_radius!r}. Use the default 0 (quasi-static tightening)")
         # the thread must slide (not lock) under the tightening torque
         oracles.thread_torque_per_force(self.d2, self.pitch, math.radians(self.flank_angle), self.mu_thread)
+        if self.thread == "net" and not self.net_mu_along:
+            calibrate_net(self)        # ParameterError now (17 ms, closed form) rather than after the model is built
 
 
 assert [f.name for f in dataclasses.fields(FasteningParams)] == list(FASTENING_PARAMS)
 
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "torque": "N m", "thread_torque": "N m", "head_torque": "N m",
-           "clamp_force": "N", "part_displacement": "m", "tilt": "rad", "lateral": "m", "dissipated_energy": "J",
+           "clamp_force": "N", "part_displacement": "m", "tilt": "rad", "lateral": "m",
+           "vx": "m/s", "vy": "m/s", "vz": "m/s", "omega_x": "rad/s", "omega_y": "rad/s", "omega_z": "rad/s",
+           "omega_axial": "rad/s", "part_velocity": "m/s", "dissipated_energy": "J",
            **{k: "J" for k in ENERGY_COLUMNS}}
 """trajectory.csv: the bolt's angle (unwrapped yaw) and axial advance, the drive torque, the thread and
 head torques about the axis (what the drive supplies to each), the clamp force, the clamped part's
-displacement, the bolt's tilt and lateral offset of its axis (wobble), the dissipated energy and the
-energy ledger."""
+displacement, the bolt's tilt and lateral offset of its axis (wobble), the bolt's velocity and angular
+velocity (world frame) and its angular velocity about its own axis, the part's velocity, the dissipated
+energy and the energy ledger. The ledger's terms follow from these columns and the parameters alone
+(as ``fastening_energy`` books them): work in = trapezoid of torque over angle - axial_load (z - z0);
+kinetic = bolt_mass |v|^2 / 2 + J_t |omega|^2 / 2 + (J_z - J_t) omega_axial^2 / 2 (``bolt_inertia``) +
+part_mass part_velocity^2 / 2; potential = joint_stiffness part_displacement^2 / 2; residual = work in -
+kinetic - potential - energy_stored - energy_dissipated."""
 TITLE_KEYS = ("torque_per_clamp_force", "torque_per_clamp_force_theory")
 
 TIGHTENING_FROM = 0.2       # the tightening phase: clamp force above this share of its end value
+MIN_TIGHTENING_SAMPLES = 10  # samples of the tightening phase below which no slope, intercept or theory is reported
 
 
 # ----------------------------------------------------------------------------------------------
@@ -225,11 +266,18 @@ def calibration_force(p):
     return max(theory(flank)[0]["clamp_force_per_angle_theory"] * turned, 0.0) + p.axial_load
 
 
+@functools.lru_cache(maxsize=64)
 def calibrate_net(p):
     """thread=net's friction along the helix [-]: the net's steady sliding under the axial force
     ``calibration_force(p)`` (exu_aniso.calibration.steady_sliding: the screw scene's closed form with the
     hole of radius d2/2, the spiral at the lead angle, the normal force net_normal_force, the exact map)
-    needs the flank theory's thread torque there. net_mu_across stays as given: it carries the clamp force."""
+    needs the flank theory's thread torque there. net_mu_across stays as given: it carries the clamp force.
+
+    Raises ParameterError when no friction along the helix in (0, net_mu_across] does it: the net's
+    friction ellipse (net_mu_along, net_mu_across) x net_normal_force must hold the axial force and the
+    thread torque's circumferential force at once, and the axial force grows with the turning after
+    seating (rotation_speed * t_end - rundown_angle). Cached per parameter set (FasteningParams checks
+    it when it is made, the contact law uses it)."""
     from scipy.optimize import brentq
 
     from .calibration import steady_sliding
@@ -246,13 +294,20 @@ def calibrate_net(p):
 
     lo, hi = 1e-6, p.net_mu_across
     try:
-        if excess(lo) > 0.0 or excess(hi) < 0.0:
-            raise ValueError
-    except ValueError:
-        raise ValueError(f"thread=net cannot be calibrated: no friction along the helix in (0, net_mu_across="
-                         f"{p.net_mu_across!r}] gives the flank's thread torque {target:.4g} N m under the axial force "
-                         f"{Fa:.4g} N with net_normal_force={p.net_normal_force!r} N; raise net_normal_force or "
-                         f"net_mu_across") from None
+        ok = excess(lo) <= 0.0 <= excess(hi)
+        why = "its largest torque (net_mu_along = net_mu_across) stays below it" if not ok else ""
+    except ValueError:          # steady_sliding: the axial force exceeds the net's axial friction capacity
+        ok, why = False, (f"the axial force exceeds what the net holds across the helix (about net_mu_across * "
+                          f"net_normal_force = {p.net_mu_across * p.net_normal_force:.4g} N)")
+    if not ok:
+        raise ParameterError(
+            f"thread=net with net_mu_along=0 cannot be calibrated: the rule is that the net's steady sliding under "
+            f"the flank's predicted end force F = dF/dangle * (rotation_speed * t_end - rundown_angle) + axial_load "
+            f"= {Fa:.4g} N (rotation_speed={p.rotation_speed!r}, t_end={p.t_end!r}, rundown_angle="
+            f"{p.rundown_angle!r}, joint_stiffness={p.joint_stiffness!r}, axial_load={p.axial_load!r}) gives the "
+            f"flank's thread torque {target:.4g} N m for some friction along the helix in (0, net_mu_across="
+            f"{p.net_mu_across!r}], with net_normal_force={p.net_normal_force!r} N; here {why}. Turn less "
+            f"(rotation_speed, t_end), raise net_normal_force or net_mu_across, or set net_mu_along > 0")
     return brentq(excess, lo, hi, xtol=1e-12, rtol=1e-12)
 
 
@@ -301,15 +356,25 @@ def joint_damping(p):
 # theory
 
 def theory(p):
-    """The closed forms of the scene (oracles): T/F, thread and head terms, VDI 2230's linearization,
-    dF/dangle with the contact compliances in series. Values None with a reason where they do not
-    apply (under 'undefined')."""
+    """The closed forms of the scene (oracles) from the parameters alone: T/F, thread and head terms,
+    VDI 2230's linearization, dF/dangle with the contact compliances in series, the seating angle.
+    Values None with a reason where they do not apply (under 'undefined'). fastening_summary reports
+    them only where the run is in their domain too (the head clamped over enough samples).
+
+    thread=net: the formulas are a flank's (the flank's normal force grows with the load); the net's
+    normal force is the interference fit's, so its thread torque hardly grows with the clamp force and
+    only matches the formula at calibration_force (the calibration's target). The thread, total and
+    VDI 2230 T/F, dF/dangle and the seating angle have no closed form for it: None; the head term holds."""
     beta = math.radians(p.flank_angle)
     out, undefined = {}, {}
-    # the net is calibrated to reproduce the flank's thread torque: the same theory is its target. An
-    # orthotropic flank slides along its direction 1 (the helix), where the associated law's friction is mu_thread
+    net = ("thread=net: the formula is a flank's (normal force from the load); the net's normal force is the "
+           "interference fit's, so it matches only at calibration_force, not as a slope")
+    # an orthotropic flank slides along its direction 1 (the helix), where the associated law's friction is mu_thread
     thread = oracles.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
-    if p.thread_net == "orthotropic" and p.return_map != "exact":
+    if p.thread == "net":
+        thread = None
+        undefined["thread_torque_per_clamp_force_theory"] = net
+    elif p.thread_net == "orthotropic" and p.return_map != "exact":
         thread = None
         undefined["thread_torque_per_clamp_force_theory"] = (f"orthotropic flank under the {p.return_map!r} map: "
                                                              "the formula is checked for the exact map")
@@ -333,15 +398,35 @@ def theory(p):
                                                                                    p.mu_head, p.head_radius)
                                              if p.head_net == "isotropic" and thread is not None else None)
     if out["torque_per_clamp_force_vdi2230"] is None:
-        undefined["torque_per_clamp_force_vdi2230"] = "VDI 2230's formula is for an isotropic head bearing and flank"
+        undefined["torque_per_clamp_force_vdi2230"] = ("VDI 2230's formula is for an isotropic head bearing and "
+                                                       "flank" + (f" ({net})" if p.thread == "net" else ""))
     comp = [1.0 / p.head_stiffness] + ([1.0 / k_thread] if k_thread else [])
-    out["clamp_force_per_angle_theory"] = (oracles.clamp_force_per_angle(p.joint_stiffness, p.pitch, comp)
-                                           if k_thread else None)
+    S = oracles.clamp_force_per_angle(p.joint_stiffness, p.pitch, comp) if k_thread else None
+    out["clamp_force_per_angle_theory"] = S
+    out["seating_angle_theory"] = None if S is None else math.degrees(seating_angle_rad(p, k_thread, S,
+                                                                                       out["torque_per_clamp_force_theory"]))
     if k_thread is None:
         undefined["clamp_force_per_angle_theory"] = ("thread=net: the net's advance per turn is not the pitch under "
                                                      "load (it slips across the helix), no closed form here")
-    out["seating_angle_theory"] = p.rundown_angle
+        undefined["seating_angle_theory"] = ("thread=net: its tightening curve is not straight (the net slips across "
+                                             "the helix under load), so the line's zero-force intercept has no "
+                                             "closed form")
     return out, undefined
+
+
+def seating_angle_rad(p, k_thread, S, T_per_F=None):
+    """The seating (snug) angle of the flank thread [rad], as fastening_summary measures it: where the
+    tightening line F = S (angle - angle_s) reaches zero force. Quasi-static, with the head's penetration
+    lead (angle - rundown) - (F + axial_load) / k_thread - u: the thread yields (F + axial_load) / k_thread
+    (axial_load already in run-down, from the start's offset), the part's spring k_joint u = F - c du/dt
+    with the dashpot c at the part's velocity du/dt = S omega / k_joint, omega the bolt's speed (the
+    driver's less the drive spring's wind-up rate, (T/F) S / drive_stiffness of it). So angle_s =
+    rundown + (axial_load / k_thread - c du/dt / k_joint) / lead: 30.0112 deg at the defaults (0.016 deg
+    from the thread's give under axial_load, -0.005 deg from the dashpot)."""
+    h = lead(p)
+    omega = p.rotation_speed / (1.0 + (T_per_F or 0.0) * S / p.drive_stiffness)
+    u_dot = S * omega / p.joint_stiffness
+    return math.radians(p.rundown_angle) + (p.axial_load / k_thread - joint_damping(p) * u_dot / p.joint_stiffness) / h
 
 
 # ----------------------------------------------------------------------------------------------
@@ -390,9 +475,28 @@ def _slope(x, y):
     return float(np.polyfit(x, y, 1)[0])
 
 
+def seating_angle(angle, clamp_force):
+    """The seating (snug) angle [rad]: where the tightening line, the least-squares line of the clamp
+    force over the angle in the tightening phase (``tightening``), reaches zero force. The first touch
+    is no seating angle: a tilted head grazes the part with a few newtons long before its ring bears
+    (4 thread points on 1 turn: 4.6 N at 19.6 deg, the line's intercept at 30.01 deg). None when the
+    line does not rise."""
+    ang, F = np.asarray(angle, float), np.asarray(clamp_force, float)
+    tight = tightening(F)
+    k, b = np.polyfit(ang[tight], F[tight], 1)
+    return float(-b / k) if k > 0.0 else None
+
+
 def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     """Summary of a fastening run (any engine): seating angle, end values, the least-squares slopes
-    in the tightening phase against their theory (``theory``), the ISO 16047 friction values, wobble."""
+    in the tightening phase against their theory (``theory``), the ISO 16047 friction values, wobble.
+
+    seating_angle [deg] is the snug point of the torque-angle method: the angle where the tightening
+    line (clamp force over angle, least squares over the tightening phase: clamp force above
+    TIGHTENING_FROM of its end value) reaches zero force (``seating_angle``); seating_angle_theory is
+    the same intercept in closed form (``seating_angle_rad``). Every value needs a tightening phase of
+    MIN_TIGHTENING_SAMPLES samples at least; the theories are reported only then (and where ``theory``
+    defines them), otherwise None with a reason under "undefined"."""
     t = np.asarray(traj["t"], float)
     ang = np.asarray(traj["angle"], float)
     F = np.asarray(traj["clamp_force"], float)
@@ -405,19 +509,19 @@ def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     s.update(th)
     keys = ("seating_angle", "torque_per_clamp_force", "thread_torque_per_clamp_force", "head_torque_per_clamp_force",
             "clamp_force_per_angle", "mu_thread_iso16047", "mu_head_iso16047", "mu_total_iso16047")
-    touched = np.nonzero(F > 0.0)[0]
-    tight = tightening(F)
-    if F[-1] <= 0.0 or len(touched) == 0 or np.count_nonzero(tight) < 3:
-        why = (f"the head did not clamp enough: clamp force at the end {F[-1]:.3g} N, {np.count_nonzero(tight)} samples "
-               f"above {TIGHTENING_FROM:g} of it (at least 3 needed); turn further (t_end, rotation_speed)")
-        for k in keys:
+    n_tight = int(np.count_nonzero(tightening(F))) if F[-1] > 0.0 else 0
+    seat = seating_angle(ang, F) if n_tight >= MIN_TIGHTENING_SAMPLES else None
+    if seat is None:
+        why = (f"the head did not clamp enough: clamp force at the end {F[-1]:.3g} N, {n_tight} samples above "
+               f"{TIGHTENING_FROM:g} of it (at least {MIN_TIGHTENING_SAMPLES} needed for the tightening line); turn "
+               "further (t_end, rotation_speed)")
+        for k in keys + tuple(th):
             s[k] = None
             undefined[k] = why
         s["undefined"] = undefined
         return s
-    i = touched[0]                                   # first sample with the head loaded
-    s["seating_angle"] = float(math.degrees(np.interp(0.0, [F[i - 1], F[i]], [ang[i - 1], ang[i]])) if i > 0
-                               else math.degrees(ang[0]))
+    tight = tightening(F)
+    s["seating_angle"] = math.degrees(seat)
     s["torque_per_clamp_force"] = _slope(F[tight], T[tight])
     s["thread_torque_per_clamp_force"] = _slope(F[tight], Tt[tight])
     s["head_torque_per_clamp_force"] = _slope(F[tight], Th[tight])
@@ -457,7 +561,7 @@ def fastening_energy(p, traj, bolt, part_z, part_vz, laws, X, V, H):
     f = c * part_vz                                  # dashpot force on the part against its velocity
     diss = diss + energy.work_trapezoid(f, part_z)
     return _energy(dict(work_in=work, kinetic=kinetic, potential=potential, stored=stored, dissipated=diss),
-                   traj, "fastening run")
+                   traj, "fastening run", ENERGY_ADVICE)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -473,9 +577,10 @@ def PlotFastening(traj, params, fig):
     a1.plot(deg, traj["torque"], "k-", lw=1.2, label="drive torque")
     a1.plot(deg, traj["thread_torque"], "C0-", lw=0.9, label="thread")
     a1.plot(deg, traj["head_torque"], "C1-", lw=0.9, label="head")
-    touched = np.nonzero(F > 0.0)[0]
-    if len(touched):
-        seat = deg[touched[0]]
+    ok = F[-1] > 0.0 and np.count_nonzero(tightening(F)) >= MIN_TIGHTENING_SAMPLES
+    seat = seating_angle(traj["angle"], F) if ok else None
+    if seat is not None:                 # the snug point: the tightening line's zero-force intercept
+        seat = math.degrees(seat)
         a1.axvline(seat, color="C3", ls="--", lw=0.8)
         a1.axvspan(deg[0], seat, color="0.9", zorder=0)
         a1.text(0.5 * (deg[0] + seat), 0.9 * a1.get_ylim()[1], "run-down", ha="center", fontsize=7)
@@ -485,7 +590,7 @@ def PlotFastening(traj, params, fig):
     a1.grid(True, alpha=0.3)
     a1.legend(fontsize=7, loc="center left")
     a2.plot(F * 1e-3, traj["torque"], "k-", lw=1.2, label="simulated")
-    th, _ = theory(p)
+    th, _ = theory(p if p.thread == "flank" else p.with_overrides(thread="flank"))   # net: the flank's line
     Ff = np.linspace(0.0, max(F.max(), 0.0), 2)
     # the thread also carries axial_load: T = T/F F + (thread term) axial_load
     if th["torque_per_clamp_force_theory"] is not None:

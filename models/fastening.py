@@ -1,4 +1,4 @@
-"""A bolt tightened into a nut as an Exudyn model (issue 15; the fastening scene: read
+"""A bolt tightened into a nut as an Exudyn model (the fastening scene: read
 ``exu_aniso.scene_fastening``'s module docstring).
 
 The bolt is ``mbs.CreateRigidBody`` (6 DOF, Lie-group rotation vector) with two contact sets: its
@@ -38,7 +38,7 @@ from exu_aniso.validation import check_instance
 # step's initial residual; stick and slip of the thread points alternating between iterates), so the scenes'
 # 1e-10 collapses the step to 1e-8 s, and 1e-8 still makes Exudyn reduce steps often (default run 1934 steps
 # and 9112 iterations instead of 1500; a 30 deg flank 11886 steps). At 1e-6 no step is reduced and the
-# results are the same to 1e-7 (T/F, end clamp force, ledger; /tmp script over default, orthotropic head,
+# results are the same to 1e-7 (T/F, end clamp force, ledger; an ad-hoc script over default, orthotropic head,
 # 30 deg flank, 4x2 points, pitch 3 mm, orthotropic flank, net, 2026-11-26): the default solves 3-4x faster
 NEWTON_TOLERANCE = 1e-6
 PART_SIZE = (0.03, 0.03, 0.01)
@@ -146,7 +146,9 @@ def FasteningTrajectory(model):
     axis = A[:, :, 2]
     traj = dict(t=t, angle=angle, z=pos[:, 2], torque=DriveTorque(p, angle, t)[0], thread_torque=Tt, head_torque=Th,
                 clamp_force=F, part_displacement=part_u[:, 2], tilt=np.arccos(np.clip(axis[:, 2], -1.0, 1.0)),
-                lateral=np.hypot(pos[:, 0], pos[:, 1]),
+                lateral=np.hypot(pos[:, 0], pos[:, 1]), vx=vel[:, 0], vy=vel[:, 1], vz=vel[:, 2], omega_x=w[:, 0],
+                omega_y=w[:, 1], omega_z=w[:, 2], omega_axial=np.einsum("ni,ni->n", w, axis),
+                part_velocity=part_v[:, 2],
                 dissipated_energy=sum(h[:, :, 5].sum(axis=1) for h in H.values()))
     bolt = energy.RigidMotion(pos, A, vel, w)
     Xt, Vt = energy.point_motion(bolt, thread_points(p))
