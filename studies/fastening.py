@@ -1,4 +1,4 @@
-"""Fastening: a bolt tightened into a nut as fastening engineers see it (issue 15): the torque-tension
+"""Fastening: a bolt tightened into a nut as fastening engineers see it: the torque-tension
 scatter over thread and head friction, VDI 2230's linearized thread term against the exact one over lead
 and flank angle, a machined (orthotropic) head bearing against the ring formula and the bolt's wobble,
 and the cost of modelling the thread with fewer points or the reduced spiral net.
@@ -30,7 +30,7 @@ from exu_aniso.scene_fastening import FasteningParams, calibrate_net, theory  # 
 D = FasteningParams()
 T_TARGET = 30.0             # target torque of the torque-controlled tightening [N m]
 T1_END = 1.8                # simulated time of section (1): the lowest friction reaches T_TARGET (checked)
-TOL = 1e-2                  # the issue's bar: simulated against the formula
+TOL = 1e-2                  # the scene.s bar: simulated against the formula
 MU = 0.12                   # thread and head friction of sections (2) to (4)
 MU_ACROSS = 0.24            # head friction across the machined lay, section (3)
 VDI_TOLS = (0.01, 0.05)     # VDI error levels the report locates
