@@ -30,7 +30,7 @@ from exu_aniso.scene_fastening import FasteningParams, calibrate_net, theory  # 
 D = FasteningParams()
 T_TARGET = 30.0             # target torque of the torque-controlled tightening [N m]
 T1_END = 1.8                # simulated time of section (1): the lowest friction reaches T_TARGET (checked)
-TOL = 1e-2                  # the scene.s bar: simulated against the formula
+TOL = 1e-2                  # the scene's bar: simulated against the formula
 MU = 0.12                   # thread and head friction of sections (2) to (4)
 MU_ACROSS = 0.24            # head friction across the machined lay, section (3)
 VDI_TOLS = (0.01, 0.05)     # VDI error levels the report locates
