@@ -157,6 +157,12 @@ class FasteningParams(_ParamsMixin):
     solver: str = _D["solver"]
     spectral_radius: float = _D["spectral_radius"]
 
+    def contact_points(self):
+        return self.turns * self.points_per_turn + self.head_points
+
+    def _layout_text(self):
+        return f"turns={self.turns} x points_per_turn={self.points_per_turn} + head_points={self.head_points}"
+
     def _check_scene(self):
         if not self.spectral_radius <= 1.0:
             raise ValueError(f"spectral_radius must lie in [0, 1]; got {self.spectral_radius!r}")
