@@ -122,6 +122,9 @@ REFUSED = [
     ("particle", "vy0=1e200", "vy0"),
     ("capstan", "elements=1e9", "elements"),
     ("feeder", "parts=1e9", "parts"),
+    ("feeder", "parts=3000", "contact points"),
+    ("capstan", "elements=5000", "contact points"),
+    ("fastening", "head_points=20000", "contact points"),
 ]
 
 
