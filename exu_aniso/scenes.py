@@ -204,11 +204,11 @@ def _parse_number(name, value, integer=False):
 
 # Physical range of a scene parameter by its unit: (smallest value a "> 0" parameter may take or None,
 # largest magnitude). Wide enough for any machine part a multibody contact model describes (lengths of
-# a nanometre to a kilometre, stiffnesses up to 1e14 N/m, friction coefficients up to 1e3); outside it
+# a nanometre to ten kilometres, stiffnesses up to 1e14 N/m, friction coefficients up to 1e3); outside it
 # a double loses the contact's resolution or overflows (mu 1e300, a size of 1e300 m), and the value is
 # refused here with its name rather than failing deep inside.
 MAGNITUDE_LIMITS = {
-    "m": (1e-9, 1e3), "kg": (1e-9, 1e6), "kg/m": (1e-9, 1e6), "s": (1e-12, 1e5),
+    "m": (1e-9, 1e4), "kg": (1e-9, 1e6), "kg/m": (1e-9, 1e6), "s": (1e-12, 1e5),
     "-": (None, 1e3), "deg": (None, 3600.0), "N": (None, 1e9), "N m": (None, 1e7),
     "N/m": (None, 1e14), "N/m^2": (None, 1e14), "N m/rad": (None, 1e12), "N m/rad | N/m": (None, 1e14),
     "N m^2": (None, 1e9), "N s/m": (None, 1e12), "N s/m^2": (None, 1e12), "m/s": (None, 1e4),

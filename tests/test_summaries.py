@@ -44,8 +44,10 @@ def test_moving_block_and_turning_screw_are_defined():
 
 
 def test_absurd_position_is_a_clear_error(capsys):
-    with pytest.raises(ValueError, match=r"x0 must satisfy \|x0\| <= 1e\+06 \* size"):
+    with pytest.raises(ValueError, match=r"x0 must satisfy \|x0\| <= 10000 m \(the physical range"):
         BlockParams(x0=1e200)
+    with pytest.raises(ValueError, match=r"x0 must satisfy \|x0\| <= 1e\+06 \* size"):
+        BlockParams(x0=5e3, size=1e-3)
     assert main(["run", "block", "--set", "x0=1e200", "--out", "unused"]) == 2
     err = capsys.readouterr().err
     assert "x0" in err and "origin" not in err.split("(")[0]
