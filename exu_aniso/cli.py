@@ -183,6 +183,8 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
             else:
                 write_summary(out, dict(failure.as_dict(), engine=engine, params=params.as_dict()))
             raise
+        except ParameterError:       # bad input found while preparing the run: nothing is written (exit 2)
+            raise
         except Exception as e:
             os.makedirs(out, exist_ok=True)
             write_summary(out, dict(complete=False, failure=f"{type(e).__name__}: {e}", engine=engine,
