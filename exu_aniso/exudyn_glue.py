@@ -15,7 +15,10 @@ Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
   one post-Newton function per mbs evaluates every set at the converged state and writes the
   candidate to ``ConfigurationType.Current``. Exudyn copies Current to StartOfStep only when a step
   is accepted and restores Current from StartOfStep when it rejects a step, so rejected or reduced
-  steps leave no trace;
+  steps leave no trace. The compiled sets do this in place, on Exudyn's own vectors
+  (``_SystemViews``: numpy views of the Current and StartOfStep coordinates): the history is read
+  from the StartOfStep data, the candidate written into the Current data, the state read from the
+  Current ODE2 coordinates, with no Get/Set of whole vectors per step;
 * a group (bodyNumber a list of rigid bodies): one such object over all their nodes, the same points on
   each body (_RigidGroup; compiled: fastpath.evaluate_group, the Jacobian a scipy CSR matrix of the
   bodies' diagonal blocks, so Exudyn's sparse solver gets no coupling that is not there);
@@ -507,14 +510,19 @@ class _ContactSet:
         H = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))[0].history
         return None if np.any(H[:, _STATUS] == UNRESOLVED) else H
 
-    def stage(self, mbs, t, q, q_t, data):
-        """Put the history candidate at the converged state q, q_t (the set's coordinates) into the
-        data coordinates; False (nothing written) when a point's step is unresolved."""
-        H = self.candidate(mbs, t, q, q_t)
+    def stage(self, mbs, t):
+        """Put the history candidate at the converged state (Exudyn's Current coordinates) at time t
+        into the Current data coordinates, in place; False (nothing written) when a point's step is
+        unresolved. The numpy route fetches the views and its indices afresh at every commit (its
+        own cost is far above theirs), so it never holds a view across a re-assembly."""
+        self._indices(mbs)
+        V = _SystemViews(mbs)
+        self._check_indices(V)
+        H = self.candidate(mbs, t, V.q[self.ltgODE2], V.q_t[self.ltgODE2])
         if H is None:
             return False
-        data[self.ltg] = H.ravel()
-        data[self.ltgTotal] = H[:, _DISSIPATED].sum()
+        V.data[self.ltg] = H.ravel()
+        V.data[self.ltgTotal] = H[:, _DISSIPATED].sum()
         return True
 
     def locate(self, mbs, oContact):
@@ -528,20 +536,64 @@ class _ContactSet:
         self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=np.int64)
         self.ltgTotal = int(mbs.systemData.GetNodeLTGData(self.nTotal)[0])
 
+    def _check_indices(self, V):
+        """Assert that the set's indices lie in the system vectors of the views V: the object's
+        coordinates (slave, then master), the history (one range of K * 9 data coordinates) and
+        the total dissipation (one data coordinate)."""
+        n = self.slave.n + (self.master.n if self.master is not None else 0)
+        assert self.ltgODE2.shape == (n,) and 0 <= self.ltgODE2.min() and self.ltgODE2.max() < V.q.size, \
+            (self.ltgODE2, V.sizes)
+        assert np.array_equal(self.ltg, self.ltg[0] + np.arange(self.K * N_HISTORY)), self.ltg
+        assert 0 <= self.ltg[0] and self.ltg[-1] < V.data.size and 0 <= self.ltgTotal < V.data.size, V.sizes
+
+
+class _SystemViews:
+    """numpy views of Exudyn's own system vectors (``copy=False``, Exudyn 1.13): the Current ODE2
+    coordinates q [m, rad] and velocities q_t [m/s, rad/s], the Current data coordinates and the
+    StartOfStep data coordinates. Writing into them writes into Exudyn's memory. They stay valid
+    through solves and through re-assemblies of the same sizes; Exudyn reallocates a vector when
+    it grows (Assemble of a larger system), so a holder compares ``sizes`` (ODE2, data) with the
+    system's before it uses them again (_CompiledSet._load_history)."""
+
+    def __init__(self, mbs):
+        sd = mbs.systemData
+        self.sizes = (sd.ODE2Size(), sd.DataSize())
+        self.q = sd.GetODE2Coordinates(configuration=_CUR, copy=False)
+        self.q_t = sd.GetODE2Coordinates_t(configuration=_CUR, copy=False)
+        self.data = sd.GetDataCoordinates(configuration=_CUR, copy=False)
+        self.data0 = sd.GetDataCoordinates(configuration=_SOS, copy=False)
+        for v, size in ((self.q, self.sizes[0]), (self.q_t, self.sizes[0]), (self.data, self.sizes[1]),
+                        (self.data0, self.sizes[1])):
+            assert v.shape == (size,) and v.dtype == np.float64 and v.flags.c_contiguous and v.flags.writeable, \
+                (v.shape, v.dtype, v.flags, self.sizes)
+
+    def current(self, mbs):
+        """True while the system's sizes (ODE2, data) are those at fetch time. With the new-solve rule
+        of _CompiledSet._load_history this misses only a system re-assembled smaller and then back
+        to the same sizes between two solves, the second starting at the first one's last commit."""
+        sd = mbs.systemData
+        return sd.ODE2Size() == self.sizes[0] and sd.DataSize() == self.sizes[1]
+
 
 class _CompiledSet(_ContactSet):
     """The same contact set evaluated by the compiled kernel ``exu_aniso.fastpath`` (ground
     master, a surface numba compiles): one compiled call per user function on arrays packed once
     (``kernel.CovariantSet``).
 
-    What is not recomputed:
+    What is not recomputed or copied:
     * the converged history is copied into the packed arrays once per Newton solve (it changes only
-      when a step is accepted), from the candidate this set committed when Exudyn accepted that
-      step (the start-of-step time equals the commit time), else read from Exudyn (a rejected step,
-      the first step);
+      when a step is accepted), from the StartOfStep data coordinates (a view of Exudyn's vector);
+    * q, q_t are read from the Current ODE2 coordinates (a view: Exudyn's q, q_t lists are these
+      numbers, at the object's coordinates) when the object's coordinates are one range of the
+      system vector (a body, a group of consecutive bodies), else copied from the lists;
     * every residual (mode 0) also leaves its history candidate and its state; the post-Newton commit
       takes the candidate of the last residual when that state is the converged one (it is: Newton
-      stops after a residual), and evaluates afresh otherwise."""
+      stops after a residual), and evaluates afresh otherwise, and writes it into the Current data
+      coordinates (a view) in place. Exudyn's accept (Current -> StartOfStep) is the commit, its
+      reject (StartOfStep -> Current) the rollback.
+
+    The views are fetched again (_views) at the first step of a solve (a start-of-step time that
+    is neither the last one nor the last commit's) and whenever the system's sizes changed."""
 
     def __init__(self, mbs, law, slave, points, master):
         super().__init__(mbs, law, slave, points, master)
@@ -550,15 +602,19 @@ class _CompiledSet(_ContactSet):
         kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
         self.pk = self._pack(law, kind, slave, points, master)
         self._t = None                        # time of the Newton solve whose history pk.H holds
+        self._t0 = None                       # its start-of-step time [s]
         self._dt = 0.0
-        self._committed = np.zeros_like(self.pk.Hn)   # the last candidate committed ...
-        self._committed_t = None                      # ... at this time
+        self._committed_t = None              # time of the last commit [s]
         self.recomputed = 0                   # commits that had to evaluate afresh (diagnostics)
-        # the compiled function itself (numba's dispatch done once) and its packed arguments; Exudyn
-        # passes q, q_t as lists of floats, copied into the float64 buffers _q, _q_t (the kernel keeps
-        # no reference to them: a residual copies its state into X), and fODE2, fODE2_t as floats
+        # the compiled function itself (numba's dispatch done once) and its packed arguments: q, q_t
+        # are the views of Exudyn's Current coordinates at the object's range (_views) or float64
+        # buffers the lists Exudyn passes are copied into (_lists; the kernel keeps no reference to
+        # them: a residual copies its state into X); fODE2, fODE2_t are floats
         self._entry, self._tail = self.pk.entry(), self.pk.tail
-        self._q, self._q_t = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])
+        self._V = None                        # _SystemViews
+        self._lists = True
+        self._qb, self._q_tb = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])   # own buffers
+        self._q, self._q_t = self._qb, self._q_tb
         self._force_args = None               # the force call's arguments, made with dt by _load_history
 
     @staticmethod
@@ -567,61 +623,105 @@ class _CompiledSet(_ContactSet):
         from .kernel import CovariantSet
         return CovariantSet(law, kind, slave.ref, points)
 
+    def _views(self, mbs):
+        """(Re)fetch the views of Exudyn's vectors and the set's indices, assert them, and make the
+        set's slices: the history (K, 9) in the StartOfStep data and, when the object's coordinates
+        are one range, its q, q_t in the Current ODE2 vectors."""
+        self._indices(mbs)
+        V = _SystemViews(mbs)
+        self._check_indices(V)
+        a, n = self.ltgODE2, self.ltgODE2.size
+        self._lists = not np.array_equal(a, a[0] + np.arange(n))
+        if self._lists:
+            self._q, self._q_t = self._qb, self._q_tb
+        else:
+            self._q, self._q_t = V.q[a[0]:a[0] + n], V.q_t[a[0]:a[0] + n]
+        h = int(self.ltg[0])
+        self._h0 = V.data0[h:h + self.K * N_HISTORY].reshape(self.K, N_HISTORY)
+        self._V = V
+
     def _load_history(self, mbs, t):
         t0 = mbs.systemData.GetTime(_SOS)
-        if t0 == self._committed_t:           # the step this set committed was accepted
-            self.pk.H[:] = self._committed
-        else:
-            self.pk.H[:] = self.history(mbs, _SOS)
+        if self._V is None or (t0 != self._t0 and t0 != self._committed_t) or not self._V.current(mbs):
+            self._views(mbs)                  # a new solve, or a re-assembled system
+        self.pk.H[:] = self._h0               # the last accepted history (StartOfStep)
         self._t = t
+        self._t0 = t0
         self._dt = t - t0
         self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt) + self._tail
 
     def force(self, mbs, t, itemNumber, q, q_t):
+        """Generalized contact forces at the given q, q_t (the set's coordinates, any values: for
+        direct calls, e.g. finite differences); Exudyn calls force_in_place."""
         if t != self._t:
             self._load_history(mbs, t)
-        self._q[:] = q
-        self._q_t[:] = q_t
-        self._entry(*self._force_args)
+        self._qb[:] = q
+        self._q_tb[:] = q_t
+        self._entry(0, self._qb, self._q_tb, 0.0, 0.0, self._dt, *self._tail)
         return self.pk.Q
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        """As force: the Jacobian at the given q, q_t; Exudyn calls jacobian_in_place."""
         if t != self._t:
             self._load_history(mbs, t)
-        self._q[:] = q
-        self._q_t[:] = q_t
+        self._qb[:] = q
+        self._q_tb[:] = q_t
+        self._entry(1, self._qb, self._q_tb, fODE2, fODE2_t, self._dt, *self._tail)
+        return self.pk.J
+
+    def force_in_place(self, mbs, t, itemNumber, q, q_t):
+        """The force user function given to Exudyn: the lists q, q_t Exudyn passes are its Current
+        coordinates at the object's range, read here from the views when that range is one block
+        (tests/test_history_in_place.py checks they are equal)."""
+        if t != self._t:
+            self._load_history(mbs, t)
+        if self._lists:
+            self._q[:] = q
+            self._q_t[:] = q_t
+        self._entry(*self._force_args)
+        return self.pk.Q
+
+    def jacobian_in_place(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        """The Jacobian user function given to Exudyn (q, q_t as in force_in_place)."""
+        if t != self._t:
+            self._load_history(mbs, t)
+        if self._lists:
+            self._q[:] = q
+            self._q_t[:] = q_t
         self._entry(1, self._q, self._q_t, fODE2, fODE2_t, self._dt, *self._tail)
         return self.pk.J
 
-    def stage(self, mbs, t, q, q_t, data):
+    def stage(self, mbs, t):
         if t != self._t:
             self._load_history(mbs, t)
-        code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, data, self.ltg, self.ltgTotal, self._committed)
+        V = self._V
+        if self._lists:                       # the object's coordinates are not one range
+            q, q_t = V.q[self.ltgODE2], V.q_t[self.ltgODE2]
+        else:
+            q, q_t = self._q, self._q_t
+        code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, V.data, self.ltg, self.ltgTotal)
         if code == 1:                         # the last residual was not at the converged state
             self.recomputed += 1
             self._entry(2, q, q_t, 0.0, 0.0, self._dt, *self._tail)
             self.pk.X[0] = q                  # the candidate now belongs to this state
             self.pk.X[1] = q_t
-            code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, data, self.ltg, self.ltgTotal, self._committed)
+            code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, V.data, self.ltg, self.ltgTotal)
         if code == 0:
             self._committed_t = t
+            # the next call reloads (and checks the views), even at this time: a solve that
+            # continues from here may follow a re-assembly
+            self._t = None
         return code == 0
 
 
 def _commit(mbs, t, sets):
-    """Write the history candidates of the contact sets at the converged state of time t to the
-    Current data coordinates, with one read and one write of them for all sets. Returns False and
-    writes nothing when a set's step is unresolved."""
-    q = mbs.systemData.GetODE2Coordinates(configuration=_CUR)
-    q_t = mbs.systemData.GetODE2Coordinates_t(configuration=_CUR)
-    data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=_CUR), dtype=float)
+    """Write the history candidates of the contact sets at the converged state of time t into the
+    Current data coordinates (in place, through views of Exudyn's vector). Returns False when a
+    set's step is unresolved; sets staged before it have written into Current, which Exudyn
+    restores from StartOfStep when it rejects the step."""
     for cs in sets:
-        if cs.ltgODE2 is None:
-            cs._indices(mbs)
-        if not cs.stage(mbs, t, q[cs.ltgODE2], q_t[cs.ltgODE2], data):
+        if not cs.stage(mbs, t):
             return False
-    # a list: Exudyn converts it to its vector at ~40 ns per number, a numpy array at ~65 (issue 13)
-    mbs.systemData.SetDataCoordinates(data.tolist(), configuration=_CUR)
     return True
 
 
@@ -849,10 +949,11 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     nodes = slave.nodes + (master.nodes if master is not None else [])
     kw = {}
     if jacobian == "analytic" and (master is None or use_compiled):   # numpy route, moving master: Exudyn's
-        kw["jacobianUserFunction"] = cs.jacobian
+        kw["jacobianUserFunction"] = cs.jacobian_in_place if use_compiled else cs.jacobian
     # no mass matrix (the bodies have theirs): a dense zero n x n one would put (n)^2 zeros into a group's
     # sparse system matrix
-    oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=cs.force, **kw))
+    oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=cs.force_in_place
+                                               if use_compiled else cs.force, **kw))
     cs.locate(mbs, oContact)
     if _SETS_KEY not in mbs.variables:
         mbs.variables[_SETS_KEY] = []

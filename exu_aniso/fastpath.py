@@ -407,12 +407,12 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
 
 
 @njit(cache=True)
-def stage_candidate(X, q, q_t, Hn, data, ltg, ltg_total, kept):
+def stage_candidate(X, q, q_t, Hn, data, ltg, ltg_total):
     """Post-Newton commit of one contact set, compiled (numpy calls on arrays of a few numbers cost
     more than the work): if the state (q, q_t) of the last residual, X (2, n), is the converged
     state q, q_t, and no point's step is unresolved (status 3 in column 7), copy the candidate Hn
-    (K, 9) into the data coordinates at ltg (K * 9 indices) and kept, and its total dissipation
-    (column 5) into data[ltg_total]. Returns 0 (written), 1 (the last residual was at another
+    (K, 9) into the data coordinates at ltg (K * 9 indices; data: Exudyn's Current data vector,
+    a view) and its total dissipation [J] (column 5) into data[ltg_total]. Returns 0 (written), 1 (the last residual was at another
     state: evaluate the candidate afresh, nothing written) or -1 (unresolved, nothing written)."""
     for i in range(q.shape[0]):
         if X[0, i] != q[i] or X[1, i] != q_t[i]:
@@ -425,7 +425,6 @@ def stage_candidate(X, q, q_t, Hn, data, ltg, ltg_total, kept):
     for k in range(K):
         for j in range(9):
             data[ltg[9 * k + j]] = Hn[k, j]
-            kept[k, j] = Hn[k, j]
         total += Hn[k, 5]
     data[ltg_total] = total
     return 0

@@ -105,13 +105,14 @@ def _solve(model):
 
 
 def count_callbacks(M, contact, t_end, dt):
-    """(force callbacks, Jacobian callbacks, Newton iterations, steps) of one untimed run: the contact
-    classes' user functions wrapped with counters while the model is built."""
+    """(force callbacks, Jacobian callbacks, Newton iterations, steps) of one untimed run: the user
+    functions the contact classes give Exudyn (numpy route: force, jacobian; compiled: force_in_place,
+    jacobian_in_place) wrapped with counters while the model is built."""
     from exu_aniso import exudyn_glue
     counts = [0, 0]
-    saved = {}
-    for cls in (exudyn_glue._ContactSet, exudyn_glue._CompiledSet):
-        saved[cls] = (cls.__dict__.get("force"), cls.__dict__.get("jacobian"))
+    names = {exudyn_glue._ContactSet: ("force", "jacobian"),
+             exudyn_glue._CompiledSet: ("force_in_place", "jacobian_in_place")}
+    saved = {cls: tuple(cls.__dict__[n] for n in pair) for cls, pair in names.items()}
 
     def counted(f, i):
         def w(*a, **k):
@@ -119,19 +120,15 @@ def count_callbacks(M, contact, t_end, dt):
             return f(*a, **k)
         return w
     try:
-        for cls, (f, j) in saved.items():
-            if f is not None:
-                cls.force = counted(f, 0)
-            if j is not None:
-                cls.jacobian = counted(j, 1)
+        for cls, fns in saved.items():
+            for i, (name, f) in enumerate(zip(names[cls], fns)):
+                setattr(cls, name, counted(f, i))
         model = BuildCubes(M, contact, t_end, dt)
         _, steps, iters = _solve(model)
     finally:
-        for cls, (f, j) in saved.items():
-            if f is not None:
-                cls.force = f
-            if j is not None:
-                cls.jacobian = j
+        for cls, fns in saved.items():
+            for name, f in zip(names[cls], fns):
+                setattr(cls, name, f)
     return counts[0], counts[1], iters, steps
 
 

@@ -214,7 +214,7 @@ def force_call_rows(quick=False, repeats=5):
         t = cs._t
 
         def callback():
-            cs.force(mbs, t, 0, q, q_t)
+            cs.force_in_place(mbs, t, 0, q, q_t)     # the function Exudyn calls
 
         def entry():
             cs._entry(*cs._force_args)
