@@ -235,7 +235,7 @@ def warn_if_open(summary, what="run", advice=DEFAULT_ADVICE):
     to try, a phrase the scene chooses (it knows which solver settings suit it)."""
     if summary.get("energy_ok", True):
         return
-    bad = summary.get("energy_nonfinite")
+    bad = summary.get("energy_nonfinite") or summary.get("state_nonfinite")   # a term, else the state
     if bad is not None:
         where = f"at t = {bad['t']:.6g} s" if "t" in bad else f"at sample {bad['index']}"
         warnings.warn(f"energy ledger of this {what} cannot close: {bad['column']} is not finite {where} "

@@ -214,7 +214,7 @@ class _BodyKinematics:
 
 class _RigidGroup:
     """Several rigid bodies of one node type carrying the same body-local points (a group: one
-    contact set, one Exudyn object and one compiled call for all; issue 16). The set's coordinates
+    contact set, one Exudyn object and one compiled call for all). The set's coordinates
     are the nodes' one after the other, its points body by body (K = bodies x points). Composed of
     one _BodyKinematics per body: every point depends on its own body's coordinates only."""
 
@@ -965,7 +965,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
            "bodyPosition": cs.body_position}
-    if storeHistory:     # 9 numbers per point and step: only when asked for (issue 16)
+    if storeHistory:     # 9 numbers per point and step: only when asked for
         out["sHistory"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nData,
                                                    outputVariableType=exu.OutputVariableType.Coordinates,
                                                    storeInternal=True))

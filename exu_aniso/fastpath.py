@@ -13,7 +13,7 @@ Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): 0 `
 Linear slaves (``evaluate_linear``): every point linear in the coordinates, x = c + S q_total with
 a constant S (mass points: S = I; ANCF cables: Hermite shape functions), so Jp = S and dJp/dq = 0.
 A group (``evaluate_group``): the same points on several rigid nodes of one kind in one call, the
-Jacobian as its diagonal blocks (many parts on one surface: issue 16).
+Jacobian as its diagonal blocks (many parts on one surface).
 A moving master (``evaluate_pair``): the surface carried by a 3D rigid node (kind 2 or 3), any
 slave of the two functions above; the law at the slave point relative to the master, the reaction
 on the master, the Jacobian over both nodes' coordinates (``tests/test_moving_master_compiled.py``).
@@ -100,7 +100,7 @@ def _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt):
 
 
 # inlined (numba IR level): a call per point passed 10 arrays, and their reference counting cost more
-# than the point's kinematics (issue 13: 64 points, mode 0, 340 -> 252 ns per point; inlining the point
+# than the point's kinematics (64 points, mode 0, 340 -> 252 ns per point; inlining the point
 # law as well gave 228 ns but doubled the compile time of every kernel, 32 -> 55 s for block and screw)
 @njit(cache=True, inline="always")
 def _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):

@@ -4,7 +4,7 @@ numba and composed from the surface's chart (``geometry._core``), the adhesion a
 callers (the numpy reference) call the same compiled function, so both engines evaluate one
 definition.
 
-Symbols (papers' notation, SPEC section 7): x the slave point, (xi1, xi2) the convective coordinates
+Symbols (papers' notation): x the slave point, (xi1, xi2) the convective coordinates
 of its closest point C, xi3 the normal gap, rho_i, n, m_ij, h_ij, A_ij = m_ij - xi3 h_ij; T the
 tangential traction, N the normal traction (<= 0), B = -C adhesion (negative definite), F friction.
 Tensors and the traction are stored by their components in the orthonormal tangent frame
@@ -54,7 +54,7 @@ N_HISTORY = 9
 # central difference step of the surface quantities in xi, relative to the local length scale
 # (angles: in radians); the central stencil's error is ~ step^2 (truncation) + eps / step
 # (round-off), ~1e-10 relative: Newton needs no more (a fourth-order stencil, ~1e-12, cost twice the
-# surface-term evaluations, the larger part of a Jacobian call; issue 13)
+# surface-term evaluations, the larger part of a Jacobian call)
 XI_STEP = 1e-5
 
 
@@ -158,7 +158,7 @@ def _release(sp, netB, h, hn):
 
 
 # inlined into the set kernels (numba IR level): a call per point cost ~0.1 us of reference counting of
-# its array arguments and stack set-up (issue 13: K = 16 points, mode 0, 4.75 -> 3.41 us per call)
+# its array arguments and stack set-up (K = 16 points, mode 0, 4.75 -> 3.41 us per call)
 @njit(cache=True, inline="always")
 def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     """Force f (3), df/dx Kx (3, 3), df/dv Dv (3, 3) (when tangent) on the slave point at x with

@@ -1,6 +1,6 @@
 """Standalone numpy/scipy reference of the two scenes: rigid-body dynamics and an implicit integrator.
 
-No Exudyn here: this module is the oracle the Exudyn engine is compared with (SPEC section 4).
+No Exudyn here: this module is the oracle the Exudyn engine is compared with.
 
 Models (state = configuration + velocity; generalized coordinates in brackets)
 ----------------------------------------------------------------------------

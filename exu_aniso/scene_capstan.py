@@ -1,4 +1,4 @@
-"""The capstan scene (SPEC section 7: a rope over a drum at slip onset, Euler-Eytelwein): parameters,
+"""The capstan scene (a rope over a drum at slip onset, Euler-Eytelwein): parameters,
 CSV columns, summary, energy ledger and plot. No Exudyn here: the model is ``models/capstan.py``
 (``exu_aniso.models.capstan``: ``BuildCapstan``, ``RunCapstan``).
 

@@ -1,5 +1,5 @@
 """Feeder scene: parts conveyed on a vibrating track, the way linear vibratory feeders convey and
-orient parts (issue 16).
+orient parts.
 
 The track (the master surface, the plane z = 0 of a heavy plate) vibrates harmonically along the
 throw direction d = (cos(beta), 0, sin(beta)), beta = ``throw_angle`` from the track plane:
@@ -39,7 +39,7 @@ from .contact import ContactLaw
 from .fields import Adhesion, Friction
 from .geometry import Plane
 from .law import RETURN_MAPS
-from .scenes import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin, solver_advice
+from .scenes import ENERGY_COLUMNS, HEADING_V_ABS, SOLVERS, _energy, _ParamsMixin, solver_advice
 
 FEEDER_PARAMS = {
     "parts": (3, "-", "number of parts, in a row across the track", "int >= 1"),
@@ -329,7 +329,6 @@ def feeder_summary(traj, P, yaw, params, wall_s, steps, newton_iterations, extra
     of the whole system (the reference engine, which integrates every part on its own, counts per
     step the most any part took). transport_direction_deg is None when the transport is noise:
     |v| <= max(scenes.HEADING_V_ABS, TRANSPORT_V_REL x the largest speed of part 0 in the run)."""
-    from .scenes import HEADING_V_ABS
     p = params
     t = np.asarray(traj["t"], dtype=float)
     t0, t1 = measure_window(p, t)

@@ -1,5 +1,5 @@
 """Particle scene: a mass point on any surface of the protocol, under gravity, from an initial state
-(SPEC section 7: the textbook oracles of a point on curved surfaces).
+(the textbook oracles of a point on curved surfaces).
 
 Frame and geometry (the surface's frame; every length in m, angles of the parameter set in DEGREES)
 ------------------------------------------------------------------------------------------------

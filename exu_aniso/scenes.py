@@ -1,6 +1,6 @@
 """Scene parameter sets shared by every engine (numpy reference, Exudyn glue, CLI).
 
-Two scenes of the papers (SPEC section 3):
+Two scenes of the papers:
 
 * ``BlockParams``: a rigid cube on the plane z = 0 with (polar) orthotropic adhesion and friction
   about the origin, pressed down by ``normal_load`` and driven in the xy-plane;
@@ -669,7 +669,6 @@ def _energy(terms, traj, what, advice=energy.DEFAULT_ADVICE):
     traj.update({"energy_" + k: v for k, v in cols.items()})
     if state is not None:
         summary.update(energy_ok=False, state_nonfinite=state)
-        summary.setdefault("energy_nonfinite", state)
         summary["energy"]["residual"] = float("nan")
     energy.warn_if_open(summary, what, advice)
     return summary

@@ -1,4 +1,4 @@
-"""Block on a (polar-)orthotropic plane as an Exudyn model (SPEC section 3; paper 000, Fig. 1).
+"""Block on a (polar-)orthotropic plane as an Exudyn model (paper 000, Fig. 1).
 
 A rigid cube on the plane z = 0, pressed by ``normal_load`` and driven in the xy-plane, with the
 anisotropic contact of ``exu_aniso`` added by one ``mbs.CreateAnisotropicContact`` call. The models,

@@ -1,4 +1,4 @@
-"""Parts on a vibrating track (a linear vibratory feeder) as an Exudyn model (issue 16; the feeder
+"""Parts on a vibrating track (a linear vibratory feeder) as an Exudyn model (the feeder
 scene: read ``exu_aniso.scene_feeder``'s module docstring).
 
 The track is a plate (``mbs.CreateRigidBody``, Euler parameters) on a C++ Cartesian spring-damper

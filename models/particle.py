@@ -1,4 +1,4 @@
-"""A mass point on a surface of the protocol as an Exudyn model (SPEC section 7; the particle scene).
+"""A mass point on a surface of the protocol as an Exudyn model (the particle scene).
 
 The scene (surface, gravity, initial state, oracle cases) is ``exu_aniso.scene_particle`` (read its
 module docstring); the point is ``mbs.CreateMassPoint`` (``NodePoint``, 3 coordinates) with gravity

@@ -1,4 +1,4 @@
-"""Screw in a threaded hole (spiral orthotropy) as an Exudyn model (SPEC section 3; paper 001, Fig. 2).
+"""Screw in a threaded hole (spiral orthotropy) as an Exudyn model (paper 001, Fig. 2).
 
 A rigid cylindrical screw carrying ``rings`` x ``points_per_ring`` contact points on the radius
 ``radius + interference``, inside the hole (cylinder of radius ``radius``, axis z) whose adhesion

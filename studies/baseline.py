@@ -10,7 +10,7 @@ ours, the floor (empty callbacks) and the baseline in interleaved repeats in thi
 CPU time of the solve per step). Writes ``baseline.csv``, ``report.md`` and
 ``timing.json`` (default ``studies/results/baseline``, which git ignores) and prints the table.
 ``--quick``: 0.05 s instead of 0.2 s simulated, 3 repeats instead of 5. ``--targets``: only the
-speed targets of issue 13 (``studies/_lib/targets.py``: each scene against a cube on as many C++
+speed targets (``studies/_lib/targets.py``: each scene against a cube on as many C++
 springs at Exudyn's defaults), written to ``targets.csv``.
 """
 from __future__ import annotations

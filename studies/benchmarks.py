@@ -1,4 +1,4 @@
-"""Benchmark suite (issue 5, part 1): wall time per step and per simulated second, Newton
+"""Benchmark suite: wall time per step and per simulated second, Newton
 iterations per step and cost per contact-point evaluation of both scenes, across the number of
 contact points K, return map, model, Jacobian, solver and implementation (Exudyn, the numpy
 reference, later the fast path); the cost of the contact law itself per point; and our step cost
@@ -309,13 +309,13 @@ def main(argv=None):
     bres = sweep(baseline.ratio_case, bcases, args)
     table(os.path.join(args.out, "baseline.csv"), BASE_COLUMNS, baseline.table_rows(bres))
 
-    # 4. the speed targets of issue 13: each scene against a cube on as many C++ springs (studies/_lib/targets.py)
+    # 4. the speed targets: each scene against a cube on as many C++ springs (studies/_lib/targets.py)
     tres = targets.target_rows(args.quick, reps)
     table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS, targets.target_table_rows(tres))
     fres = targets.force_call_rows(args.quick, reps)
     table(os.path.join(args.out, "force_call.csv"), targets.FORCE_CALL_COLUMNS, targets.force_call_table_rows(fres))
 
-    # 5. scale with the model (issue 16): M cubes, one set each or one group, against C++ springs; peak memory
+    # 5. scale with the model: M cubes, one set each or one group, against C++ springs; peak memory
     sres = scale.scale_rows(args.quick, reps)
     table(os.path.join(args.out, "scale.csv"), scale.SCALE_COLUMNS, scale.scale_table_rows(sres))
     mres = scale.memory_rows(args.quick)
@@ -429,7 +429,7 @@ the screw's torque load (0.02 N m) keeps it sticking, where our law is the basel
 
 {markdown_table(["scene", "model", "drive", "contact", "K", "ours ms/step", "C++ ms/step", "ours/C++", "Newton/step ours",
                  "Newton/step C++", "ours/C++ per Newton it."], base_rows)}
-### Speed targets (issue 13)
+### Speed targets
 
 {targets.markdown(tres, reps)}
 ### One force call of a contact set
@@ -441,7 +441,7 @@ kernel), median of {reps} repeats. Fit: compiled call = {fres[0]['entry_fixed_us
 
 {markdown_table(["points", "K", "in contact", "callback us", "compiled call us"],
                 [[r["points"], r["K"], r["in_contact"], r["callback_us"], r["entry_us"]] for r in fres])}
-### Scale with the model (issue 16)
+### Scale with the model
 
 {scale.scale_markdown(sres, reps)}
 Peak resident memory of a fresh process that builds one group and solves it (`memory.csv`); the

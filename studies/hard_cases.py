@@ -1,4 +1,4 @@
-"""Hard cases (SPEC section 6, issue 6 part 1): what happens, whether the solver converges, the error.
+"""Hard cases: what happens, whether the solver converges, the error.
 
     python studies/hard_cases.py [--quick] [--serial] [--out DIR]
 
@@ -37,7 +37,7 @@ from exu_aniso.scenes import BlockParams, ScrewParams, block_energy, screw_energ
 
 NAME = "hard_cases"
 SEED_KNOWN = ("seed map: its sliding direction depends on the step (power iteration towards the dominant "
-              "eigen-direction of C F, SPEC section 2), so its path differs from the exact map's")
+              "eigen-direction of C F), so its path differs from the exact map's")
 OBLIQUE = dict(adhesion="cartesian", eps_1=1e5, eps_2=1e3, friction="cartesian", mu_1=0.2, mu_2=0.6,
                drive_angle=45.0, adhesion_angle=30.0, friction_angle=0.0)
 
@@ -107,7 +107,7 @@ for m in ("exact", "radial"):
 case("large_step_50x_seed", scene="block", map="seed", params=dict(dt=5e-2, return_map="seed"), t_end=2.0,
      t_quick=1.0, err_tol=0.5, energy_tol=1e-3,
      note="seed map at dt = 5e-2 s: Exudyn cuts the step (~300 reductions), the ledger still closes because the "
-          "dissipation is the trapezoid of what the map removes (issue 11.5)")
+          "dissipation is the trapezoid of what the map removes")
 for m in ("seed", "exact", "radial"):
     case(f"vanishing_normal_{m}", scene="free", map=m,
          params=dict(normal_load=1e-9, drive="force", force=0.5, return_map=m, adhesion="cartesian",
@@ -433,7 +433,7 @@ KEYS = [c.split(" [")[0] for c in COLUMNS]
 
 
 # ----------------------------------------------------------------------------------------------
-# stability of the full screw (issue 11.1)
+# stability of the full screw
 
 STABILITY_DOC = """Why the full screw flutters without damping: its lateral (radial and tilt) motion in the
 hole is a stiff contact mode (k_lat = eps_n / 2 = 5e6 N/m for a ring of points, m = 0.01 kg, 3.6

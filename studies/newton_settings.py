@@ -1,4 +1,4 @@
-"""Newton settings, work against precision (issue 13): which of Exudyn's Newton settings gives the
+"""Newton settings, work against precision: which of Exudyn's Newton settings gives the
 accuracy a scene needs at the least cost.
 
     python studies/newton_settings.py [--quick] [--repeats N] [--out DIR]

@@ -1,4 +1,4 @@
-"""Peers side by side: our Exudyn models against MuJoCo on two cases (issue 5, part 5).
+"""Peers side by side: our Exudyn models against MuJoCo on two cases.
 
     python studies/peers.py [--quick] [--repeats N] [--out DIR]
 

@@ -1,4 +1,4 @@
-"""Work-precision diagrams (issue 5, part 2): error against CPU time, log-log, for both scenes.
+"""Work-precision diagrams: error against CPU time, log-log, for both scenes.
 
     python studies/work_precision.py [--quick] [--repeats N] [--out DIR]
 

@@ -80,7 +80,7 @@ def test_benchmark_timings_positive_and_finite(bench_out):
     C = read_table(bench_out / "force_call.csv")
     assert C["K [-]"] == [1.0, 4.0, 16.0, 64.0] and C["in_contact [-]"] == C["K [-]"]
     assert _positive_finite(C["callback [us]"]) and _positive_finite(C["entry [us]"])
-    # scale (issue 16): every (M, variant) measured; a group calls Exudyn's force callback once per
+    # scale: every (M, variant) measured; a group calls Exudyn's force callback once per
     # residual (M per residual for one set per body: counted, not assumed); memory of fresh processes
     S = read_table(bench_out / "scale.csv")
     assert sorted(set(S["contact [-]"])) == ["empty", "group", "sets", "springs"]

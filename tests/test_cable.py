@@ -1,4 +1,4 @@
-"""ANCF cables as contact slaves (issue 12, item 5): ObjectANCFCable2D and ObjectANCFCable through
+"""ANCF cables as contact slaves: ObjectANCFCable2D and ObjectANCFCable through
 mbs.CreateAnisotropicContact(bodyNumber=<element or list of elements>, localPoints=[[x, 0, 0], ...]).
 
 Oracles:

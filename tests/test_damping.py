@@ -1,4 +1,4 @@
-"""Contact damping in the scenes and in CreateAnisotropicContact; the full screw's flutter (issue 11.1).
+"""Contact damping in the scenes and in CreateAnisotropicContact; the full screw's flutter.
 
 Oracles: the full screw equals the reduced model (closed-form-checked elsewhere) within 1 % over
 2 s; without damping, at a step that resolves its lateral mode, it leaves the axis exponentially;
@@ -58,7 +58,7 @@ def test_reduced_screw_does_not_feel_normal_damping():
 
 @pytest.mark.parametrize("return_map", ["exact", "radial"])
 def test_full_screw_equals_reduced_over_two_seconds(return_map):
-    """Issue 11.1: with the default damping the full 6-DOF screw stays centred and agrees with the
+    """With the default damping the full 6-DOF screw stays centred and agrees with the
     reduced model within 1 % (measured: 2e-15 exact, 6e-15 radial in torque_mean). On e71b2f3
     (no damping) the exact map's full screw reported torque_mean 163 N m against 0.1016."""
     full = RunScrew(ScrewParams(t_end=2.0, return_map=return_map, model="full"))

@@ -1,4 +1,4 @@
-"""The energy ledger (exu_aniso.energy, issue 11) and the defects it exposed.
+"""The energy ledger (exu_aniso.energy) and the defects it exposed.
 
 Oracles: exact discrete balance for a conservative law (constant B, trapezoidal rule), parity of
 the ledgers of the two engines, the friction torque's work equal to the dissipation in steady
@@ -59,7 +59,7 @@ def test_ledgers_of_both_engines_agree(scene):
 
 
 def test_fast_turning_creates_no_energy():
-    """Issue 11.2: a torque-driven screw spinning up to > 1e5 rad/s moves its points by more than half
+    """A torque-driven screw spinning up to > 1e5 rad/s moves its points by more than half
     a turn per step. On 41dc77a's parent the wrapped angle increment made omega_end 2.7e5 rad/s with
     kinetic + dissipated 24 % above the drive's work; now both engines agree with the ledger closed
     and the spin-up follows the drive minus the sliding friction torque."""
@@ -77,7 +77,7 @@ def test_fast_turning_creates_no_energy():
 
 
 def test_fast_turning_small_step_is_refined_not_wrong():
-    """Issue 11.2, second command of the issue: torque 0.2, dt 1e-4, 0.05 s. The steps whose motion
+    """Torque 0.2, dt 1e-4, 0.05 s. The steps whose motion
     cannot be resolved are repeated smaller; the ledger stays closed."""
     p = ScrewParams(drive="torque", torque=0.2, dt=1e-4, t_end=0.05, return_map="exact")
     res = RunScrew(p)
@@ -87,7 +87,7 @@ def test_fast_turning_small_step_is_refined_not_wrong():
 
 @pytest.mark.parametrize("return_map", ["exact", "radial"])
 def test_dissipation_equals_friction_torque_work_in_steady_sliding(return_map):
-    """Issue 11.4: slip and force at the same point. In steady sliding (rotation drive, second half
+    """Slip and force at the same point. In steady sliding (rotation drive, second half
     of the run) the friction dissipation equals the work of the contact torque about the axis,
     sum (R+delta) e_phi . f over the points; on e71b2f3 they differed by delta/(R+delta) = 0.2 %."""
     p = ScrewParams(t_end=1.0, return_map=return_map)

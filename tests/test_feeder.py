@@ -1,4 +1,4 @@
-"""The feeder scene (issue 16): parts conveyed on a vibrating track.
+"""The feeder scene: parts conveyed on a vibrating track.
 
 Oracles:
 * ``oracles.conveying_velocity`` (the 1D stick-slip analysis of vibratory conveying, in closed

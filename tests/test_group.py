@@ -1,5 +1,5 @@
 """A group: one contact set over several rigid bodies (bodyNumber = a list of them, the same local
-points on each), one Exudyn object and one compiled call (issue 16).
+points on each), one Exudyn object and one compiled call.
 
 Oracles: a group is the same model as one contact set per body, so every run is held equal to the
 separate sets (coordinates and histories to round-off, Newton iterations) on every rigid node

@@ -1,4 +1,4 @@
-"""Hard cases (SPEC section 6) and solver failures inside Exudyn.
+"""Hard cases and solver failures inside Exudyn.
 
 Part 1: every case of ``studies/hard_cases.py`` either converges within its own tolerance (error
 against the same case at dt/8, energy balance residual) or fails with its clear message; none is
@@ -166,7 +166,7 @@ def test_hard_case_converges_within_tolerance_or_fails_clearly(name):
 
 
 def test_seed_large_step_dissipation_closes_the_balance():
-    """Issue 11.5: the seed map at 50x the default step jumps its traction every step and Exudyn cuts
+    """The seed map at 50x the default step jumps its traction every step and Exudyn cuts
     the step many times; the dissipation (trapezoid of T over the slip the map removes) still closes
     work = kinetic + stored + dissipated. Before the fix it missed 50-90 % of the drive work
     (residual > 0.5 on e71b2f3); measured 2.4e-5 after it."""

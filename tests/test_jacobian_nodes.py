@@ -1,4 +1,4 @@
-"""Analytic contact Jacobians of every supported node type (issue 11, item 3).
+"""Analytic contact Jacobians of every supported node type.
 
 1. Finite differences: for every slave node type (NodeRigidBody2D, screw-joint NodeGenericODE2,
    NodeRigidBodyRotVecLG, NodeRigidBodyEP), both routes (numpy glue, compiled kernel), every return

@@ -1,4 +1,4 @@
-"""Exudyn engine against the numpy reference over the scene options (issue 11.6).
+"""Exudyn engine against the numpy reference over the scene options.
 
 Every option of both scenes: block planar and full, each return map, force and displacement
 drive; reduced screw with torque, rotation and axial drive, axial_load 0, +0.5 and -0.5 N, each

@@ -1,4 +1,4 @@
-"""Undefined summary values are null with a reason (issue 11.7).
+"""Undefined summary values are null with a reason.
 
 Old code: a stuck screw reported advance_per_rev = NaN (written as the invalid JSON token NaN) or,
 when it only vibrated elastically, the slope of that vibration as an "advance"; a block at rest

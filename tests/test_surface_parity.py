@@ -1,4 +1,4 @@
-"""Checks on every surface of the protocol through the particle scene (issue 12, item 7): a mass
+"""Checks on every surface of the protocol through the particle scene: a mass
 point on Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution and ParametricSurface, inside and
 outside.
 

@@ -1,5 +1,5 @@
 """C++ baseline: the block and screw scenes with Exudyn's built-in linear spring-dampers in place of
-the anisotropic contact, same bodies, drives, sensors, solver and step (issue 5, part 3).
+the anisotropic contact, same bodies, drives, sensors, solver and step.
 
 Used by ``studies/benchmarks.py`` (its ``baseline.csv``) and ``studies/baseline.py`` (the ratio
 table alone: ``python studies/baseline.py [--quick] [--repeats 5] [--implementation numpy]``).
@@ -113,7 +113,7 @@ def apply_settings(model, settings):
     exu.SimulationSettings()'s Newton settings), "jacobian_per_step" (Exudyn's, with the modified
     Newton's Jacobian computed afresh at every step: modifiedNewtonJacUpdatePerStep),
     "full_newton_1e-8" (full Newton at Exudyn's tolerances) or "full_newton_1e-10" (full Newton at
-    the package's tolerance: the package's setting before issue 13's study)."""
+    the package's tolerance: the package's setting before the Newton-settings study)."""
     if settings == "package":
         return model
     if settings not in NEWTON_SETTINGS:

@@ -1,4 +1,4 @@
-"""Scale with the model (issue 16): M cubes sliding on a plane, each on its 4 corners (the block's
+"""Scale with the model: M cubes sliding on a plane, each on its 4 corners (the block's
 law with the exact map), pushed by constant C++ forces that differ from cube to cube, so every cube
 slides its own way.
 

@@ -1,4 +1,4 @@
-"""The speed targets of issue 13: each scene users run, at the package's settings, against one
+"""The speed targets: each scene users run, at the package's settings, against one
 yardstick with no Python in it: a rigid cube on as many Exudyn C++ spring-dampers as the scene has
 contact points, at Exudyn's default solver settings (``studies/benchmarks.py`` section "Targets";
 ``python studies/baseline.py --targets`` prints them alone).
