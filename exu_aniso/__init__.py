@@ -18,8 +18,11 @@ except ImportError:
     _exudyn = None
 if _exudyn is not None:
     from . import mainsystem as _mainsystem   # binds mbs.CreateAnisotropicContact (extension registry)
+    from .solver_settings import RecommendedSimulationSettings
 
 __version__ = "0.1.0"
 __all__ = ["Adhesion", "Friction", "TensorField", "Plane", "Cylinder", "Cone", "Sphere", "Torus", "Helicoid",
            "SurfaceOfRevolution", "ParametricSurface", "ContactLaw", "ContactState",
            "HISTORY_FIELDS", "OPEN", "STICK", "SLIP", "RETURN_MAPS", "return_map_point", "return_map_batch"]
+if _exudyn is not None:
+    __all__.append("RecommendedSimulationSettings")

@@ -83,29 +83,19 @@ def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None,
     floor MIN_STEP_FRACTION of the nominal step, sensors every step, no solution
     file, silent. p.solver "trapezoidal" -> TrapezoidalIndex2 (Newmark beta 1/4, gamma 1/2, as the
     reference); "generalized_alpha" -> GeneralizedAlpha with spectralRadius = rhoInf (reference
-    rho_inf). solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check)."""
+    rho_inf). solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check).
+    Built by exu_aniso.solver_settings.RecommendedSimulationSettings (the one definition)."""
     rhoInf = check_in_range("rhoInf", rhoInf, 0.0, 1.0)
     newtonTolerance = check_positive("newtonTolerance", newtonTolerance)
     if newton not in NEWTON_MODES:
         raise ValueError(f"newton must be one of {NEWTON_MODES}; got {newton!r}")
     if solverType is not None:
         check_instance("solverType", solverType, exu.DynamicSolverType, "exudyn.DynamicSolverType")
-    ss = exu.SimulationSettings()
-    ti = ss.timeIntegration
-    ti.numberOfSteps = step_count(p)
-    ti.endTime = p.t_end
-    ti.minimumStepSize = MIN_STEP_FRACTION * p.t_end / ti.numberOfSteps
-    ti.verboseMode = 0
-    ti.newton.useModifiedNewton = newton == "modified"
-    ti.newton.modifiedNewtonContractivity = NEWTON_CONTRACTIVITY
-    ti.newton.relativeTolerance = newtonTolerance
-    ti.newton.absoluteTolerance = newtonTolerance
-    ti.generalizedAlpha.spectralRadius = rhoInf
-    ss.solution.file.write = False
-    ss.solution.sensors.writePeriod = 0          # every step
-    if solverType is None:
-        solverType = SOLVER_TYPES[p.solver]
-    return ss, solverType
+    # one definition: the package's recommended settings for any model (exu_aniso.solver_settings)
+    from exu_aniso.solver_settings import RecommendedSimulationSettings
+    return RecommendedSimulationSettings(p.t_end, p.dt, newton=newton, newtonTolerance=newtonTolerance,
+                                         spectralRadius=rhoInf,
+                                         solver=p.solver if solverType is None else solverType)
 
 
 def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
