@@ -85,6 +85,12 @@ def point_law(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
     raise NotImplementedError("point_law is resolved at compile time")
 
 
+def point_force(law, x, v, h, dt, f, hn, S):
+    """point_law without derivatives (f and hn only), inlined into the force loops; resolved at
+    compile time like point_law."""
+    raise NotImplementedError("point_force is resolved at compile time")
+
+
 # --- the slave node's kinematics, shared by evaluate_set (ground master) and evaluate_pair -------
 
 @njit(cache=True)
@@ -240,6 +246,78 @@ def _keep_candidate(st, mode, hn, Hn, k):
 
 
 @njit(cache=True)
+def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
+    """evaluate_set without derivatives (modes 0 and 2): the points' positions and velocities
+    from the node's frame, computed once per call, and the generalized force summed without a
+    per-point Jacobian: the force on the translation coordinates and, for a 3D node, the local
+    moment m = sum b x A^T f, mapped once by Q_rot = G^T m (= sum Jp_rot^T f, Jp_rot = -A [b]x G);
+    for a planar node the moment about the rotation axis."""
+    nq = q.shape[0]
+    K = b.shape[0]
+    A, G = S[9, :3, :3], S[10, :3, :4]
+    qt, x, v, f, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
+    _node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
+    planar = kind <= 1
+    r = 2 if kind == 0 else 0                        # rotation coordinate of a planar node
+    c = s = w = 0.0
+    w0 = w1 = w2 = 0.0
+    if planar:
+        c, s, w = math.cos(qt[r]), math.sin(qt[r]), q_t[r]
+    else:                                            # omega_local = G q_t_rot
+        for j in range(nq - 3):
+            w0 += G[0, j] * q_t[3 + j]
+            w1 += G[1, j] * q_t[3 + j]
+            w2 += G[2, j] * q_t[3 + j]
+    F0 = F1 = F2 = M0 = M1 = M2 = 0.0
+    ncontact = 0
+    unresolved = False
+    for k in range(K):
+        bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
+        if planar:
+            ax, ay = c * bx - s * by, s * bx + c * by
+            if kind == 0:
+                x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
+                v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
+            else:
+                x[0], x[1], x[2] = ax, ay, bz + qt[1]
+                v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
+        else:
+            u0, u1, u2 = w1 * bz - w2 * by, w2 * bx - w0 * bz, w0 * by - w1 * bx
+            for i in range(3):
+                x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
+                v[i] = q_t[i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
+        st = point_force(law, x, v, H[k], dt, f, hn, S)
+        for i in range(9):
+            Hn[k, i] = hn[i]
+        ncontact += st > 0
+        unresolved |= st == 3
+        if mode == 2 or st == 0:
+            continue
+        F0 += f[0]
+        F1 += f[1]
+        F2 += f[2]
+        if planar:
+            M2 += ax * f[1] - ay * f[0]
+        else:
+            g0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]      # A^T f
+            g1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
+            g2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
+            M0 += by * g2 - bz * g1
+            M1 += bz * g0 - bx * g2
+            M2 += bx * g1 - by * g0
+    if mode == 0:
+        if kind == 0:
+            Q[0], Q[1], Q[2] = F0, F1, M2
+        elif kind == 1:
+            Q[0], Q[1] = M2, F2
+        else:
+            Q[0], Q[1], Q[2] = F0, F1, F2
+            for j in range(nq - 3):
+                Q[3 + j] = G[0, j] * M0 + G[1, j] * M1 + G[2, j] * M2
+    return -1 if unresolved else ncontact
+
+
+@njit(cache=True)
 def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
     reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
@@ -253,6 +331,8 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     mode 2: Hn (K, 9) = history candidate (mode 0 writes it too: the post-Newton commit takes it
             from the last residual, evaluated at the converged state). Returns the number of points
             in contact, or -1 when a point's motion in the step is unresolved (status 3)."""
+    if mode != 1:
+        return _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S)
     nq = q.shape[0]
     K = b.shape[0]
     # scratch views of S (slots 0-8 belong to contact_point)
@@ -271,24 +351,14 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     # dx/dq: Jp except for Euler parameters (rows 6-8 of slot 17; see exudyn_glue._PointTangent)
     Jx = S[17, 6:9, :nq] if kind == 3 else Jp
     c0, nc = _rotation_columns(kind, nq)
-    if mode == 0:
-        for i in range(nq):
-            Q[i] = 0.0
     ncontact = 0
     unresolved = False
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
         _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
         st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        touching, stuck_step = _keep_candidate(st, mode, hn, Hn, k)
-        ncontact += touching
-        unresolved |= stuck_step
-        if mode == 2:
-            continue
-        if mode == 0:
-            for j in range(nq):
-                Q[j] += Jp[0, j] * f[0] + Jp[1, j] * f[1] + Jp[2, j] * f[2]
-            continue
+        ncontact += st > 0
+        unresolved |= st == 3
         if st == 0:
             continue
         # Kq += Jp^T Kx Jx, Dq += Jp^T Dv Jp

@@ -107,8 +107,10 @@ def _quad(s11, s12, s22, x1, x2):
 
 
 @njit(cache=True)
-def _radial(t1, t2, N, f11, f12, f22, dT):
+def _radial(t1, t2, N, f11, f12, f22, dT, tangent):
     s = math.sqrt(_quad(f11, f12, f22, t1, t2))
+    if not tangent:
+        return N * t1 / s, N * t2 / s, 0.0
     g1, g2 = f11 * t1 + f12 * t2, f12 * t1 + f22 * t2
     a = N / s
     s2 = s * s
@@ -124,12 +126,14 @@ def _radial(t1, t2, N, f11, f12, f22, dT):
 
 
 @njit(cache=True)
-def _seed(t1, t2, N, b11, b12, b22, f11, f12, f22, dT):
+def _seed(t1, t2, N, b11, b12, b22, f11, f12, f22, dT, tangent):
     u1, u2 = f11 * t1 + f12 * t2, f12 * t1 + f22 * t2          # F T_tr
     h1, h2 = b11 * u1 + b12 * u2, b12 * u1 + b22 * u2          # T_hat = B F T_tr
     s = math.sqrt(_quad(f11, f12, f22, h1, h2))
     g1, g2 = f11 * h1 + f12 * h2, f12 * h1 + f22 * h2          # F T_hat
     a = -N / s
+    if not tangent:
+        return a * h1, a * h2, 0.0
     s2 = s * s
     # dT for a perturbation d of T_hat: a (d - h (g.d)/s^2)
     BF = (b11 * f11 + b12 * f12, b11 * f12 + b12 * f22, b12 * f11 + b22 * f12, b12 * f12 + b22 * f22)
@@ -155,7 +159,7 @@ def _seed(t1, t2, N, b11, b12, b22, f11, f12, f22, dT):
 
 
 @njit(cache=True)
-def _exact(t1, t2, N, b11, b12, b22, f11, f12, f22, dT):
+def _exact(t1, t2, N, b11, b12, b22, f11, f12, f22, dT, tangent):
     c11, c12, c22 = -b11, -b12, -b22
     a11, a12 = c11 * f11 + c12 * f12, c11 * f12 + c12 * f22          # A = C F
     a21, a22 = c12 * f11 + c22 * f12, c12 * f12 + c22 * f22
@@ -197,6 +201,8 @@ def _exact(t1, t2, N, b11, b12, b22, f11, f12, f22, dT):
     m11, m12, m21, m22 = 1.0 + kappa * a11, kappa * a12, kappa * a21, 1.0 + kappa * a22
     dm = m11 * m22 - m12 * m21
     T1, T2 = (m22 * t1 - m12 * t2) / dm, (-m21 * t1 + m11 * t2) / dm
+    if not tangent:
+        return T1, T2, kappa
     u1, u2 = f11 * T1 + f12 * T2, f12 * T1 + f22 * T2              # F T
     w1, w2 = (m22 * u1 - m21 * u2) / dm, (-m12 * u1 + m11 * u2) / dm  # M^-T F T
     AT1, AT2 = a11 * T1 + a12 * T2, a21 * T1 + a22 * T2
@@ -226,18 +232,21 @@ def _exact(t1, t2, N, b11, b12, b22, f11, f12, f22, dT):
 
 
 @njit(cache=True)
-def return_map(method, t1, t2, N, B, F, dT):
+def return_map(method, t1, t2, N, B, F, dT, tangent):
     """Return map at one point, the one definition of the three maps. method: MAP_CODES value;
     (t1, t2) trial traction T_tr, N = |N| >= 0, B = (b11, b12, b22), F = (f11, f12, f22). Returns
     (T1, T2, state STICK | SLIP, slip1, slip2, dissipation, kappa, phi_trial) and fills dT (2, 9) =
-    dT/dp. No input checks (callers pass validated fields; return_map_point checks)."""
-    for a in range(2):
-        for j in range(9):
-            dT[a, j] = 0.0
+    dT/dp when tangent (else dT is left as it is: a force-only call does no derivative work). No
+    input checks (callers pass validated fields; return_map_point checks)."""
+    if tangent:
+        for a in range(2):
+            for j in range(9):
+                dT[a, j] = 0.0
     phi = math.sqrt(max(_quad(F[0], F[1], F[2], t1, t2), 0.0)) - N
     if phi <= 0.0:
-        dT[0, 0] = 1.0
-        dT[1, 1] = 1.0
+        if tangent:
+            dT[0, 0] = 1.0
+            dT[1, 1] = 1.0
         return t1, t2, STICK, 0.0, 0.0, 0.0, 0.0, phi
     if N == 0.0:                      # sliding without load: T = 0, dT/d|N| = limit direction
         T1, T2, kappa = 0.0, 0.0, 0.0
@@ -253,14 +262,14 @@ def return_map(method, t1, t2, N, B, F, dT):
             df = F[0] * F[2] - F[1] * F[1]
             d1, d2 = (F[2] * v1 - F[1] * v2) / df, (-F[1] * v1 + F[0] * v2) / df
         s = math.sqrt(_quad(F[0], F[1], F[2], d1, d2))
-        if s > 0.0:
+        if s > 0.0 and tangent:
             dT[0, 2], dT[1, 2] = d1 / s, d2 / s
     elif method == 2:
-        T1, T2, kappa = _radial(t1, t2, N, F[0], F[1], F[2], dT)
+        T1, T2, kappa = _radial(t1, t2, N, F[0], F[1], F[2], dT, tangent)
     elif method == 0:
-        T1, T2, kappa = _seed(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2], dT)
+        T1, T2, kappa = _seed(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2], dT, tangent)
     else:
-        T1, T2, kappa = _exact(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2], dT)
+        T1, T2, kappa = _exact(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2], dT, tangent)
     c11, c12, c22 = -B[0], -B[1], -B[2]
     det = c11 * c22 - c12 * c12
     d1, d2 = T1 - t1, T2 - t2
@@ -274,7 +283,7 @@ def _return_map_many(method, T_tr, N, B, F, tangent, T, dT, state, slip, D, kapp
     """return_map for K points into the output arrays (dT only when tangent)."""
     d = np.zeros((2, N_PARAMS))
     for k in range(T_tr.shape[0]):
-        r = return_map(method, T_tr[k, 0], T_tr[k, 1], N[k], B[k], F[k], d)
+        r = return_map(method, T_tr[k, 0], T_tr[k, 1], N[k], B[k], F[k], d, tangent)
         T[k, 0], T[k, 1], state[k], slip[k, 0], slip[k, 1], D[k], kappa[k], phi[k] = r
         if tangent:
             dT[k] = d

@@ -1,16 +1,17 @@
 """Tensor fields on any surface of the protocol (exu_aniso.geometry): principal values and the
 direction of principal axis 1 as functions of the surface point, relative to the coordinate lines.
 
-A field is a namedtuple of parameters; its compiled function ``principal(f, xi1, xi2, r, r1, r2)``
-takes the surface coordinates of the contact point C and the local chart data there (rho, rho_1,
-rho_2 in the surface's local frame) and returns ``(lambda_1, lambda_2, c, s)``: the principal values of the positive tensor (C = -B for
+A field is a namedtuple of parameters; its compiled function ``principal(f, xi1, xi2, r, r1, r2, a1,
+a2)`` takes the surface coordinates of the contact point C, the local chart data there (rho, rho_1,
+rho_2 in the surface's local frame) and the tangent frame (a_1, a_2) below, which the caller has
+computed once for both fields, and returns ``(lambda_1, lambda_2, c, s)``: the principal values of the positive tensor (C = -B for
 adhesion, F for friction) and the direction e_1 = c a_1 + s a_2 in the orthonormal tangent frame
 of C,
 
     a_1 = rho_1 / |rho_1|,  a_2 = nu x a_1,  nu = rho_1 x rho_2 / |rho_1 x rho_2|
 
 (a_2 lies on the side of rho_2, whatever side of the surface the slave is on). Components in that
-frame: ``physical(f, xi1, xi2, r, r1, r2) = (p11, p12, p22)``. Registry dispatch by the parameter type, as for
+frame: ``physical(f, xi1, xi2, r, r1, r2, a1, a2) = (p11, p12, p22)``. Registry dispatch by the parameter type, as for
 the surfaces (``geometry._core``).
 
 Fields:
@@ -55,16 +56,16 @@ def register(params_type, principal):
     _PRINCIPAL[params_type] = principal
 
 
-def principal(f, xi1, xi2, r, r1, r2):
-    """(lambda_1, lambda_2, c, s) of field f at the chart point xi with chart data (r, r1, r2);
-    dispatch by type."""
-    return _PRINCIPAL[type(f)](f, xi1, xi2, r, r1, r2)
+def principal(f, xi1, xi2, r, r1, r2, a1, a2):
+    """(lambda_1, lambda_2, c, s) of field f at the chart point xi with chart data (r, r1, r2) and
+    the tangent frame (a1, a2) there; dispatch by type."""
+    return _PRINCIPAL[type(f)](f, xi1, xi2, r, r1, r2, a1, a2)
 
 
 @overload(principal)
-def _principal(f, xi1, xi2, r, r1, r2):
+def _principal(f, xi1, xi2, r, r1, r2, a1, a2):
     fn = _PRINCIPAL[f.instance_class]
-    return lambda f, xi1, xi2, r, r1, r2: fn(f, xi1, xi2, r, r1, r2)
+    return lambda f, xi1, xi2, r, r1, r2, a1, a2: fn(f, xi1, xi2, r, r1, r2, a1, a2)
 
 
 @njit(cache=True)
@@ -79,17 +80,17 @@ def tangent_frame(r1, r2):
 
 
 @njit(cache=True)
-def _isotropic(f, xi1, xi2, r, r1, r2):
+def _isotropic(f, xi1, xi2, r, r1, r2, a1, a2):
     return f.l1, f.l2, 1.0, 0.0
 
 
 @njit(cache=True)
-def _orthotropic(f, xi1, xi2, r, r1, r2):
+def _orthotropic(f, xi1, xi2, r, r1, r2, a1, a2):
     return f.l1, f.l2, math.cos(f.angle), math.sin(f.angle)
 
 
 @njit(cache=True)
-def _polar(f, xi1, xi2, r, r1, r2):
+def _polar(f, xi1, xi2, r, r1, r2, a1, a2):
     rho2 = r[0] * r[0] + r[1] * r[1]
     d = rho2 + f.rc2
     if not d > 0.0:
@@ -102,24 +103,22 @@ def _polar(f, xi1, xi2, r, r1, r2):
     lp = f.l2 + wd * (0.5 * f.rc2)
     if rho2 == 0.0:
         return lr, lp, 1.0, 0.0
-    a1, a2, nu = tangent_frame(r1, r2)
     irh = 1.0 / math.sqrt(rho2)
     er = (r[0] * irh, r[1] * irh, 0.0)
     return lr, lp, dot(er, a1), dot(er, a2)
 
 
 @njit(cache=True)
-def _spiral(f, xi1, xi2, r, r1, r2):
+def _spiral(f, xi1, xi2, r, r1, r2, a1, a2):
     k = f.lead / (2.0 * math.pi)
     w = (r1[0] + k * r2[0], r1[1] + k * r2[1], r1[2] + k * r2[2])
-    a1, a2, nu = tangent_frame(r1, r2)
     c, s = dot(w, a1), dot(w, a2)
     inw = 1.0 / math.sqrt(c * c + s * s)
     return f.l1, f.l2, c * inw, s * inw
 
 
 @njit(cache=True)
-def _user(f, xi1, xi2, r, r1, r2):
+def _user(f, xi1, xi2, r, r1, r2, a1, a2):
     v1, v2, angle = f.function(xi1, xi2)
     if not (v1 > 0.0 and v2 > 0.0 and v1 < math.inf and v2 < math.inf and abs(angle) < math.inf):
         raise ValueError("user field: function(xi1, xi2) must return (value_1, value_2, angle) with finite "
@@ -138,9 +137,9 @@ register(SpiralNet, _spiral)
 
 
 @njit(cache=True)
-def physical(f, xi1, xi2, r, r1, r2):
+def physical(f, xi1, xi2, r, r1, r2, a1, a2):
     """Components (p11, p12, p22) of the positive tensor in the frame (a_1, a_2)."""
-    l1, l2, c, s = principal(f, xi1, xi2, r, r1, r2)
+    l1, l2, c, s = principal(f, xi1, xi2, r, r1, r2, a1, a2)
     return l1 * c * c + l2 * s * s, (l1 - l2) * c * s, l1 * s * s + l2 * c * c
 
 

@@ -200,6 +200,22 @@ def test_cone_holonomy_is_two_pi_sin_half_angle():
     assert min(abs(_wrap(turn - sg * target)) for sg in (1.0, -1.0)) < 1e-4
 
 
+@pytest.mark.parametrize("s,box", SURFACES, ids=IDS)
+def test_constant_metric_fact_matches_the_chart(s, box):
+    """The compile-time fact constant_metric (the kernel then skips parallel transport) is declared
+    exactly where the chart's metric is the same everywhere: every Christoffel symbol vanishes at
+    every drawn point, and transport over a finite step leaves the components unchanged. A
+    surface with a varying metric must not declare it (it would carry tractions wrongly)."""
+    declared = _core.constant_metric(s.params)
+    gammas = [np.abs(np.array(_core.christoffel(s.params, *map(float, xi)))).max() for xi in _draw(box)]
+    metrics = [np.array(_core.geometry(s.params, *map(float, xi))[4]) for xi in _draw(box)]
+    constant = max(gammas) < 1e-12 and np.ptp(np.array(metrics), axis=0).max() < 1e-12
+    assert declared == constant, (declared, max(gammas))
+    if declared:
+        t = np.array([0.3, -1.2])
+        assert np.array_equal(s.transport((0.4, 0.1), (1.7, -0.9), t), t)
+
+
 @pytest.mark.parametrize("s", [Plane(), Cylinder(0.5), Cylinder(0.3, axis_direction=(1, 0, 1))], ids=repr)
 def test_parallel_coordinate_basis_transports_exactly(s):
     t = np.array([0.3, -1.2])

@@ -199,8 +199,11 @@ def test_zero_taper_cone_equals_the_cylinder():
         H = _history(cyl, x, v)
         a = cone.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
         b = cyl.evaluate(x[None, :], v[None, :], H, tangent=True, dt=1e-3)
-        np.testing.assert_array_equal(a.force, b.force)
-        np.testing.assert_array_equal(a.history, b.history)
+        # equal to round-off: the cylinder declares a constant metric and skips the transport that
+        # the cone carries out (its Christoffel symbols vanish at zero taper up to round-off)
+        scale = np.abs(b.force).max()
+        np.testing.assert_allclose(a.force, b.force, rtol=1e-13, atol=1e-15 * scale)
+        np.testing.assert_allclose(a.history, b.history, rtol=1e-13, atol=1e-15 * np.abs(b.history).max())
         np.testing.assert_allclose(a.stiffness, b.stiffness, rtol=1e-9, atol=1e-9)
 
 

@@ -191,13 +191,20 @@ def test_covariance_sphere_revolution_parametric():
 
 @pytest.mark.parametrize("side", ["outside", "inside"])
 def test_cone_of_zero_half_angle_is_the_cylinder(side):
-    """Identical numbers (both engines): the cone's chart at slope 0 is the cylinder's term by term."""
+    """The same numbers to round-off (both engines): the cone's chart at slope 0 is the cylinder's
+    term by term; the cylinder declares a constant metric and skips the parallel transport that the
+    cone carries out with Christoffel symbols that vanish up to round-off. That round-off moves the
+    iterate where each step's Newton (tolerance 1e-10) stops: measured 4e-16 in x, 2e-13 m/s in vx,
+    4e-10 relative in the normal force; bound 1e-8 of the range of each vector (position, velocity)
+    or scalar, as the other chart-parity tests here."""
     p = scene("cylinder", side)
     q = p.with_overrides(surface="cone", half_angle=0.0)
     for run in (simulate_particle, RunParticle):
         a, b = run(p), run(q)
-        for k in ("x", "y", "z", "vx", "vy", "vz", "normal_force", "dissipated_energy"):
-            np.testing.assert_array_equal(a.trajectory[k], b.trajectory[k], err_msg=k)
+        for group in (("x", "y", "z"), ("vx", "vy", "vz"), ("normal_force",), ("dissipated_energy",)):
+            scale = max(np.abs(b.trajectory[k]).max() for k in group)     # of the vector, not a component
+            for k in group:
+                np.testing.assert_allclose(a.trajectory[k], b.trajectory[k], rtol=0, atol=1e-8 * scale, err_msg=k)
 
 
 def test_large_sphere_tends_to_the_plane():

@@ -38,6 +38,7 @@ COMMON_FIELDS = ("origin", "ex", "ey", "ez", "sign", "period1", "period2")
 
 _CHART = {}
 _GUESS = {}
+_CONSTANT_METRIC = {}
 
 # Newton of the closest point projection: relative tolerance on the gradient and iteration limit
 PROJECTION_TOL = 1e-13
@@ -47,14 +48,21 @@ PROJECTION_MAXIT = 50
 SINGULAR_A = 1e-12
 
 
-def register(params_type, chart, guess):
+def register(params_type, chart, guess, constant_metric=False):
     """Make a surface known to the protocol: params_type is its namedtuple class, chart and guess
-    its compiled (numba.njit) local functions."""
+    its compiled (numba.njit) local functions.
+
+    constant_metric: a fact about the chart, known at compile time: the metric m_ij is the same at
+    every point (a Cartesian plane; a cylinder in (angle, axial) coordinates). Then every Christoffel
+    symbol vanishes and parallel transport leaves contravariant components unchanged, so the kernel
+    skips the transport's chart evaluations. ``tests/test_geometry_protocol.py`` checks every
+    declaration against the chart's own Christoffel symbols."""
     missing = [f for f in COMMON_FIELDS if f not in params_type._fields]
     if missing:
         raise TypeError(f"surface parameters {params_type.__name__} lack the common fields {missing}")
     _CHART[params_type] = chart
     _GUESS[params_type] = guess
+    _CONSTANT_METRIC[params_type] = bool(constant_metric)
 
 
 def local_chart(p, xi1, xi2):
@@ -74,6 +82,18 @@ def _lookup(table, p, what):
     if cls not in table:
         raise TypeError(f"no {what} registered for surface parameters {p}")
     return table[cls]
+
+
+def constant_metric(p):
+    """The surface's compile-time fact ``constant_metric`` (register); in compiled code a constant."""
+    return _CONSTANT_METRIC[type(p)]
+
+
+@overload(constant_metric)
+def _constant_metric(p):
+    if _lookup(_CONSTANT_METRIC, p, "chart"):
+        return lambda p: True
+    return lambda p: False
 
 
 @overload(local_chart)
@@ -264,7 +284,10 @@ def christoffel(p, xi1, xi2):
 def transport(p, xi1, xi2, d1, d2, t1, t2):
     """Parallel transport of the tangent vector with contravariant components (t1, t2) at (xi1, xi2)
     along the coordinate line segment to (xi1 + d1, xi2 + d2): dt^k = -Gamma^k_ij t^i dxi^j,
-    integrated by the midpoint rule (second order in the step). Returns the components at the end."""
+    integrated by the midpoint rule (second order in the step). Returns the components at the end
+    (unchanged on a surface whose chart has a constant metric: every Gamma vanishes)."""
+    if constant_metric(p):
+        return t1, t2
     G1, G2 = christoffel(p, xi1, xi2)
     h1 = t1 - 0.5 * ((G1[0] * t1 + G1[1] * t2) * d1 + (G1[1] * t1 + G1[2] * t2) * d2)
     h2 = t2 - 0.5 * ((G2[0] * t1 + G2[1] * t2) * d1 + (G2[1] * t1 + G2[2] * t2) * d2)

@@ -33,7 +33,7 @@ def guess(p, y, xi1, xi2):
     return math.atan2(y[1], y[0]), y[2], True
 
 
-_core.register(CylinderParams, chart, guess)
+_core.register(CylinderParams, chart, guess, constant_metric=True)
 
 
 class Cylinder(Surface):

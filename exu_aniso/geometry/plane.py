@@ -41,7 +41,7 @@ def polar_guess(p, y, xi1, xi2):
     return math.hypot(y[0], y[1]), math.atan2(y[1], y[0]), True
 
 
-_core.register(CartesianPlaneParams, cartesian_chart, cartesian_guess)
+_core.register(CartesianPlaneParams, cartesian_chart, cartesian_guess, constant_metric=True)
 _core.register(PolarPlaneParams, polar_chart, polar_guess)
 
 
