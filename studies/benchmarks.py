@@ -25,8 +25,9 @@ e.g. ``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
 
 Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one row per setting),
 ``kernel.csv`` (law cost per point), ``baseline.csv`` (ours / C++ baseline), ``targets.csv`` (the speed
-targets: ours / a cube on as many C++ springs at Exudyn's defaults), ``force_call.csv`` (one force call
-of a contact set against its points), ``scale.csv`` (M cubes: one set each, one group, C++ springs,
+targets, ``studies/_lib/targets.py``: each scene / a cube on as many C++ springs at Exudyn's defaults,
+median [min-max] of interleaved repeats, with its floor; the compiled call's fixed and per-point cost),
+``force_call.csv`` (one force call of a contact set on K = 1 to 256 points, and the fit), ``scale.csv`` (M cubes: one set each, one group, C++ springs,
 the floor; ``studies/_lib/scale.py``), ``memory.csv`` (peak memory), ``benchmarks.json``
 (fits of cost = a + b K with R^2, ratios; machine-readable), ``cost_vs_points.png``, ``report.md``.
 """
@@ -309,11 +310,13 @@ def main(argv=None):
     bres = sweep(baseline.ratio_case, bcases, args)
     table(os.path.join(args.out, "baseline.csv"), BASE_COLUMNS, baseline.table_rows(bres))
 
-    # 4. the speed targets: each scene against a cube on as many C++ springs (studies/_lib/targets.py)
-    tres = targets.target_rows(args.quick, reps)
-    table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS, targets.target_table_rows(tres))
-    fres = targets.force_call_rows(args.quick, reps)
-    table(os.path.join(args.out, "force_call.csv"), targets.FORCE_CALL_COLUMNS, targets.force_call_table_rows(fres))
+    # 4. the speed targets: each scene against a cube on as many C++ springs, the floors, the compiled
+    # call (studies/_lib/targets.py), all in interleaved repeats
+    tres = targets.measure(args.quick, reps)
+    table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS, targets.target_table_rows(tres.rows))
+    fres = tres.calls
+    table(os.path.join(args.out, "force_call.csv"), targets.FORCE_CALL_COLUMNS,
+          targets.force_call_table_rows(fres))
 
     # 5. scale with the model: M cubes, one set each or one group, against C++ springs; peak memory
     sres = scale.scale_rows(args.quick, reps)
@@ -368,12 +371,15 @@ def main(argv=None):
               f"{K_['per_point [s]'][j] * 1e6:8.2f} us/point")
     print("\nours / C++ baseline (same scene, solver and step):")
     baseline.print_ratio_table(bres)
-    print("\nspeed targets (ours at the package's settings / a cube on as many C++ springs at Exudyn's defaults):")
-    targets.print_targets(tres)
-    print("\none force call of the full block's contact set (wall time, median):")
+    print("\nspeed targets (ours at the package's settings / a cube on as many C++ springs at Exudyn's "
+          "defaults):")
+    targets.print_targets(tres.rows)
+    print("\none force call of the full block's contact set (CPU time, median over repeats):")
     for r in fres:
-        print(f"  {r['points']:8s} K={r['K']:3d} callback {r['callback_us']:7.2f} us, compiled call {r['entry_us']:7.2f} us")
-    print(f"  compiled call = {fres[0]['entry_fixed_us']:.2f} us + {fres[0]['entry_per_point_us']:.3f} us per point")
+        print(f"  {r['points']:8s} K={r['K']:3d} callback {r['callback_us']:7.2f} us, "
+              f"compiled call {r['entry_us']:7.3f} us")
+    print(f"  compiled call = {fres[0]['entry_fixed_us']:.3f} us + {fres[0]['entry_per_point_us']:.4f} us "
+          "per point (fits per repeat, median)")
     print("\nscale: M cubes, per body and step (ours at the package's settings, springs at Exudyn's defaults):")
     for r in sres:
         print(f"  M={r['bodies']:3d} {r['contact']:8s} {r['per_body_us']:8.2f} us/body/step  x{r['per_body_vs_fewest']:.2f} "
@@ -431,16 +437,7 @@ the screw's torque load (0.02 N m) keeps it sticking, where our law is the basel
                  "Newton/step C++", "ours/C++ per Newton it."], base_rows)}
 ### Speed targets
 
-{targets.markdown(tres, reps)}
-### One force call of a contact set
-
-The full block's contact set after 20 steps of sliding: wall time of one force callback as
-Exudyn calls it (q, q_t as lists), and of the compiled call alone (unboxing its arguments and the
-kernel), median of {reps} repeats. Fit: compiled call = {fres[0]['entry_fixed_us']:.3g} us +
-{fres[0]['entry_per_point_us']:.3g} us per point. File: `force_call.csv`.
-
-{markdown_table(["points", "K", "in contact", "callback us", "compiled call us"],
-                [[r["points"], r["K"], r["in_contact"], r["callback_us"], r["entry_us"]] for r in fres])}
+{targets.markdown(tres)}
 ### Scale with the model
 
 {scale.scale_markdown(sres, reps)}

@@ -34,7 +34,7 @@ from exu_aniso.scenes import BlockParams, block_contact_law, block_points
 
 from .baseline import _cartesian_springs
 from .studylib import markdown_table
-from .targets import exudyn_defaults
+from .targets import empty_contact, exudyn_defaults
 
 CONTACTS = ("sets", "group", "springs", "empty")
 BODIES = (4, 16, 64)
@@ -46,11 +46,16 @@ def cube_params(points="corners"):
     return BlockParams(model="full", points=points, return_map="exact")
 
 
-def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False):
+def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False, floor=None):
     """M cubes (module doc) with the given contact variant; returns dict(mbs, simulationSettings,
-    solverType, contacts)."""
+    solverType, contacts). floor (contact "springs" only): None, or "sets" / "group" to add the
+    Exudyn items of one contact set per cube / of one group with user functions that do nothing
+    (``targets.empty_contact``: the speed targets' floor, the springs carrying the cubes)."""
     if contact not in CONTACTS:
         raise ValueError(f"contact must be one of {CONTACTS}; got {contact!r}")
+    if floor not in (None, "sets", "group") or (floor is not None and contact != "springs"):
+        raise ValueError(f"floor must be None, or 'sets' / 'group' with contact 'springs'; got {floor!r} "
+                         f"with {contact!r}")
     p = cube_params(points).with_overrides(t_end=t_end, dt=dt)
     law = block_contact_law(p)
     SC = exu.SystemContainer()
@@ -74,11 +79,16 @@ def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False):
             anchors = local + np.array([x0, y0, 0.0])
             anchors[:, 2] = 0.0
             _cartesian_springs(mbs, o, local, anchors, [[p.eps_1 / K, p.eps_1 / K, p.eps_n / K]] * K)
+            if floor == "sets":
+                empty_contact(mbs, [mbs.GetObject(o)["nodeNumber"]], K, storeHistory)
     if contact == "group":
         contacts.append(mbs.CreateAnisotropicContact(bodyNumber=bodies, localPoints=local, contactLaw=law, show=False,
                                                      storeHistory=storeHistory))
     elif contact == "empty":
         _empty_group(mbs, bodies)
+    if floor == "group":
+        empty_contact(mbs, [mbs.GetObject(o)["nodeNumber"] for o in bodies], M * K, storeHistory,
+                      sparse=True)
     mbs.Assemble()
     ss = SimulationSettingsFor(p)[0] if contact in ("sets", "group") else exudyn_defaults(t_end, dt)
     ss.linearSolver.solverType = exu.LinearSolverType.EigenSparse
