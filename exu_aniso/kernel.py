@@ -42,7 +42,6 @@ from numba import njit
 from numba.extending import overload
 
 from .fastpath import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
-from .fastpath import point_force as fastpath_point_force
 from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
 from .geometry._core import add, dot, local_chart, scale, sub
@@ -356,19 +355,6 @@ def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
         def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
             return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, tangent, f, Kx,
                                  Dv, hn, S[0:3])[0]
-        return impl
-    return None
-
-
-# inlined into the force loops, with tangent a constant: the compiler drops the derivative code, so
-# the inlined copy is small (64 points on the plane: 254 -> 147 ns per point; inlining the tangent
-# path as well doubled the compile time of every kernel)
-@overload(fastpath_point_force, inline="always")
-def _point_force_covariant(law, x, v, h, dt, f, hn, S):
-    if getattr(law, "instance_class", None) is CovariantLaw:
-        def impl(law, x, v, h, dt, f, hn, S):
-            return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, False, f,
-                                 S[12, :3, :3], S[13, :3, :3], hn, S[0:3])[0]
         return impl
     return None
 
