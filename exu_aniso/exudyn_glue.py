@@ -37,6 +37,7 @@ from typing import NamedTuple
 import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
+from numba import njit, typeof
 
 from .fastpath import stage_candidate
 from .contact import HISTORY_FIELDS, N_HISTORY, UNRESOLVED, ContactLaw
@@ -575,6 +576,36 @@ class _SystemViews:
         return sd.ODE2Size() == self.sizes[0] and sd.DataSize() == self.sizes[1]
 
 
+@njit(cache=True)
+def gather_coordinates(q, q_t, idx, qb, q_tb):
+    """qb[i] = q[idx[i]], q_tb[i] = q_t[idx[i]]: a contact object's coordinates and velocities, at its
+    indices idx in Exudyn's ODE2 vector, from the views q, q_t of the Current ones into the set's
+    float64 buffers (compiled: a loop over a few numbers in numba costs less than converting
+    Exudyn's lists or numpy's fancy indexing)."""
+    for i in range(idx.shape[0]):
+        j = idx[i]
+        qb[i] = q[j]
+        q_tb[i] = q_t[j]
+
+
+_GATHER = {}                              # the compiled gather_coordinates per argument types
+
+
+def _gather_entry(args):
+    """gather_coordinates compiled for the types of args (the same for every set: C-contiguous
+    float64 views and buffers, int64 indices), called directly: numba's type dispatch is done once
+    (as kernel._entry_point for the kernels). Falls back to the dispatcher if numba's API for it
+    is not there."""
+    sig = tuple(typeof(a) for a in args)
+    if sig not in _GATHER:
+        try:
+            gather_coordinates.compile(sig)
+            _GATHER[sig] = gather_coordinates.overloads[sig].entry_point
+        except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
+            _GATHER[sig] = gather_coordinates
+    return _GATHER[sig]
+
+
 class _CompiledSet(_ContactSet):
     """The same contact set evaluated by the compiled kernel ``exu_aniso.fastpath`` (ground
     master, a surface numba compiles): one compiled call per user function on arrays packed once
@@ -583,9 +614,11 @@ class _CompiledSet(_ContactSet):
     What is not recomputed or copied:
     * the converged history is copied into the packed arrays once per Newton solve (it changes only
       when a step is accepted), from the StartOfStep data coordinates (a view of Exudyn's vector);
-    * q, q_t are read from the Current ODE2 coordinates (a view: Exudyn's q, q_t lists are these
-      numbers, at the object's coordinates) when the object's coordinates are one range of the
-      system vector (a body, a group of consecutive bodies), else copied from the lists;
+    * q, q_t are read from the Current ODE2 coordinates (views: Exudyn's q, q_t lists are these
+      numbers, at the object's coordinates), never from the lists: a slice of the views when the
+      object's coordinates are one range of the system vector (a body, a group of consecutive
+      bodies), else gathered at its indices into float64 buffers by a compiled loop
+      (``gather_coordinates``; a moving master: the slave's range, then the master's);
     * every residual (mode 0) also leaves its history candidate and its state; the post-Newton commit
       takes the candidate of the last residual when that state is the converged one (it is: Newton
       stops after a residual), and evaluates afresh otherwise, and writes it into the Current data
@@ -608,11 +641,12 @@ class _CompiledSet(_ContactSet):
         self.recomputed = 0                   # commits that had to evaluate afresh (diagnostics)
         # the compiled function itself (numba's dispatch done once) and its packed arguments: q, q_t
         # are the views of Exudyn's Current coordinates at the object's range (_views) or float64
-        # buffers the lists Exudyn passes are copied into (_lists; the kernel keeps no reference to
-        # them: a residual copies its state into X); fODE2, fODE2_t are floats
+        # buffers they are gathered into (_gathered; the kernel keeps no reference to them: a
+        # residual copies its state into X); fODE2, fODE2_t are floats
         self._entry, self._tail = self.pk.entry(), self.pk.tail
         self._V = None                        # _SystemViews
-        self._lists = True
+        self._gathered = True
+        self._gather, self._gather_args = None, None   # gather_coordinates and its arguments (_views)
         self._qb, self._q_tb = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])   # own buffers
         self._q, self._q_t = self._qb, self._q_tb
         self._force_args = None               # the force call's arguments, made with dt by _load_history
@@ -625,17 +659,20 @@ class _CompiledSet(_ContactSet):
 
     def _views(self, mbs):
         """(Re)fetch the views of Exudyn's vectors and the set's indices, assert them, and make the
-        set's slices: the history (K, 9) in the StartOfStep data and, when the object's coordinates
-        are one range, its q, q_t in the Current ODE2 vectors."""
+        set's slices: the history (K, 9) in the StartOfStep data and its q, q_t in the Current ODE2
+        vectors (one range: slices of the views; else the buffers and the gather's arguments)."""
         self._indices(mbs)
         V = _SystemViews(mbs)
         self._check_indices(V)
         a, n = self.ltgODE2, self.ltgODE2.size
-        self._lists = not np.array_equal(a, a[0] + np.arange(n))
-        if self._lists:
+        self._gathered = not np.array_equal(a, a[0] + np.arange(n))
+        if self._gathered:
             self._q, self._q_t = self._qb, self._q_tb
+            self._gather_args = (V.q, V.q_t, np.ascontiguousarray(a, dtype=np.int64), self._qb, self._q_tb)
+            self._gather = _gather_entry(self._gather_args)
         else:
             self._q, self._q_t = V.q[a[0]:a[0] + n], V.q_t[a[0]:a[0] + n]
+            self._gather, self._gather_args = None, None
         h = int(self.ltg[0])
         self._h0 = V.data0[h:h + self.K * N_HISTORY].reshape(self.K, N_HISTORY)
         self._V = V
@@ -671,13 +708,12 @@ class _CompiledSet(_ContactSet):
 
     def force_in_place(self, mbs, t, itemNumber, q, q_t):
         """The force user function given to Exudyn: the lists q, q_t Exudyn passes are its Current
-        coordinates at the object's range, read here from the views when that range is one block
-        (tests/test_history_in_place.py checks they are equal)."""
+        coordinates at the object's indices, read here from the views instead (a slice, or gathered
+        when the indices are not one range; tests/test_history_in_place.py checks they are equal)."""
         if t != self._t:
             self._load_history(mbs, t)
-        if self._lists:
-            self._q[:] = q
-            self._q_t[:] = q_t
+        if self._gathered:
+            self._gather(*self._gather_args)
         self._entry(*self._force_args)
         return self.pk.Q
 
@@ -685,9 +721,8 @@ class _CompiledSet(_ContactSet):
         """The Jacobian user function given to Exudyn (q, q_t as in force_in_place)."""
         if t != self._t:
             self._load_history(mbs, t)
-        if self._lists:
-            self._q[:] = q
-            self._q_t[:] = q_t
+        if self._gathered:
+            self._gather(*self._gather_args)
         self._entry(1, self._q, self._q_t, fODE2, fODE2_t, self._dt, *self._tail)
         return self.pk.J
 
@@ -695,10 +730,9 @@ class _CompiledSet(_ContactSet):
         if t != self._t:
             self._load_history(mbs, t)
         V = self._V
-        if self._lists:                       # the object's coordinates are not one range
-            q, q_t = V.q[self.ltgODE2], V.q_t[self.ltgODE2]
-        else:
-            q, q_t = self._q, self._q_t
+        if self._gathered:                    # the object's coordinates are not one range
+            self._gather(*self._gather_args)
+        q, q_t = self._q, self._q_t
         code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, V.data, self.ltg, self.ltgTotal)
         if code == 1:                         # the last residual was not at the converged state
             self.recomputed += 1
@@ -729,7 +763,8 @@ class _CompiledPairSet(_CompiledSet):
     """A contact set with a moving master (the surface on a 3D rigid body) on the compiled kernel
     ``fastpath.evaluate_pair`` (``kernel.CovariantPairSet``): the slave's and the master's
     coordinates (the contact object's) in one compiled call, with the consistent Jacobian over both
-    (so ``jacobian="analytic"`` applies). Everything else as _CompiledSet."""
+    (so ``jacobian="analytic"`` applies). Its coordinates are two ranges of Exudyn's ODE2 vector,
+    gathered from the views at every call (``gather_coordinates``). Everything else as _CompiledSet."""
 
     @staticmethod
     def _pack(law, kind, slave, points, master):

@@ -6,7 +6,11 @@ ODE2 coordinates; Exudyn's accept (Current -> StartOfStep) is the commit, its re
 Checked here: with Newton capped at 3 iterations (many forced step reductions) the accepted step
 times and the results are those of the previous implementation (Get/Set of whole vectors in the
 post-Newton function, lists copied in every callback); the views are Exudyn's vectors; the q, q_t
-lists Exudyn passes are the views' numbers; a grown, re-assembled system gets fresh views.
+lists Exudyn passes are the views' numbers; a grown, re-assembled system gets fresh views. A moving
+master (its coordinates two ranges of the ODE2 vector, gathered from the views by a compiled loop):
+the gathered numbers are Exudyn's lists at every force and Jacobian call under forced step
+reductions, also with the master first in the vector, and the run equals, bit for bit, the same run
+copying the lists (the set's direct force and jacobian functions).
 
 The REF_ numbers were produced with the package of commit 378a822 (the branch history-in-place
 before the history moved into place): the scenes of the two tests below, solved by ``_solve`` and
@@ -20,11 +24,13 @@ import numpy as np
 import pytest
 import exudyn as exu
 from exudyn.itemInterface import MassPoint, NodeGenericData, NodePoint
+from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
+from exu_aniso import Adhesion, Friction, Plane
 from exu_aniso.exudyn_glue import _SETS_KEY
 from exu_aniso.models.block import BuildBlock
-from exu_aniso.scenes import BlockParams
+from exu_aniso.scenes import BlockParams, block_contact_law
 
 from test_group import _cubes
 
@@ -119,7 +125,7 @@ def test_views_are_exudyns_vectors():
     mbs.SolveDynamic(m["simulationSettings"], solverType=m["solverType"])
     cs = mbs.variables[_SETS_KEY][0]
     sd, CUR, SOS = mbs.systemData, exu.ConfigurationType.Current, exu.ConfigurationType.StartOfStep
-    assert not cs._lists                                   # one body: its coordinates are one range
+    assert not cs._gathered                                   # one body: its coordinates are one range
     assert _shares(cs._q, sd.GetODE2Coordinates(configuration=CUR, copy=False))
     assert _shares(cs._q_t, sd.GetODE2Coordinates_t(configuration=CUR, copy=False))
     assert _shares(cs._V.data, sd.GetDataCoordinates(configuration=CUR, copy=False))
@@ -137,7 +143,7 @@ def test_lists_exudyn_passes_are_the_views(jacobian):
 
     def force(mbs, t, itemNumber, q, q_t):
         Q = cs.force_in_place(mbs, t, itemNumber, q, q_t)
-        assert not cs._lists
+        assert not cs._gathered
         np.testing.assert_array_equal(cs._q, q)
         np.testing.assert_array_equal(cs._q_t, q_t)
         calls[0] += 1
@@ -182,3 +188,112 @@ def test_grown_and_reassembled_system_gets_fresh_views():
     mbs2.SolveDynamic(ss, solverType=m2["solverType"])
     np.testing.assert_array_equal(q, mbs2.systemData.GetODE2Coordinates())
     np.testing.assert_array_equal(H, m2["contact"]["historyAt"](mbs2, exu.ConfigurationType.Current))
+
+
+# --- a moving master: the object's coordinates are two ranges, gathered from the views --------------
+
+def _moving_master(jacobian="analytic", speed=0.05):
+    """The full block (t_end 0.1 s) on a free plate (a rigid body of 1e9 kg moving uniformly at
+    (speed, -speed/2, 0), as studies' plate_builder): a moving-master set over the block's and the
+    plate's coordinates, two ranges of the ODE2 vector (the drive's nodes lie between them)."""
+    p = BlockParams(model="full", t_end=0.1)
+
+    def build(mbs, oBlock, localPoints):
+        oPlate = mbs.CreateRigidBody(inertia=InertiaCuboid(1e9 / 0.02, [1.0, 1.0, 0.02]),
+                                     referencePosition=[0.0, 0.0, 0.0],
+                                     initialVelocity=[speed, -0.5 * speed, 0.0],
+                                     nodeType=exu.NodeType.RotationEulerParameters, gravity=[0.0, 0.0, 0.0])
+        return mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
+                                            contactLaw=block_contact_law(p), masterBodyNumber=oPlate,
+                                            jacobian=jacobian, show=False, storeHistory=True)
+    m = BuildBlock(p, contactBuilder=build)
+    return m, m["mbs"]
+
+
+def _point_on_plate(jacobian="analytic"):
+    """A mass point sliding on a plate created before it (EP node, 1e9 kg, moving): the object's
+    coordinates are the point's (after the plate's in the ODE2 vector), then the plate's."""
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    oPlate = mbs.CreateRigidBody(inertia=InertiaCuboid(1e9 / 0.02, [1.0, 1.0, 0.02]),
+                                 referencePosition=[0.0, 0.0, 0.0], initialVelocity=[0.02, 0.01, 0.0],
+                                 initialAngularVelocity=[0.0, 0.0, 0.3],
+                                 nodeType=exu.NodeType.RotationEulerParameters, gravity=[0.0, 0.0, 0.0])
+    o = mbs.CreateMassPoint(referencePosition=[0.2, 0.1, -1e-4], initialVelocity=[0.3, -0.1, 0.0], mass=1.0,
+                            gravity=[0.0, 0.0, -9.81])
+    c = mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=[[0.0, 0.0, 0.0]],
+                                     surface=Plane(coordinates="polar"),
+                                     adhesion=Adhesion.polar(eps_r=1e4, eps_phi=1e3, core_radius=1e-3),
+                                     friction=Friction.polar(mu_r=0.3, mu_phi=0.1, core_radius=1e-3),
+                                     normalStiffness=1e5, masterBodyNumber=oPlate, jacobian=jacobian,
+                                     show=False)
+    mbs.Assemble()
+    ss = exu.SimulationSettings()
+    ss.timeIntegration.endTime = 0.1
+    ss.timeIntegration.numberOfSteps = 100
+    ss.solution.file.write = False
+    ss.timeIntegration.verboseMode = 0
+    return mbs, ss, c
+
+
+def _checking(mbs, contact):
+    """Replace the set's force and (analytic) Jacobian functions by ones that call them and assert
+    that the coordinates they read (gathered from the views) equal the lists Exudyn passes."""
+    cs = mbs.variables[_SETS_KEY][0]
+    calls = [0, 0]
+
+    def check(q, q_t):
+        assert cs._gathered
+        np.testing.assert_array_equal(cs._q, q)
+        np.testing.assert_array_equal(cs._q_t, q_t)
+
+    def force(mbs, t, itemNumber, q, q_t):
+        Q = cs.force_in_place(mbs, t, itemNumber, q, q_t)
+        check(q, q_t)
+        calls[0] += 1
+        return Q
+
+    def jacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        J = cs.jacobian_in_place(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t)
+        check(q, q_t)
+        calls[1] += 1
+        return J
+
+    mbs.SetObjectParameter(contact["oContact"], "forceUserFunction", force)
+    if mbs.GetObjectParameter(contact["oContact"], "jacobianUserFunction"):
+        mbs.SetObjectParameter(contact["oContact"], "jacobianUserFunction", jacobian)
+    mbs.Assemble()
+    return cs, calls
+
+
+@pytest.mark.parametrize("jacobian", ["analytic", "numerical"])
+def test_moving_master_lists_exudyn_passes_are_the_gathered_views(jacobian):
+    """With Newton capped (forced step reductions), every force and Jacobian call of a moving-master
+    set reads q, q_t equal to Exudyn's lists (the numerical Jacobian perturbs the Current
+    coordinates: the views see it)."""
+    m, mbs = _moving_master(jacobian)
+    cs, calls = _checking(mbs, m["contact"])
+    times = _solve(mbs, m["simulationSettings"], m["solverType"], [m["contact"]])[0]
+    assert cs._gathered and len(_steps(times)) > 1 and len(times) > 150     # 100 nominal steps, reduced
+    assert calls[0] > 1000 and (calls[1] > 0) == (jacobian == "analytic")
+    mbs, ss, contact = _point_on_plate(jacobian)                            # master first in the ODE2 vector
+    cs, calls = _checking(mbs, contact)
+    mbs.SolveDynamic(ss)
+    assert cs.ltgODE2[0] > cs.ltgODE2[-1] and calls[0] > 200
+
+
+def test_moving_master_gathered_equals_lists():
+    """The moving-master run reading the views (gathered) and the same run copying Exudyn's lists
+    (the set's direct force and jacobian, as before the gather) take the same steps, bit for bit."""
+    out = []
+    for direct in (False, True):
+        m, mbs = _moving_master()
+        if direct:
+            cs = mbs.variables[_SETS_KEY][0]
+            mbs.SetObjectParameter(m["contact"]["oContact"], "forceUserFunction", cs.force)
+            mbs.SetObjectParameter(m["contact"]["oContact"], "jacobianUserFunction", cs.jacobian)
+            mbs.Assemble()
+        out.append(_solve(mbs, m["simulationSettings"], m["solverType"], [m["contact"]]))
+    for a, b in zip(*out):
+        np.testing.assert_array_equal(a, b)
+    assert len(out[0][0]) > 150
