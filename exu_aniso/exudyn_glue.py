@@ -40,6 +40,7 @@ from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
 from numba import njit, typeof
 
 from .fastpath import stage_candidate
+from .kernel import _entry_point
 from .contact import HISTORY_FIELDS, N_HISTORY, UNRESOLVED, ContactLaw
 from .validation import check_bool, check_index, check_instance, check_points
 
@@ -612,8 +613,8 @@ class _CompiledSet(_ContactSet):
     (``kernel.CovariantSet``).
 
     What is not recomputed or copied:
-    * the converged history is copied into the packed arrays once per Newton solve (it changes only
-      when a step is accepted), from the StartOfStep data coordinates (a view of Exudyn's vector);
+    * the converged history is not copied: the kernel reads it from the StartOfStep data
+      coordinates (a view of Exudyn's vector, which changes only when a step is accepted);
     * q, q_t are read from the Current ODE2 coordinates (views: Exudyn's q, q_t lists are these
       numbers, at the object's coordinates), never from the lists: a slice of the views when the
       object's coordinates are one range of the system vector (a body, a group of consecutive
@@ -634,7 +635,7 @@ class _CompiledSet(_ContactSet):
         # a linear slave (mass points, cables) goes to fastpath.evaluate_linear, a rigid one to evaluate_set
         kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
         self.pk = self._pack(law, kind, slave, points, master)
-        self._t = None                        # time of the Newton solve whose history pk.H holds
+        self._t = None                        # time of the Newton solve of the current arguments
         self._t0 = None                       # its start-of-step time [s]
         self._dt = 0.0
         self._committed_t = None              # time of the last commit [s]
@@ -676,16 +677,19 @@ class _CompiledSet(_ContactSet):
         h = int(self.ltg[0])
         self._h0 = V.data0[h:h + self.K * N_HISTORY].reshape(self.K, N_HISTORY)
         self._V = V
+        # the commit's compiled function (numba's dispatch done once: it cost ~1 us per step) and arguments
+        self._stage_args = (self.pk.X, self._q, self._q_t, self.pk.Hn, V.data, np.ascontiguousarray(self.ltg),
+                            int(self.ltgTotal))
+        self._stage = _entry_point(stage_candidate, self._stage_args)
 
     def _load_history(self, mbs, t):
         t0 = mbs.systemData.GetTime(_SOS)
         if self._V is None or (t0 != self._t0 and t0 != self._committed_t) or not self._V.current(mbs):
             self._views(mbs)                  # a new solve, or a re-assembled system
-        self.pk.H[:] = self._h0               # the last accepted history (StartOfStep)
         self._t = t
         self._t0 = t0
         self._dt = t - t0
-        self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt) + self._tail
+        self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt, self._h0) + self._tail
 
     def force(self, mbs, t, itemNumber, q, q_t):
         """Generalized contact forces at the given q, q_t (the set's coordinates, any values: for
@@ -694,7 +698,7 @@ class _CompiledSet(_ContactSet):
             self._load_history(mbs, t)
         self._qb[:] = q
         self._q_tb[:] = q_t
-        self._entry(0, self._qb, self._q_tb, 0.0, 0.0, self._dt, *self._tail)
+        self._entry(0, self._qb, self._q_tb, 0.0, 0.0, self._dt, self._h0, *self._tail)
         return self.pk.Q
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
@@ -703,7 +707,7 @@ class _CompiledSet(_ContactSet):
             self._load_history(mbs, t)
         self._qb[:] = q
         self._q_tb[:] = q_t
-        self._entry(1, self._qb, self._q_tb, fODE2, fODE2_t, self._dt, *self._tail)
+        self._entry(1, self._qb, self._q_tb, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
         return self.pk.J
 
     def force_in_place(self, mbs, t, itemNumber, q, q_t):
@@ -723,7 +727,7 @@ class _CompiledSet(_ContactSet):
             self._load_history(mbs, t)
         if self._gathered:
             self._gather(*self._gather_args)
-        self._entry(1, self._q, self._q_t, fODE2, fODE2_t, self._dt, *self._tail)
+        self._entry(1, self._q, self._q_t, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
         return self.pk.J
 
     def stage(self, mbs, t):
@@ -733,13 +737,13 @@ class _CompiledSet(_ContactSet):
         if self._gathered:                    # the object's coordinates are not one range
             self._gather(*self._gather_args)
         q, q_t = self._q, self._q_t
-        code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, V.data, self.ltg, self.ltgTotal)
+        code = self._stage(*self._stage_args)
         if code == 1:                         # the last residual was not at the converged state
             self.recomputed += 1
-            self._entry(2, q, q_t, 0.0, 0.0, self._dt, *self._tail)
+            self._entry(2, q, q_t, 0.0, 0.0, self._dt, self._h0, *self._tail)
             self.pk.X[0] = q                  # the candidate now belongs to this state
             self.pk.X[1] = q_t
-            code = stage_candidate(self.pk.X, q, q_t, self.pk.Hn, V.data, self.ltg, self.ltgTotal)
+            code = self._stage(*self._stage_args)
         if code == 0:
             self._committed_t = t
             # the next call reloads (and checks the views), even at this time: a solve that

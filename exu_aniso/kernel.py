@@ -369,38 +369,40 @@ def _remember(mode, q, q_t, X):
 
 
 @njit(cache=True)
-def evaluate_covariant(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, kind):
+def evaluate_covariant(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, kind):
     """fastpath.evaluate_set (modes 0 force, 1 Jacobian, 2 history candidate) with the covariant
-    kernel at every point. P (3, K, 9): body-local points, converged history, candidate; X (2, n):
-    the state (q, q_t) of the last mode-0 call, whose candidate P[2] holds."""
+    kernel at every point. H (K, 9): the converged history (the Exudyn glue passes a view of
+    Exudyn's StartOfStep data coordinates: nothing is copied per step); P (3, K, 9): body-local
+    points, a history buffer for callers without one (CovariantSet.H), the candidate; X (2, n): the
+    state (q, q_t) of the last mode-0 call, whose candidate P[2] holds."""
     nq = q.shape[0]
     _remember(mode, q, q_t, X)
-    return evaluate_set(kind, q, q_t, ref, P[0, :, :3], P[1], law, mode, fq, fv, dt, S[17, 6, :nq],
+    return evaluate_set(kind, q, q_t, ref, P[0, :, :3], H, law, mode, fq, fv, dt, S[17, 6, :nq],
                         S[18, :nq, :nq], P[2], S)
 
 
 @njit(cache=True)
-def evaluate_covariant_group(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, kind, Q, Jb):
+def evaluate_covariant_group(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, kind, Q, Jb):
     """fastpath.evaluate_group (the same points on nb rigid nodes) with the covariant kernel; P (3,
     nb * Kb, 9) with the body-local points in the first Kb rows of P[0]; Jb (nb, nq, nq)."""
     _remember(mode, q, q_t, X)
     Kb = P.shape[1] // Jb.shape[0]
-    return evaluate_group(kind, q, q_t, ref, P[0, :Kb, :3], P[1], law, mode, fq, fv, dt, Q, Jb, P[2], S)
+    return evaluate_group(kind, q, q_t, ref, P[0, :Kb, :3], H, law, mode, fq, fv, dt, Q, Jb, P[2], S)
 
 
 @njit(cache=True)
-def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, idx, Sm, c, Q, J):
+def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, idx, Sm, c, Q, J):
     """fastpath.evaluate_linear (a linear slave: mass points, ANCF cables) with the covariant kernel."""
     _remember(mode, q, q_t, X)
-    return evaluate_linear(q, q_t, ref, idx, Sm, c, P[1], law, mode, fq, fv, dt, Q, J, P[2], S)
+    return evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2], S)
 
 
 @njit(cache=True)
-def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, ref, law, P, S, X, T, kind, mkind, idx, Sm, c, cols, Q, J):
+def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, T, kind, mkind, idx, Sm, c, cols, Q, J):
     """fastpath.evaluate_pair (a moving master: the surface on a 3D rigid node) with the covariant kernel;
     P, X as evaluate_covariant."""
     _remember(mode, q, q_t, X)
-    return evaluate_pair(kind, mkind, q, q_t, ref, P[0, :, :3], idx, Sm, c, P[1], law, mode, fq, fv, dt, Q, J, P[2],
+    return evaluate_pair(kind, mkind, q, q_t, ref, P[0, :, :3], idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2],
                          S, T, cols)
 
 
@@ -460,15 +462,16 @@ class CovariantSet:
         the number of points in contact, or -1 when a point's motion in the step is unresolved."""
         q = np.ascontiguousarray(q, dtype=np.float64)
         q_t = np.ascontiguousarray(q_t, dtype=np.float64)
-        return self.entry()(int(mode), q, q_t, float(fq), float(fv), float(dt), *self.tail)
+        return self.entry()(int(mode), q, q_t, float(fq), float(fv), float(dt), self.H, *self.tail)
 
     def entry(self):
         """The compiled function for this set's argument types (``_entry_point``): callers that
-        pass C-contiguous float64 q, q_t, an int mode and float fq, fv, dt may call
-        ``entry()(mode, q, q_t, fq, fv, dt, *tail)`` directly (the Exudyn glue does)."""
+        pass C-contiguous float64 q, q_t, an int mode, float fq, fv, dt and a C-contiguous (K, 9)
+        float64 history H may call ``entry()(mode, q, q_t, fq, fv, dt, H, *tail)`` directly (the
+        Exudyn glue does, with H a view of Exudyn's StartOfStep data coordinates)."""
         if self._entry is None:
             z = np.zeros(self.X.shape[1])
-            self._entry = _entry_point(self._fn, (0, z, z, 0.0, 0.0, 0.0) + self.tail)
+            self._entry = _entry_point(self._fn, (0, z, z, 0.0, 0.0, 0.0, self.H) + self.tail)
         return self._entry
 
 
