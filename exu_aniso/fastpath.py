@@ -810,7 +810,8 @@ def _default_entry():
 def kernels_cached(entry=None):
     """True if numba's on-disk cache (exu_aniso._numba_cache) holds compiled code of the kernel
     ``entry`` (a numba dispatcher; default: exu_aniso.kernel.evaluate_covariant) for the current source;
-    False if the first call will compile (10-20 s). Reads numba's cache index, a private API: when
+    False if the first call will compile (15-25 s per surface and node type on this
+    2-core machine). Reads numba's cache index, a private API: when
     that fails, it answers True (say nothing rather than something wrong)."""
     try:
         return bool((entry or _default_entry())._cache._cache_file._load_index())
@@ -826,5 +827,5 @@ def announce_compile(stream=None, entry=None):
     _announced = True
     if not kernels_cached(entry):
         where = getattr(getattr(entry or _default_entry(), "_cache", None), "_cache_path", "numba's cache directory")
-        print("exu_aniso: compiling the contact kernels with numba, once (10-20 s); later runs load them "
-              f"from the cache in {where}", file=stream or sys.stderr, flush=True)
+        print("exu_aniso: compiling the contact kernels with numba, once (15-25 s per surface and node type); "
+              f"later runs load them from the cache in {where}", file=stream or sys.stderr, flush=True)

@@ -65,3 +65,15 @@ def test_params_lists_every_name_with_unit(capsys):
 def test_console_script_entry_point():
     r = subprocess.run([sys.executable, "-m", "exu_aniso.cli", "params", "block"], capture_output=True, text=True)
     assert r.returncode == 0 and "normal_load" in r.stdout
+
+
+def test_run_all_in_worker_processes_reports_in_order(tmp_path, monkeypatch, capsys):
+    """The first ``run all`` on a machine (kernels not compiled) runs the scenes in worker processes;
+    forced here with warm kernels: the same files and report lines as in this process, in order."""
+    from exu_aniso import cli
+    monkeypatch.setattr(cli, "_parallel", lambda jobs, a: True)
+    assert cli.main(["run", "all", "--out", str(tmp_path), "--quiet"]) == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if ln]
+    assert [ln.split(" ")[0] for ln in lines] == ["block", "screw"], lines
+    for scene in ("block", "screw"):
+        assert (tmp_path / scene / "summary.json").exists() and (tmp_path / scene / "trajectory.csv").exists()

@@ -275,7 +275,7 @@ def test_reduced_screw_symmetry_equals_all_points(over):
 
 @pytest.mark.slow
 def test_first_compile_is_announced_once_and_cached(tmp_path):
-    """A fresh numba cache: the first run says it compiles (before the 10-20 s pass), the second
+    """A fresh numba cache: the first run says it compiles (before the 15-25 s pass), the second
     run loads the cache from disk and says nothing."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
     code = ("import numpy as np\nfrom exu_aniso import Adhesion, ContactLaw, Friction, Plane, fastpath\n"
