@@ -398,6 +398,8 @@ class _PointTangent(NamedTuple):
 class _ContactSet:
     """State-free glue between one GenericODE2 object and a ContactLaw."""
 
+    force_calls = 0             # calls of the force user function Exudyn made (each costs Exudyn 2 vectors)
+
     def __init__(self, mbs, law, slave, points, master):
         self.law = law
         self.slave = slave
@@ -477,6 +479,7 @@ class _ContactSet:
         return t - mbs.systemData.GetTime(_SOS)
 
     def force(self, mbs, t, itemNumber, q, q_t):
+        self.force_calls += 1
         st, Jp, F, Jm, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))
         Q = np.einsum("kij,ki->j", Jp, F)
         if Jm is not None:
@@ -714,6 +717,7 @@ class _CompiledSet(_ContactSet):
         """The force user function given to Exudyn: the lists q, q_t Exudyn passes are its Current
         coordinates at the object's indices, read here from the views instead (a slice, or gathered
         when the indices are not one range; tests/test_history_in_place.py checks they are equal)."""
+        self.force_calls += 1
         if t != self._t:
             self._load_history(mbs, t)
         if self._gathered:
@@ -733,7 +737,6 @@ class _CompiledSet(_ContactSet):
     def stage(self, mbs, t):
         if t != self._t:
             self._load_history(mbs, t)
-        V = self._V
         if self._gathered:                    # the object's coordinates are not one range
             self._gather(*self._gather_args)
         q, q_t = self._q, self._q_t
@@ -855,6 +858,13 @@ def _check_cable_points(slave, points):
 # Step reduction asked for when a contact point's motion in a step is unresolved (see
 # ContactLaw.evaluate): the step is repeated with this fraction of its size.
 UNRESOLVED_STEP_FACTOR = 0.25
+
+
+def contact_force_calls(mbs):
+    """How many times Exudyn called the force user functions of this system's contact sets so far.
+    Exudyn allocates 2 vectors per call of an ObjectGenericODE2 force function (its own copies of the
+    returned force), which its solver's allocation check counts (models.block.SolveTimed)."""
+    return sum(cs.force_calls for cs in mbs.variables.get(_SETS_KEY, ()))
 
 
 def _post_newton(mbs, t):

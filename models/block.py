@@ -30,6 +30,7 @@ import sys
 import time
 
 import exudyn as exu
+import exudyn.solver
 import numpy as np
 from exudyn import graphics
 from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, MarkerNodeCoordinates, NodeGenericODE2,
@@ -43,13 +44,14 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
 from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY
+from exu_aniso.exudyn_glue import contact_force_calls
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.output import atomic_write
 from exu_aniso.progress import exudyn_pre_step, make_progress
 from exu_aniso.reference import Result
 from exu_aniso.energy import RigidMotion, motion_about_z
-from exu_aniso.scenes import BlockParams, block_contact_law, block_energy, block_points, block_summary, step_count
+from exu_aniso.scenes import BlockParams, block_contact_law, block_energy, block_points, block_summary
 from exu_aniso.validation import check_in_range, check_instance, check_positive
 
 SOLVER_TYPES = {"trapezoidal": exu.DynamicSolverType.TrapezoidalIndex2,
@@ -231,6 +233,10 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     ti = simulationSettings.timeIntegration
     capture = io.StringIO() if int(ti.verboseMode) == 0 else None
     prog, previous = _AttachProgress(mbs, make_progress(progress), ti)
+    allocations = exu.special.InfoStat(False)
+    calls = contact_force_calls(mbs)
+    threshold = exudyn.solver.solverCheckMemoryAllocationsThreshold
+    exudyn.solver.solverCheckMemoryAllocationsThreshold = math.inf   # checked below, without Exudyn's own
     t0 = time.perf_counter()
     try:
         with contextlib.redirect_stdout(capture) if capture is not None else contextlib.nullcontext():
@@ -239,6 +245,7 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     except Exception as e:                      # exudyn.SolverError, exudyn.ModelError, ...
         error = e
     finally:
+        exudyn.solver.solverCheckMemoryAllocationsThreshold = threshold
         if prog is not None:                    # leave the system as it was given
             mbs.SetPreStepUserFunction(previous if previous is not None else 0)
     wall = time.perf_counter() - t0
@@ -249,6 +256,8 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
                     newton_iterations=int(it.newtonStepsCount), ok=error is None)
     if capture is not None and error is None and capture.getvalue():
         sys.stdout.write(capture.getvalue())
+    if error is None:
+        CheckAllocations(allocations, contact_force_calls(mbs) - calls, int(it.newtonStepsCount), threshold)
     if error is not None:
         raise _Failure(mbs, simulationSettings, it, steps, error, contacts,
                        capture.getvalue() if capture is not None else "") from (error if isinstance(error, Exception)
@@ -258,6 +267,25 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     info = dict(solverType=str(solverType), nominal_steps=int(simulationSettings.timeIntegration.numberOfSteps),
                 accepted_steps=steps, newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
     return wall, steps, int(it.newtonStepsCount), info
+
+
+def CheckAllocations(before, contact_calls, newton_iterations, threshold):
+    """Exudyn's check of a solve's memory allocations (``exudyn.solver.CheckSolverInfoStatistics``:
+    a warning when the most new Exudyn arrays, vectors or matrices exceed ``threshold`` and at
+    least one per Newton iteration), without the allocations Exudyn makes itself for every call of
+    a contact set's force function: 2 vectors, its copies of the returned force (tests/
+    test_exudyn_warnings.py), which are no sign of a slow model and about which a user can do
+    nothing. Anything else that allocates every iteration (a sensor, a user function of the
+    model) still gives the warning. before: ``exu.special.InfoStat(False)`` at the solve's start;
+    contact_calls: the force calls in the solve (exudyn_glue.contact_force_calls). Returns the
+    count checked."""
+    new = np.array(exu.special.InfoStat(False)) - np.array(before)
+    count = max(new[0], new[2] - 2 * contact_calls, new[4])
+    if count > threshold and count >= newton_iterations:
+        print(f"WARNING: the solve made {count} memory allocations beyond the 2 vectors Exudyn makes for "
+              "every call of a contact's force function; something allocates in every time step (a sensor "
+              "or a user function of the model): the solver may be slow", flush=True)
+    return int(count)
 
 
 def _AttachProgress(mbs, prog, ti):

@@ -182,3 +182,25 @@ def test_rope_kinetic_energy_is_exudyns():
     ours = RopeKineticEnergy(model, qt[-1:])[0]
     assert exudyn_kinetic > 0.0
     assert ours == pytest.approx(exudyn_kinetic, rel=1e-12, abs=0.0)
+
+
+@pytest.mark.slow
+def test_feeder_default_run_prints_no_allocation_warning(capfd):
+    """The feeder's default run (3 contact sets, 178458 force calls: Exudyn's own 356941 vectors)
+    printed Exudyn's warning; the package's runner checks without Exudyn's own per-call vectors."""
+    RunFeeder(FeederParams())
+    captured = capfd.readouterr()
+    assert WARNING not in captured.out and WARNING not in captured.err
+
+
+def test_allocation_check_still_warns_for_the_models_own_allocations(capfd):
+    """block_model.CheckAllocations: Exudyn's 2 vectors per contact force call are not counted;
+    anything else above the threshold and at least one per Newton iteration still warns."""
+    now = np.array(exu.special.InfoStat(False))
+    extra = np.zeros_like(now)
+    extra[2] = 300000                  # new vectors (InfoStat: arrays, vectors, matrices: new and deleted)
+    before = now - extra
+    assert block_model.CheckAllocations(before, 150000, 1000, 100000) < 100000
+    assert WARNING not in capfd.readouterr().out
+    assert block_model.CheckAllocations(before, 0, 1000, 100000) >= 300000
+    assert WARNING in capfd.readouterr().out
