@@ -4,11 +4,11 @@ accuracy a scene needs at the least cost.
     python studies/newton_settings.py [--quick] [--repeats N] [--out DIR]
 
 Every scene (block planar and full on 4 corners, full block on an 8 x 8 grid, screw reduced and
-full; their default drives) is solved at five Newton settings (``studies/_lib/baseline.py``
+full; their default drives) is solved at six Newton settings (``studies/_lib/baseline.py``
 ``apply_settings``): full Newton at tolerance 1e-10 (the reference of the errors), the package's
 (Exudyn's modified Newton with a fresh Jacobian when an iteration contracts by less than 0.01,
 tolerance 1e-10: ``models.block.SimulationSettingsFor``), Exudyn's defaults (modified Newton,
-contractivity 0.5, relative tolerance 1e-8), Exudyn's defaults with a fresh Jacobian at every step
+contractivity 0.5, relative tolerance 1e-8), the package's contractivity at Exudyn's tolerances, Exudyn's defaults with a fresh Jacobian at every step
 (``modifiedNewtonJacUpdatePerStep``) and full Newton at Exudyn's tolerances. Cost: median process
 CPU time of the solve per step over interleaved repeats (serial). Error: the largest difference of
 the body coordinates from the full-Newton run at the same time, over the run, relative to the
@@ -39,12 +39,13 @@ from _lib.studylib import Timer, finish, markdown_table, parse_args, sweep, tabl
 
 NAME = "newton_settings"
 REFERENCE = "full_newton_1e-10"
-SETTINGS = (REFERENCE, "package", "exudyn", "jacobian_per_step", "full_newton_1e-8")
+SETTINGS = (REFERENCE, "package", "package_1e-8", "exudyn", "jacobian_per_step", "full_newton_1e-8")
 SCENES = [("block", dict(model="planar", points="corners")), ("block", dict(model="full", points="corners")),
           ("block", dict(model="full", points="grid:8")), ("screw", dict(model="reduced")),
           ("screw", dict(model="full"))]
 COLUMNS = ["scene [-]", "model [-]", "points [-]", "settings [-]", "cpu_per_step [s]",
-           "cpu_per_simulated_second [s/s]", "newton_per_step [-]", "steps [-]", "error_vs_full_newton [-]"]
+           "cpu_per_simulated_second [s/s]", "newton_per_step [-]", "steps [-]", "error_vs_full_newton [-]",
+           "cpu_per_step_min [s]", "cpu_per_step_max [s]"]
 
 
 def _coordinates(model):
@@ -81,7 +82,8 @@ def run_case(case):
         points = p.points if case["scene"] == "block" else f"{p.rings} x {p.points_per_ring}"
         rows.append([case["scene"], p.model, points, s, float(np.median(c[:, 0] / c[:, 1])),
                      float(np.median(c[:, 0])) / p.t_end, float(np.median(c[:, 2] / c[:, 1])), int(c[0, 1]),
-                     float(np.abs(qi - q_ref).max()) / scale])
+                     float(np.abs(qi - q_ref).max()) / scale, float(np.min(c[:, 0] / c[:, 1])),
+                     float(np.max(c[:, 0] / c[:, 1]))])
     return rows
 
 
@@ -95,15 +97,18 @@ def main(argv=None):
     cases = [dict(scene=sc, params=dict(t_end=t_end, **ov), repeats=reps) for sc, ov in SCENES]
     rows = [r for res in sweep(run_case, cases, args) for r in res]
     table(os.path.join(args.out, "newton_settings.csv"), COLUMNS, rows)
-    print(f"{'scene':6s} {'model':8s} {'points':8s} {'settings':18s} {'us/step':>8s} {'Newton/step':>11s} "
+    print(f"{'scene':6s} {'model':8s} {'points':8s} {'settings':18s} {'us/step [min-max]':>22s} {'Newton/step':>11s} "
           f"{'error':>9s}")
     for r in rows:
-        print(f"{r[0]:6s} {r[1]:8s} {r[2]:8s} {r[3]:18s} {r[4] * 1e6:8.1f} {r[6]:11.2f} {r[8]:9.1e}")
+        spread = f"{r[4] * 1e6:.1f} [{r[9] * 1e6:.1f}-{r[10] * 1e6:.1f}]"
+        print(f"{r[0]:6s} {r[1]:8s} {r[2]:8s} {r[3]:18s} {spread:>22s} {r[6]:11.2f} {r[8]:9.1e}")
     body = (f"Median process CPU time of the solve per step over {reps} interleaved repeats, t_end = {t_end} s, the "
             "scenes' default step and drives. Error: largest difference of the body coordinates from the run with "
             "full Newton at tolerance 1e-10, relative to its largest displacement. File: `newton_settings.csv`.\n\n"
-            + markdown_table(["scene", "model", "points", "settings", "us/step", "Newton/step", "error vs full Newton"],
-                             [[r[0], r[1], r[2], r[3], r[4] * 1e6, r[6], r[8]] for r in rows]))
+            + markdown_table(["scene", "model", "points", "settings", "us/step median [min-max]", "Newton/step",
+                              "error vs full Newton"],
+                             [[r[0], r[1], r[2], r[3], f"{r[4] * 1e6:.1f} [{r[9] * 1e6:.1f}-{r[10] * 1e6:.1f}]", r[6],
+                               r[8]] for r in rows]))
     finish(args, timer, body, "Newton settings: work against precision")
     return 0
 

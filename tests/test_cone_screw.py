@@ -15,12 +15,19 @@ from exu_aniso.reference import simulate_screw  # noqa: E402
 from exu_aniso.scenes import ScrewParams  # noqa: E402
 
 
-def test_zero_half_angle_is_the_cylinder_exactly():
+def test_zero_half_angle_is_the_cylinder():
+    """The cone's chart at slope 0 is the cylinder's term by term; the cylinder declares a constant
+    metric and skips the parallel transport that the cone carries out with Christoffel symbols that
+    vanish to round-off, which moves where each step's Newton (tolerance 1e-10) stops: equal to 1e-8
+    of each quantity's range (measured on the particle: 4e-10 relative in the normal force)."""
     for model in ("reduced", "full"):
         a = RunScrew(ScrewParams(model=model, t_end=0.2), contactOutputs=False)
         b = RunScrew(ScrewParams(model=model, t_end=0.2, surface="cone", half_angle=0.0), contactOutputs=False)
+        assert a.summary["steps"] == b.summary["steps"]
         for k in ("angle", "z", "torque"):
-            np.testing.assert_array_equal(a.trajectory[k], b.trajectory[k], err_msg=f"{model} {k}")
+            scale = np.max(np.abs(a.trajectory[k])) + 1e-300
+            np.testing.assert_allclose(b.trajectory[k], a.trajectory[k], rtol=0, atol=1e-8 * scale,
+                                       err_msg=f"{model} {k}")
 
 
 @pytest.mark.parametrize("return_map", ["exact", "radial"])

@@ -96,7 +96,7 @@ def test_baseline_quick(tmp_path, quick_study):
 
 
 def test_newton_settings_quick(tmp_path, quick_study):
-    """Five Newton settings per scene. Where Newton converges, every setting solves the same step
+    """Six Newton settings per scene. Where Newton converges, every setting solves the same step
     equations, so every scene's coordinates agree with full Newton at 1e-10 far below the step
     error: the package's setting (modified Newton, contractivity 0.01, 1e-10) to 1e-9 (measured
     <= 3.4e-12 relative over 0.25-0.5 s, /tmp script, 2026-11-25), Exudyn's defaults (tolerance
@@ -104,9 +104,11 @@ def test_newton_settings_quick(tmp_path, quick_study):
     at the default torque it grazes its slip limit and is not converged in the step (study doc)."""
     quick_study("newton_settings", tmp_path, timeout=240)
     T = read_table(tmp_path / "newton_settings.csv")
-    assert len(T["scene [-]"]) == 25
+    assert len(T["scene [-]"]) == 30
     assert sorted(set(T["settings [-]"])) == ["exudyn", "full_newton_1e-10", "full_newton_1e-8",
-                                              "jacobian_per_step", "package"]
+                                              "jacobian_per_step", "package", "package_1e-8"]
+    assert all(lo <= med <= hi for lo, med, hi in zip(T["cpu_per_step_min [s]"], T["cpu_per_step [s]"],
+                                                       T["cpu_per_step_max [s]"]))
     for sc, st, err, it in zip(T["scene [-]"], T["settings [-]"], T["error_vs_full_newton [-]"],
                                T["newton_per_step [-]"]):
         assert it >= 1.0

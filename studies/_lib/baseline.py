@@ -111,8 +111,8 @@ def _empty_callbacks(mbs, node, K):
 def apply_settings(model, settings):
     """Newton settings of a built model (module doc): "package" (as built), "exudyn" (a fresh
     exu.SimulationSettings()'s Newton settings), "jacobian_per_step" (Exudyn's, with the modified
-    Newton's Jacobian computed afresh at every step: modifiedNewtonJacUpdatePerStep),
-    "full_newton_1e-8" (full Newton at Exudyn's tolerances) or "full_newton_1e-10" (full Newton at
+    Newton's Jacobian computed afresh at every step: modifiedNewtonJacUpdatePerStep), "package_1e-8"
+    (the package's contractivity 0.01 at Exudyn's tolerances), "full_newton_1e-8" (full Newton at Exudyn's tolerances) or "full_newton_1e-10" (full Newton at
     the package's tolerance: the package's setting before the Newton-settings study)."""
     if settings == "package":
         return model
@@ -129,6 +129,7 @@ def apply_settings(model, settings):
 
 # the Newton settings besides the package's: changes to a fresh exu.SimulationSettings()'s Newton settings
 NEWTON_SETTINGS = {"exudyn": {}, "jacobian_per_step": {"modifiedNewtonJacUpdatePerStep": True},
+                   "package_1e-8": {"modifiedNewtonContractivity": 0.01},
                    "full_newton_1e-8": {"useModifiedNewton": False},
                    "full_newton_1e-10": {"useModifiedNewton": False, "relativeTolerance": 1e-10,
                                          "absoluteTolerance": 1e-10}}
