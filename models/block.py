@@ -52,28 +52,18 @@ from exu_aniso.progress import exudyn_pre_step, make_progress
 from exu_aniso.reference import Result
 from exu_aniso.energy import RigidMotion, motion_about_z
 from exu_aniso.scenes import BlockParams, block_contact_law, block_energy, block_points, block_summary
+from exu_aniso.solver_settings import (MIN_STEP_FRACTION, NEWTON_CONTRACTIVITY, NEWTON_MODES,  # noqa: F401
+                                      SOLVER_TYPES)
 from exu_aniso.validation import check_in_range, check_instance, check_positive
 
-SOLVER_TYPES = {"trapezoidal": exu.DynamicSolverType.TrapezoidalIndex2,
-                "generalized_alpha": exu.DynamicSolverType.GeneralizedAlpha}
 NODE_TYPES = {"RotVecLG": exu.NodeType.RotationRotationVector, "EP": exu.NodeType.RotationEulerParameters}
 
 
 # ----------------------------------------------------------------------------------------------
 # helpers shared with exu_aniso.models.screw
 
-# Newton of the scenes (studies/newton_settings.py measures every choice; README "Solver settings"):
-# "modified" (the default): Exudyn's modified Newton, which keeps its Jacobian over steps, with a fresh
-#   Jacobian whenever an iteration reduces the residual by less than NEWTON_CONTRACTIVITY. Exudyn's own
-#   threshold (0.5) keeps a Jacobian from sticking through sliding: the residual then falls only ~40x per
-#   iteration and a sliding step takes 4-6 iterations (2 with a fresh Jacobian).
-# "full": a fresh Jacobian at every iteration.
-NEWTON_MODES = ("modified", "full")
-NEWTON_CONTRACTIVITY = 0.01
-# Floor of Exudyn's step reduction, relative to the nominal step: 10 halvings. A run whose step
-# collapses below it stops with a SimulationFailure that says so, instead of creeping on for hours at
-# a thousandth of dt (Exudyn's own floor is an absolute 1e-8 s, 1e5 times below the scenes' dt).
-MIN_STEP_FRACTION = 2.0 ** -10
+# Newton of the scenes, the step's floor and the solver types: exu_aniso.solver_settings (one definition,
+# explained there; studies/newton_settings.py measures every choice)
 
 
 def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None, newton="modified"):
