@@ -541,6 +541,124 @@ def _master_frame(mkind, qm, qm_t, refm, tangent, qtm, A, G, dA, Gt, wl, w):
         dA[2, 3 * i], dA[2, 3 * i + 1], dA[2, 3 * i + 2] = a1, -a0, 0.0
 
 
+@njit(cache=True, inline="always")
+def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S):
+    """evaluate_pair without derivatives (modes 0 and 2), as _set_forces for a fixed master: both
+    frames once per call, the law inlined without its tangent (point_force), and the generalized
+    force summed without a Jacobian per point. The slave gets F = A f: a rigid slave as force and
+    moment (_set_forces), a linear slave through its constant S_k; the master the reaction, -sum F
+    and -G^T sum (x_rel x A^T F) at its material points x_rel."""
+    n = q.shape[0]
+    nm = 6 if mkind == 2 else 7
+    ns = n - nm
+    linear = kind < 0
+    As, Gs = S[9, :3, :3], S[10, :3, :4]
+    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
+    xr, vr = S[17, 6, :3], S[17, 7, :3]
+    qts = S[15, 0, :(0 if linear else ns)]
+    qtm, wlm, w = S[15, 1, :nm], S[15, 2, :3], S[15, 3, :3]
+    Am, Gm = S[16, :3, :3], S[16, 3:6, :4]
+    if not linear:
+        _node_frame(kind, q[:ns], q_t[:ns], ref[:ns], False, qts, As, Gs, As, Gs)
+    _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], False, qtm, Am, Gm, Am, Gm, wlm, w)
+    vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
+    planar = kind == 0 or kind == 1
+    r = 2 if kind == 0 else 0                        # rotation coordinate of a planar slave
+    cs = sn = ws = 0.0
+    w0 = w1 = w2 = 0.0
+    if planar:
+        cs, sn, ws = math.cos(qts[r]), math.sin(qts[r]), q_t[r]
+    elif not linear:                                 # the slave's omega_local = G q_t_rot
+        for j in range(ns - 3):
+            w0 += Gs[0, j] * q_t[3 + j]
+            w1 += Gs[1, j] * q_t[3 + j]
+            w2 += Gs[2, j] * q_t[3 + j]
+    for i in range(n):
+        Q[i] = 0.0
+    FS0 = FS1 = FS2 = MS0 = MS1 = MS2 = 0.0          # on the slave (the master gets -F): force, moment
+    Y0 = Y1 = Y2 = 0.0                               # on the master: sum x_rel x A^T F
+    ax = ay = 0.0
+    ncontact = 0
+    unresolved = False
+    for k in range(H.shape[0]):
+        bx = by = bz = 0.0
+        if linear:
+            for i in range(3):
+                xi, vi = c[k, i], 0.0
+                for a in range(idx.shape[1]):
+                    g = idx[k, a]
+                    xi += Sm[k, i, a] * (ref[g] + q[g])
+                    vi += Sm[k, i, a] * q_t[g]
+                x[i], v[i] = xi, vi
+        elif planar:
+            bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
+            ax, ay = cs * bx - sn * by, sn * bx + cs * by
+            if kind == 0:
+                x[0], x[1], x[2] = qts[0] + ax, qts[1] + ay, bz
+                v[0], v[1], v[2] = q_t[0] - ws * ay, q_t[1] + ws * ax, 0.0
+            else:
+                x[0], x[1], x[2] = ax, ay, bz + qts[1]
+                v[0], v[1], v[2] = -ws * ay, ws * ax, q_t[1]
+        else:
+            bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
+            u0, u1, u2 = w1 * bz - w2 * by, w2 * bx - w0 * bz, w0 * by - w1 * bx
+            for i in range(3):
+                x[i] = qts[i] + As[i, 0] * bx + As[i, 1] * by + As[i, 2] * bz
+                v[i] = q_t[i] + As[i, 0] * u0 + As[i, 1] * u1 + As[i, 2] * u2
+        # relative to the master, in its frame (as evaluate_pair)
+        d0, d1, d2 = x[0] - qtm[0], x[1] - qtm[1], x[2] - qtm[2]
+        e0 = v[0] - vp0 - (w[1] * d2 - w[2] * d1)
+        e1 = v[1] - vp1 - (w[2] * d0 - w[0] * d2)
+        e2 = v[2] - vp2 - (w[0] * d1 - w[1] * d0)
+        for j in range(3):
+            xr[j] = Am[0, j] * d0 + Am[1, j] * d1 + Am[2, j] * d2
+            vr[j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
+        st = point_force(law, xr, vr, H[k], dt, f, hn, S)
+        for i in range(9):
+            Hn[k, i] = hn[i]
+        ncontact += st > 0
+        unresolved |= st == 3
+        if mode == 2 or st == 0:
+            continue
+        F0 = Am[0, 0] * f[0] + Am[0, 1] * f[1] + Am[0, 2] * f[2]            # F = A f
+        F1 = Am[1, 0] * f[0] + Am[1, 1] * f[1] + Am[1, 2] * f[2]
+        F2 = Am[2, 0] * f[0] + Am[2, 1] * f[1] + Am[2, 2] * f[2]
+        g0 = Am[0, 0] * F0 + Am[1, 0] * F1 + Am[2, 0] * F2                   # A^T F
+        g1 = Am[0, 1] * F0 + Am[1, 1] * F1 + Am[2, 1] * F2
+        g2 = Am[0, 2] * F0 + Am[1, 2] * F1 + Am[2, 2] * F2
+        Y0 += xr[1] * g2 - xr[2] * g1
+        Y1 += xr[2] * g0 - xr[0] * g2
+        Y2 += xr[0] * g1 - xr[1] * g0
+        FS0 += F0
+        FS1 += F1
+        FS2 += F2
+        if linear:
+            for a in range(idx.shape[1]):
+                Q[idx[k, a]] += Sm[k, 0, a] * F0 + Sm[k, 1, a] * F1 + Sm[k, 2, a] * F2
+        elif planar:
+            MS2 += ax * F1 - ay * F0
+        else:
+            h0 = As[0, 0] * F0 + As[1, 0] * F1 + As[2, 0] * F2              # As^T F
+            h1 = As[0, 1] * F0 + As[1, 1] * F1 + As[2, 1] * F2
+            h2 = As[0, 2] * F0 + As[1, 2] * F1 + As[2, 2] * F2
+            MS0 += by * h2 - bz * h1
+            MS1 += bz * h0 - bx * h2
+            MS2 += bx * h1 - by * h0
+    if mode == 0:
+        if kind == 0:
+            Q[0], Q[1], Q[2] = FS0, FS1, MS2
+        elif kind == 1:
+            Q[0], Q[1] = MS2, FS2
+        elif not linear:
+            Q[0], Q[1], Q[2] = FS0, FS1, FS2
+            for j in range(ns - 3):
+                Q[3 + j] = Gs[0, j] * MS0 + Gs[1, j] * MS1 + Gs[2, j] * MS2
+        Q[ns], Q[ns + 1], Q[ns + 2] = Q[ns] - FS0, Q[ns + 1] - FS1, Q[ns + 2] - FS2
+        for r2 in range(nm - 3):
+            Q[ns + 3 + r2] -= Gm[0, r2] * Y0 + Gm[1, r2] * Y1 + Gm[2, r2] * Y2
+    return -1 if unresolved else ncontact
+
+
 @njit(cache=True)
 def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, T, cols):
     """One contact set between a slave and a moving master: the surface carried by a 3D rigid node
@@ -567,6 +685,8 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     A^T A. Rotation-vector coordinates (slave and master) are differentiated by the local
     increment (A -> A (I + [dtheta]x)), Euler parameters by e. Returns the number of points in
     contact, or -1 when a point's motion in the step is unresolved (as evaluate_set)."""
+    if mode != 1:
+        return _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S)
     n = q.shape[0]
     nm = 6 if mkind == 2 else 7
     ns = n - nm
