@@ -18,7 +18,10 @@ A moving master (``evaluate_pair``): the surface carried by a 3D rigid node (kin
 slave of the two functions above; the law at the slave point relative to the master, the reaction
 on the master, the Jacobian over both nodes' coordinates (``tests/test_moving_master_compiled.py``).
 The slave's node kinematics are shared helpers (``_node_frame``, ``_rigid_point``,
-``_point_velocity_column``, ``_rigid_geometric``).
+``_point_velocity_column``, ``_rigid_geometric``). A force call (mode 0, and the history candidate,
+mode 2) of a rigid set or a pair takes a lean path of its own (``_set_forces``, ``_pair_forces``):
+no derivatives, the point law inlined without its tangent (``point_force``), the generalized force
+summed as force and moment per body; the tangent path (mode 1) is the rest of each function.
 This module needs no Exudyn.
 """
 from __future__ import annotations
@@ -703,7 +706,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     qts = S[15, 0, :(0 if linear else ns)]
     qs, qs_t, refs = q[:ns], q_t[:ns], ref[:ns]
     # the pair's views: slave point Jacobians (compact columns), derivatives, tangent blocks, master
-    Jp, Vq = T[0, 0:3, :m], T[0, 6:9, :m]
+    Jp = T[0, 0:3, :m]
     Jx = T[0, 3:6, :m] if kind == 3 else Jp
     X, V, Vt, Lt = T[1, 0:3, :na], T[1, 3:6, :na], T[1, 6:9, :na], T[2, 0:3, :na]
     Kc, Dc = T[3, :na, :na], T[4, :na, :na]
@@ -720,10 +723,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
         cols[a] = a
     for i in range(nm):
         cols[m + i] = ns + i
-    if mode == 0:
-        for i in range(n):
-            Q[i] = 0.0
-    elif mode == 1:
+    if mode == 1:
         # a rigid slave: every point has all n columns, Kc and Dc (n, n) sum over the points; a linear
         # slave: the point's columns only, Kc and Dc per point, added into J by cols
         if linear:
@@ -764,12 +764,9 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
             xr[j] = Am[0, j] * d[0] + Am[1, j] * d[1] + Am[2, j] * d[2]
             vr[j] = Am[0, j] * u[0] + Am[1, j] * u[1] + Am[2, j] * u[2]
         st = point_law(law, xr, vr, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        touching, stuck_step = _keep_candidate(st, mode, hn, Hn, k)
-        ncontact += touching
-        unresolved |= stuck_step
-        if mode == 2:
-            continue
-        if mode == 1 and st == 0:
+        ncontact += st > 0
+        unresolved |= st == 3
+        if st == 0:
             continue
         # F = A f (global), g = A^T F, y = b x g at the master's material point b = x_rel
         for i in range(3):
@@ -777,14 +774,6 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
         for j in range(3):
             g[j] = Am[0, j] * F[0] + Am[1, j] * F[1] + Am[2, j] * F[2]
         y0, y1, y2 = xr[1] * g[2] - xr[2] * g[1], xr[2] * g[0] - xr[0] * g[2], xr[0] * g[1] - xr[1] * g[0]
-        if mode == 0:
-            for a in range(m):
-                Q[cols[a]] += Jp[0, a] * F[0] + Jp[1, a] * F[1] + Jp[2, a] * F[2]
-            for i in range(3):
-                Q[ns + i] -= F[i]
-            for r in range(nr):
-                Q[ns + 3 + r] -= Gm[0, r] * y0 + Gm[1, r] * y1 + Gm[2, r] * y2
-            continue
         damped = _nonzero(Dv)
         # columns of X = dx_rel/dq and of L^T (Q = L f): slave, master translation, master rotation
         for a in range(m):
