@@ -267,3 +267,15 @@ def test_trajectory_png_keeps_incomplete_watermark_and_energy_warning(tmp_path, 
     assert ("INCOMPLETE", "red") in texts and ("WARNING: energy ledger open", "red") in texts
     assert any(t.startswith("closed-form sliding torque") for t, _ in texts)
     assert (tmp_path / "t.png").stat().st_size > 5000
+
+
+def test_drawn_lines_are_thinned_but_keep_their_ends():
+    """A plotted line gets at most PLOT_VERTICES (+ the last) vertices, first and last kept: the
+    legend's placement tests every vertex, which made long runs' plots cost more than their solve."""
+    import numpy as np
+    from exu_aniso import plots
+    t = np.arange(10001.0)
+    a, b = plots._drawn(t, 2 * t)
+    assert a[0] == 0 and a[-1] == 10000 and len(a) <= plots.PLOT_VERTICES + 1 and np.array_equal(b, 2 * a)
+    short = np.arange(5.0)
+    assert plots._drawn(short)[0] is short
