@@ -249,6 +249,81 @@ def _keep_candidate(st, mode, hn, Hn, k):
 
 
 @njit(cache=True, inline="always")
+def _rigid_motion(kind, qt, q_t, G, nq):
+    """What the force paths need of a rigid node's motion, once per call: a planar node's (cos, sin)
+    of its angle and its angular velocity, or a 3D node's omega_local = G q_t_rot, as (c, s, w, w0,
+    w1, w2) (the unused entries 0)."""
+    c = s = w = w0 = w1 = w2 = 0.0
+    if kind == 0 or kind == 1:
+        r = 2 if kind == 0 else 0                    # rotation coordinate of a planar node
+        c, s, w = math.cos(qt[r]), math.sin(qt[r]), q_t[r]
+    else:
+        for j in range(nq - 3):
+            w0 += G[0, j] * q_t[3 + j]
+            w1 += G[1, j] * q_t[3 + j]
+            w2 += G[2, j] * q_t[3 + j]
+    return c, s, w, w0, w1, w2
+
+
+@njit(cache=True, inline="always")
+def _rigid_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v):
+    """Position x and velocity v of the body-local point b of a rigid node (no Jacobian: the force
+    paths); motion from _rigid_motion. Returns a planar node's rotated b (ax, ay), the lever arm of
+    its moment (0, 0 for a 3D node)."""
+    c, s, w, w0, w1, w2 = motion
+    if kind == 0 or kind == 1:
+        ax, ay = c * bx - s * by, s * bx + c * by
+        if kind == 0:
+            x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
+            v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
+        else:
+            x[0], x[1], x[2] = ax, ay, bz + qt[1]
+            v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
+        return ax, ay
+    u0, u1, u2 = w1 * bz - w2 * by, w2 * bx - w0 * bz, w0 * by - w1 * bx
+    for i in range(3):
+        x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
+        v[i] = q_t[i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
+    return 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
+def _rigid_moment(kind, A, F0, F1, F2, bx, by, bz, ax, ay):
+    """The moment of the global force F at the body-local point b: a planar node's about its axis
+    (third entry; lever arm (ax, ay) from _rigid_point_xv), a 3D node's local b x A^T F."""
+    if kind == 0 or kind == 1:
+        return 0.0, 0.0, ax * F1 - ay * F0
+    g0 = A[0, 0] * F0 + A[1, 0] * F1 + A[2, 0] * F2                  # A^T F
+    g1 = A[0, 1] * F0 + A[1, 1] * F1 + A[2, 1] * F2
+    g2 = A[0, 2] * F0 + A[1, 2] * F1 + A[2, 2] * F2
+    return by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
+
+
+@njit(cache=True, inline="always")
+def _force_at(law, x, v, H, dt, f, hn, S, Hn, k):
+    """The force paths' law at point k (point_force, f filled), its history candidate into Hn[k];
+    returns the status."""
+    st = point_force(law, x, v, H[k], dt, f, hn, S)
+    for i in range(9):
+        Hn[k, i] = hn[i]
+    return st
+
+
+@njit(cache=True, inline="always")
+def _rigid_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2):
+    """Q of a rigid node from the summed force F and moment M (_rigid_moment): Q_rot = G^T M for a
+    3D node (= sum Jp_rot^T f, Jp_rot = -A [b]x G)."""
+    if kind == 0:
+        Q[0], Q[1], Q[2] = F0, F1, M2
+    elif kind == 1:
+        Q[0], Q[1] = M2, F2
+    else:
+        Q[0], Q[1], Q[2] = F0, F1, F2
+        for j in range(nq - 3):
+            Q[3 + j] = G[0, j] * M0 + G[1, j] * M1 + G[2, j] * M2
+
+
+@njit(cache=True, inline="always")
 def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
     """evaluate_set without derivatives (modes 0 and 2): the points' positions and velocities
     from the node's frame, computed once per call, and the generalized force summed without a
@@ -266,38 +341,14 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
     A, G = S[9, :3, :3], S[10, :3, :4]
     qt, x, v, f, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
     _node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
-    planar = kind <= 1
-    r = 2 if kind == 0 else 0                        # rotation coordinate of a planar node
-    c = s = w = 0.0
-    w0 = w1 = w2 = 0.0
-    if planar:
-        c, s, w = math.cos(qt[r]), math.sin(qt[r]), q_t[r]
-    else:                                            # omega_local = G q_t_rot
-        for j in range(nq - 3):
-            w0 += G[0, j] * q_t[3 + j]
-            w1 += G[1, j] * q_t[3 + j]
-            w2 += G[2, j] * q_t[3 + j]
+    motion = _rigid_motion(kind, qt, q_t, G, nq)
     F0 = F1 = F2 = M0 = M1 = M2 = 0.0
     ncontact = 0
     unresolved = False
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-        if planar:
-            ax, ay = c * bx - s * by, s * bx + c * by
-            if kind == 0:
-                x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
-                v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
-            else:
-                x[0], x[1], x[2] = ax, ay, bz + qt[1]
-                v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
-        else:
-            u0, u1, u2 = w1 * bz - w2 * by, w2 * bx - w0 * bz, w0 * by - w1 * bx
-            for i in range(3):
-                x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
-                v[i] = q_t[i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
-        st = point_force(law, x, v, H[k], dt, f, hn, S)
-        for i in range(9):
-            Hn[k, i] = hn[i]
+        ax, ay = _rigid_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v)
+        st = _force_at(law, x, v, H, dt, f, hn, S, Hn, k)
         ncontact += st > 0
         unresolved |= st == 3
         if mode == 2 or st == 0:
@@ -305,24 +356,12 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
         F0 += f[0]
         F1 += f[1]
         F2 += f[2]
-        if planar:
-            M2 += ax * f[1] - ay * f[0]
-        else:
-            g0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]      # A^T f
-            g1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
-            g2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
-            M0 += by * g2 - bz * g1
-            M1 += bz * g0 - bx * g2
-            M2 += bx * g1 - by * g0
+        m0, m1, m2 = _rigid_moment(kind, A, f[0], f[1], f[2], bx, by, bz, ax, ay)
+        M0 += m0
+        M1 += m1
+        M2 += m2
     if mode == 0:
-        if kind == 0:
-            Q[0], Q[1], Q[2] = F0, F1, M2
-        elif kind == 1:
-            Q[0], Q[1] = M2, F2
-        else:
-            Q[0], Q[1], Q[2] = F0, F1, F2
-            for j in range(nq - 3):
-                Q[3 + j] = G[0, j] * M0 + G[1, j] * M1 + G[2, j] * M2
+        _rigid_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)
     return -1 if unresolved else ncontact
 
 
@@ -565,17 +604,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
         _node_frame(kind, q[:ns], q_t[:ns], ref[:ns], False, qts, As, Gs, As, Gs)
     _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], False, qtm, Am, Gm, Am, Gm, wlm, w)
     vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
-    planar = kind == 0 or kind == 1
-    r = 2 if kind == 0 else 0                        # rotation coordinate of a planar slave
-    cs = sn = ws = 0.0
-    w0 = w1 = w2 = 0.0
-    if planar:
-        cs, sn, ws = math.cos(qts[r]), math.sin(qts[r]), q_t[r]
-    elif not linear:                                 # the slave's omega_local = G q_t_rot
-        for j in range(ns - 3):
-            w0 += Gs[0, j] * q_t[3 + j]
-            w1 += Gs[1, j] * q_t[3 + j]
-            w2 += Gs[2, j] * q_t[3 + j]
+    motion = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0) if linear else _rigid_motion(kind, qts, q_t, Gs, ns)
     for i in range(n):
         Q[i] = 0.0
     FS0 = FS1 = FS2 = MS0 = MS1 = MS2 = 0.0          # on the slave (the master gets -F): force, moment
@@ -593,21 +622,9 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
                     xi += Sm[k, i, a] * (ref[g] + q[g])
                     vi += Sm[k, i, a] * q_t[g]
                 x[i], v[i] = xi, vi
-        elif planar:
-            bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-            ax, ay = cs * bx - sn * by, sn * bx + cs * by
-            if kind == 0:
-                x[0], x[1], x[2] = qts[0] + ax, qts[1] + ay, bz
-                v[0], v[1], v[2] = q_t[0] - ws * ay, q_t[1] + ws * ax, 0.0
-            else:
-                x[0], x[1], x[2] = ax, ay, bz + qts[1]
-                v[0], v[1], v[2] = -ws * ay, ws * ax, q_t[1]
         else:
             bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-            u0, u1, u2 = w1 * bz - w2 * by, w2 * bx - w0 * bz, w0 * by - w1 * bx
-            for i in range(3):
-                x[i] = qts[i] + As[i, 0] * bx + As[i, 1] * by + As[i, 2] * bz
-                v[i] = q_t[i] + As[i, 0] * u0 + As[i, 1] * u1 + As[i, 2] * u2
+            ax, ay = _rigid_point_xv(kind, qts, q_t, As, motion, bx, by, bz, x, v)
         # relative to the master, in its frame (as evaluate_pair)
         d0, d1, d2 = x[0] - qtm[0], x[1] - qtm[1], x[2] - qtm[2]
         e0 = v[0] - vp0 - (w[1] * d2 - w[2] * d1)
@@ -616,9 +633,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
         for j in range(3):
             xr[j] = Am[0, j] * d0 + Am[1, j] * d1 + Am[2, j] * d2
             vr[j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
-        st = point_force(law, xr, vr, H[k], dt, f, hn, S)
-        for i in range(9):
-            Hn[k, i] = hn[i]
+        st = _force_at(law, xr, vr, H, dt, f, hn, S, Hn, k)
         ncontact += st > 0
         unresolved |= st == 3
         if mode == 2 or st == 0:
@@ -638,24 +653,14 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
         if linear:
             for a in range(idx.shape[1]):
                 Q[idx[k, a]] += Sm[k, 0, a] * F0 + Sm[k, 1, a] * F1 + Sm[k, 2, a] * F2
-        elif planar:
-            MS2 += ax * F1 - ay * F0
         else:
-            h0 = As[0, 0] * F0 + As[1, 0] * F1 + As[2, 0] * F2              # As^T F
-            h1 = As[0, 1] * F0 + As[1, 1] * F1 + As[2, 1] * F2
-            h2 = As[0, 2] * F0 + As[1, 2] * F1 + As[2, 2] * F2
-            MS0 += by * h2 - bz * h1
-            MS1 += bz * h0 - bx * h2
-            MS2 += bx * h1 - by * h0
+            m0, m1, m2 = _rigid_moment(kind, As, F0, F1, F2, bx, by, bz, ax, ay)
+            MS0 += m0
+            MS1 += m1
+            MS2 += m2
     if mode == 0:
-        if kind == 0:
-            Q[0], Q[1], Q[2] = FS0, FS1, MS2
-        elif kind == 1:
-            Q[0], Q[1] = MS2, FS2
-        elif not linear:
-            Q[0], Q[1], Q[2] = FS0, FS1, FS2
-            for j in range(ns - 3):
-                Q[3 + j] = Gs[0, j] * MS0 + Gs[1, j] * MS1 + Gs[2, j] * MS2
+        if not linear:
+            _rigid_forces(kind, Gs, ns, Q, FS0, FS1, FS2, MS0, MS1, MS2)
         Q[ns], Q[ns + 1], Q[ns + 2] = Q[ns] - FS0, Q[ns + 1] - FS1, Q[ns + 2] - FS2
         for r2 in range(nm - 3):
             Q[ns + 3 + r2] -= Gm[0, r2] * Y0 + Gm[1, r2] * Y1 + Gm[2, r2] * Y2
