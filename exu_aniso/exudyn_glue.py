@@ -37,7 +37,7 @@ from typing import NamedTuple
 import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
-from numba import njit, typeof
+from numba import njit
 
 from .fastpath import stage_candidate
 from .kernel import _entry_point
@@ -592,24 +592,6 @@ def gather_coordinates(q, q_t, idx, qb, q_tb):
         q_tb[i] = q_t[j]
 
 
-_GATHER = {}                              # the compiled gather_coordinates per argument types
-
-
-def _gather_entry(args):
-    """gather_coordinates compiled for the types of args (the same for every set: C-contiguous
-    float64 views and buffers, int64 indices), called directly: numba's type dispatch is done once
-    (as kernel._entry_point for the kernels). Falls back to the dispatcher if numba's API for it
-    is not there."""
-    sig = tuple(typeof(a) for a in args)
-    if sig not in _GATHER:
-        try:
-            gather_coordinates.compile(sig)
-            _GATHER[sig] = gather_coordinates.overloads[sig].entry_point
-        except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
-            _GATHER[sig] = gather_coordinates
-    return _GATHER[sig]
-
-
 class _CompiledSet(_ContactSet):
     """The same contact set evaluated by the compiled kernel ``exu_aniso.fastpath`` (ground
     master, a surface numba compiles): one compiled call per user function on arrays packed once
@@ -673,7 +655,7 @@ class _CompiledSet(_ContactSet):
         if self._gathered:
             self._q, self._q_t = self._qb, self._q_tb
             self._gather_args = (V.q, V.q_t, np.ascontiguousarray(a, dtype=np.int64), self._qb, self._q_tb)
-            self._gather = _gather_entry(self._gather_args)
+            self._gather = _entry_point(gather_coordinates, self._gather_args)
         else:
             self._q, self._q_t = V.q[a[0]:a[0] + n], V.q_t[a[0]:a[0] + n]
             self._gather, self._gather_args = None, None

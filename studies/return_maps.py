@@ -213,7 +213,7 @@ def report(args, timer):
               "yes" if conv[(d["scene"], d["map"])] else "no", f"{min(d['diss']):.4g} ... {max(d['diss']):.4g}",
               d["min_inc"], d["neg"], d["newton"], d["red"], d["wall"]] for d in S]
     jrows = [[st, rm, v] for (st, rm), v in jumps.items()]
-    # the SPEC's oblique example: C isotropic, mu 0.2/0.6, trial at 45 deg
+    # the oblique example of the return maps: C isotropic, mu 0.2/0.6, trial at 45 deg
     i45 = {rm: [k for k in _idx(J, **{"setting [-]": "C isotropic, F mu 0.2/0.6", "return_map [-]": rm})
                 if abs(J["trial_angle [deg]"][k] - 45.0) < 1e-9]
            for rm in MAPS}
@@ -274,7 +274,7 @@ ellipse in each direction 0 ... 180 deg (|N| = 1 N); jump = |T - T_tr| / |T_tr| 
 {JUMP_DELTA:g}). Largest jump over the directions:
 
 {sl.markdown_table(["setting [-]", "return_map [-]", "max jump [-]"], jrows)}
-The SPEC's oblique example (C isotropic, mu 0.2 / 0.6, trial traction just outside the ellipse at 45 deg):
+The oblique example of the return maps (C isotropic, mu 0.2 / 0.6, trial traction just outside the ellipse at 45 deg):
 returned direction {ang_txt}. The seed map returns a traction turned toward the
 dominant eigen-direction of C F, whatever the distance from the ellipse; that jump is what Newton meets at
 every stick/slip transition (the step reductions above).

@@ -60,7 +60,7 @@ def test_tension_ratio_is_euler_eytelwein(kw):
 def test_cross_friction_mu2_does_not_change_the_ratio(wrap):
     """Orthotropic friction with mu_2 != mu_1 gives the run of isotropic mu_1: the rope slides along e1
     (the circumference) only, and with the exact map the friction force of a slip along a principal
-    axis is mu_1 |N| (SPEC: T_sl = -|N| F^-1 v / sqrt(v.F^-1 v))."""
+    axis is mu_1 |N| (the associated sliding traction T_sl = -|N| F^-1 v / sqrt(v.F^-1 v))."""
     t_end = 2.0 if wrap == 180.0 else 1.0
     iso = run(wrap_angle=wrap, t_end=t_end)
     for mu2 in (0.8, 0.1):

@@ -30,7 +30,7 @@ def random_case(rng, ratio=30.0):
     return T_tr, N, sym(B), sym(F)
 
 
-# the SPEC example: C isotropic, mu_1 = 0.2, mu_2 = 0.6, trial just outside the ellipse at 45 deg
+# the oblique example of the return maps: C isotropic, mu_1 = 0.2, mu_2 = 0.6, trial just outside the ellipse at 45 deg
 EPS, MU1, MU2 = 1e4, 0.2, 0.6
 B_ISO = (-EPS, 0.0, -EPS)
 F_ORTHO = (1 / MU1**2, 0.0, 1 / MU2**2)
@@ -111,8 +111,8 @@ def test_all_maps_agree_on_a_common_principal_axis(method):
 
 
 def test_seed_differs_from_exact_spec_example():
-    """SPEC §2: isotropic C, mu = 0.2 / 0.6, trial just outside at 45 deg: exact and radial
-    come back at 45 deg, seed at about 6 deg (6.34 deg measured by this kernel)."""
+    """The oblique example of the return maps: isotropic C, mu = 0.2 / 0.6, trial just outside at
+    45 deg: exact and radial come back at 45 deg, seed at about 6 deg (6.34 deg measured by this kernel)."""
     T_tr = trial_at(45.0, 1e-3)
     ang = {m: math.degrees(math.atan2(*return_map_point(T_tr, 1.0, B_ISO, F_ORTHO, m).T[::-1]))
            for m in RETURN_MAPS}

@@ -101,7 +101,7 @@ def test_return_maps_rates_jump_dissipation(return_maps):
             assert j > 0.1, (s, m, j)
         else:
             assert j < 1e-6, (s, m, j)
-    # SPEC oblique example: C isotropic, mu 0.2/0.6, trial at 45 deg: exact and radial keep 45 deg, seed about 6
+    # the oblique example of the return maps: C isotropic, mu 0.2/0.6, trial at 45 deg: exact and radial keep 45 deg, seed about 6
     ang = {m: _row(J, **{"setting [-]": "C isotropic, F mu 0.2/0.6", "return_map [-]": m,
                         "trial_angle [deg]": 45.0})["returned_angle [deg]"] for m in ("seed", "exact", "radial")}
     assert ang["exact"] == pytest.approx(45.0, abs=1e-5) and ang["radial"] == pytest.approx(45.0, abs=1e-9)
