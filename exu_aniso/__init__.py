@@ -1,24 +1,24 @@
 """exu_aniso: anisotropic frictional contact (Konyukhov & Schweizerhof) for Exudyn.
 
 The kernels (geometry, nets, fields, law, kernel, contact, reference) never import exudyn; the glue
-modules ``exu_aniso.exudyn_glue`` (the contact set), ``exu_aniso.mainsystem`` (the method
+modules ``exu_aniso.engines.exudyn_adapter.glue`` (the contact set), ``exu_aniso.engines.exudyn_adapter.mainsystem`` (the method
 ``mbs.CreateAnisotropicContact``, bound to ``exudyn.MainSystem`` when this package is imported)
-and ``exu_aniso.graphics`` are the places that talk to Exudyn. Without Exudyn installed the
+and ``exu_aniso.engines.exudyn_adapter.graphics`` are the places that talk to Exudyn. Without Exudyn installed the
 package still imports, and the reference engine runs.
 """
-from ._numba_cache import CACHE_DIR as NUMBA_CACHE_DIR   # first: before any compiled kernel is defined
-from .contact import HISTORY_FIELDS, OPEN, SLIP, STICK, ContactLaw, ContactState
-from .fields import Adhesion, Friction, TensorField
-from .law import RETURN_MAPS, return_map_batch, return_map_point
-from .geometry import Cone, Cylinder, Helicoid, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
+from exu_aniso.util.numba_cache import CACHE_DIR as NUMBA_CACHE_DIR   # first: before any compiled kernel is defined
+from exu_aniso.kernel.contact_law import HISTORY_FIELDS, OPEN, SLIP, STICK, ContactLaw, ContactState
+from exu_aniso.fields.tensor_fields import Adhesion, Friction, TensorField
+from exu_aniso.law.return_maps import RETURN_MAPS, return_map_batch, return_map_point
+from exu_aniso.geometry import Cone, Cylinder, Helicoid, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
 
 try:   # Exudyn is a dependency, but the kernels and the reference engine also run without it
     import exudyn as _exudyn
 except ImportError:
     _exudyn = None
 if _exudyn is not None:
-    from . import mainsystem as _mainsystem   # binds mbs.CreateAnisotropicContact (extension registry)
-    from .solver_settings import RecommendedSimulationSettings
+    from exu_aniso.engines.exudyn_adapter import mainsystem as _mainsystem   # binds mbs.CreateAnisotropicContact (extension registry)
+    from exu_aniso.engines.exudyn_adapter.solver_settings import RecommendedSimulationSettings
 
 __version__ = "0.1.0"
 __all__ = ["Adhesion", "Friction", "TensorField", "Plane", "Cylinder", "Cone", "Sphere", "Torus", "Helicoid",

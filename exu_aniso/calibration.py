@@ -2,32 +2,10 @@
 
 Paper 001 (section 3) calibrates the adhesion and friction tensors of a screw "in order to prescribe
 the resulting kinematics exactly by keeping the necessary sliding force at a certain level". This
-module does that for the screw scene (``exu_aniso.scenes.ScrewParams``, rotation drive).
+module does that for the screw scene (``exu_aniso.scenes.base.ScrewParams``, rotation drive).
 
-Steady sliding in closed form (``steady_sliding``)
---------------------------------------------------
-In the reduced model the screw stays on the hole axis, so every point carries the same normal force;
-the total is ``N = eps_n * interference``. In steady sliding (rotation speed and axial speed
-constant, inertia forces zero) the total tangential traction the hole exerts on the screw is
-``T = -(tau e_phi + axial_load e_z)``: ``tau`` balances the drive torque (torque = R * tau with
-the hole radius R: the traction acts where the slip is measured, see kernel.py step 5) and the axial
-part balances the axial load. Write
-``S = -T = tau e_phi + axial_load e_z`` in the helix frame (e1 = cos a e_phi + sin a e_z,
-e2 = -sin a e_phi + cos a e_z). Sliding puts it on the friction ellipse
-
-    (S.e1)^2 / mu_1^2 + (S.e2)^2 / mu_2^2 = N^2          ->  tau (quadratic, positive root),
-
-which gives the sliding torque. It is also the threshold of sustained sliding under the torque drive
-(below it the screw sticks). The direction of the slip rate depends on the return map:
-
-* ``radial``: slip along ``C^-1 S`` (components S_i / eps_i): the ADHESION ratio r = eps_1/eps_2 sets
-  the kinematics and the friction coefficients do not;
-* ``exact``: slip along ``F S`` (components S_i / mu_i^2): the kinematics follow from mu_1/mu_2
-  only, B does not matter in steady sliding;
-* ``seed``: no closed form. Its steady state follows the dominant eigenvector of C F and depends
-  on the step size (see studies/screw_driving.py), so it is not calibrated here.
-
-The advance per revolution is ``2 pi R v_z / v_phi`` (R the hole radius, where the slip is measured).
+Steady sliding in closed form: ``exu_aniso.scenes.screw.steady_sliding`` (the theory is in its module's
+docstring).
 Without axial load this is ``adv / pitch = (1 - r) / (1 + r tan^2 a)`` with r = eps_1/eps_2 (radial)
 or r = (mu_1/mu_2)^2 (exact): the thread limit adv/pitch -> 1 as r -> 0, and adv = 0 for r = 1.
 
@@ -54,95 +32,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .scenes import ScrewParams, pitch
-from .validation import check_positive, check_real
+from exu_aniso.scenes.base import ScrewParams
+from exu_aniso.scenes.screw import (CALIBRATED_MAPS, SteadySliding, _adhesion_stiffnesses,  # noqa: F401
+                                    _friction_coefficients, _helix_components, sliding_onset_angle, steady_sliding)
+from exu_aniso.util.validation import check_positive, check_real
 
 ENGINES = ("reference", "exudyn")
-CALIBRATED_MAPS = ("radial", "exact")
 UNKNOWNS = {"radial": ("eps_ratio", "mu_scale"), "exact": ("mu_ratio", "mu_2")}
 # generalized-alpha (rho_inf 0.8) damps the unresolved torsional oscillation of screw and drive spring
 # (omega ~ 2.8e3 rad/s for the defaults); with the trapezoidal rule it persists and its phase at the end
 # of the run moves the fitted advance by up to ~1 % at dt = 1e-3 (5e-5 with generalized-alpha)
 DEFAULT_BASE = ScrewParams(solver="generalized_alpha", t_end=0.5)
-
-
-@dataclass(frozen=True)
-class SteadySliding:
-    """Closed-form steady sliding state of the screw scene (SI units).
-
-    advance_per_rev [m], advance_ratio = advance_per_rev / pitch [-], torque = drive torque while
-    sliding (= sticking threshold of the torque drive) [N m], circumferential_traction = tau [N]
-    (total), normal_force = N [N] (total), slip_direction = unit slip-rate direction (e_phi, e_z)."""
-
-    advance_per_rev: float
-    advance_ratio: float
-    torque: float
-    circumferential_traction: float
-    normal_force: float
-    slip_direction: tuple
-
-
-def _helix_components(p):
-    a = math.radians(p.helix_angle)
-    return math.cos(a), math.sin(a)
-
-
-def _friction_coefficients(p):
-    return (p.mu_1, p.mu_1) if p.friction == "isotropic" else (p.mu_1, p.mu_2)
-
-
-def _adhesion_stiffnesses(p):
-    return (p.eps_1, p.eps_1) if p.adhesion == "isotropic" else (p.eps_1, p.eps_2)
-
-
-def steady_sliding(p: ScrewParams) -> SteadySliding:
-    """Steady sliding of the screw scene in closed form (see the module docstring).
-
-    Valid for return_map 'radial' and 'exact', the reduced model (the full model agrees while the
-    screw stays centred) and positive rotation. Raises ValueError for the seed map, or when the axial
-    load exceeds the axial friction capacity (then no steady sliding rotation exists)."""
-    if not isinstance(p, ScrewParams):
-        raise TypeError(f"p must be ScrewParams; got {type(p).__name__}")
-    if p.return_map not in CALIBRATED_MAPS:
-        raise ValueError(f"return_map must be one of {CALIBRATED_MAPS} for the closed form (the seed map's steady "
-                         f"state depends on the step size); got {p.return_map!r}")
-    c, s = _helix_components(p)
-    mu1, mu2 = _friction_coefficients(p)
-    eps1, eps2 = _adhesion_stiffnesses(p)
-    N = p.eps_n * p.interference
-    Fa = p.axial_load
-    f1, f2 = 1.0 / mu1 ** 2, 1.0 / mu2 ** 2
-    # S = tau e_phi + Fa e_z; S1 = tau c + Fa s, S2 = -tau s + Fa c; f1 S1^2 + f2 S2^2 = N^2
-    A = f1 * c * c + f2 * s * s
-    B = Fa * c * s * (f1 - f2)
-    C = Fa * Fa * (f1 * s * s + f2 * c * c) - N * N
-    disc = B * B - A * C
-    if N <= 0.0 or disc < 0.0 or (-B + math.sqrt(disc)) <= 0.0:
-        raise ValueError(f"axial_load: |axial_load| = {abs(Fa)!r} N must stay below the axial friction capacity "
-                         f"(normal force eps_n * interference = {N!r} N) for a steady sliding rotation")
-    tau = (-B + math.sqrt(disc)) / A
-    S1, S2 = tau * c + Fa * s, -tau * s + Fa * c
-    w1, w2 = (S1 / eps1, S2 / eps2) if p.return_map == "radial" else (S1 * f1, S2 * f2)
-    v_phi, v_z = c * w1 - s * w2, s * w1 + c * w2
-    if not v_phi > 0.0:
-        raise ValueError("the closed form needs a slip with positive rotation; this parameter set slides backwards")
-    adv = 2.0 * math.pi * p.radius * v_z / v_phi
-    pt = pitch(p)
-    norm = math.hypot(v_phi, v_z)
-    return SteadySliding(advance_per_rev=adv, advance_ratio=adv / pt if pt != 0.0 else float("nan"),
-                         torque=p.radius * tau, circumferential_traction=tau, normal_force=N,
-                         slip_direction=(v_phi / norm, v_z / norm))
-
-
-def sliding_onset_angle(p: ScrewParams) -> float:
-    """Driver rotation [rad] until the screw starts to slide under the rotation drive (estimate):
-    elastic circumferential travel of the contact (axial direction free, stiffness
-    1 / (cos^2 a / eps_1 + sin^2 a / eps_2)) plus the wind-up of the drive spring."""
-    c, s = _helix_components(p)
-    eps1, eps2 = _adhesion_stiffnesses(p)
-    st = steady_sliding(p)
-    k_phi = 1.0 / (c * c / eps1 + s * s / eps2)
-    return st.circumferential_traction / k_phi / p.radius + st.torque / p.drive_stiffness
 
 
 # ----------------------------------------------------------------------------------------------
@@ -191,10 +91,10 @@ def closed_form_guess(target_advance_per_rev, target_torque, base):
 
 def _simulate(p, engine):
     if engine == "reference":
-        from .reference import simulate_screw
+        from exu_aniso.scenes.screw import simulate_screw
         r = simulate_screw(p)
     else:
-        from .models.screw import RunScrew
+        from exu_aniso.models.screw import RunScrew
         r = RunScrew(p, contactOutputs=False)
     return r.summary
 

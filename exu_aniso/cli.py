@@ -4,7 +4,7 @@
                             [--quiet] [--snapshot] [--view]
     exu-aniso params SCENE
 
-SCENE: one of the scene catalog (``exu_aniso.scene_catalog``: block, screw, particle, capstan, feeder,
+SCENE: one of the scene catalog (``exu_aniso.catalog``: block, screw, particle, capstan, feeder,
 fastening).
 
 ``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
@@ -14,7 +14,7 @@ written to a temporary name and moved into place, so a failed run leaves no half
 result. Exit code 0 on success, 2 on bad names or values (with a message naming the
 parameter, the rule and the value), 1 when the simulation fails.
 
-An Exudyn run longer than about 2 s shows its progress on stderr (``exu_aniso.progress``; ``--quiet``
+An Exudyn run longer than about 2 s shows its progress on stderr (``exu_aniso.util.progress``; ``--quiet``
 turns it off). ``--snapshot`` also writes DIR/snapshot.png, the final state rendered by Exudyn's
 raytracer (no display needed); ``--view`` opens Exudyn's SolutionViewer on each run once all are
 written (needs a display: without one it exits with 2 before simulating). Both need the Exudyn engine.
@@ -29,11 +29,11 @@ import os
 import sys
 import tempfile
 
-from .failure import SimulationFailure
-from .output import atomic_write as _atomic_write
-from .output import json_safe, write_json
-from .scene_catalog import MAIN_JOB, SCENES
-from .validation import ParameterError
+from exu_aniso.engines.failure import SimulationFailure
+from exu_aniso.util.output import atomic_write as _atomic_write
+from exu_aniso.util.output import json_safe, write_json
+from exu_aniso.catalog import MAIN_JOB, SCENES
+from exu_aniso.util.validation import ParameterError
 
 ENGINES = ("exudyn", "reference")
 # trajectory columns written to CSV, in this order, with their SI units (plain names are the public
@@ -81,14 +81,14 @@ def simulate(scene, params, engine, progress=False, snapshot=None, solution_file
 def view_problem():
     """Why --view cannot open a render window here (message for exit code 2), or None. Checked
     before simulating: without a display Exudyn's renderer.Start() aborts the whole process."""
-    from .models.block import DisplayProblem
+    from exu_aniso.models.block import DisplayProblem
     problem = DisplayProblem()
     return VIEW_NO_DISPLAY.format(problem) if problem else None
 
 
 def view_solution(scene, params, solution_file):
     """Exudyn's SolutionViewer on the solution a run wrote (the model is rebuilt from params)."""
-    from .models.block import ViewSolution
+    from exu_aniso.models.block import ViewSolution
     ViewSolution(SCENES[scene].build_exudyn(params), solution_file, title=f"exu-aniso {scene}")
 
 
@@ -104,7 +104,7 @@ def write_csv(path, scene, traj):
 
 def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None):
     """trajectory.png: the scene's plot (block: plots.PlotBlockPath; screw: plots.PlotScrewAdvance
-    over plots.PlotScrewTorque; see scene_catalog). A failed run's plot says INCOMPLETE, an open
+    over plots.PlotScrewTorque; see catalog). A failed run's plot says INCOMPLETE, an open
     energy ledger says so in red."""
     import matplotlib
     matplotlib.use("Agg")
@@ -319,7 +319,7 @@ def _parallel(jobs, a):
     Warm runs stay in this process (a worker's start costs more than the runs)."""
     if len(jobs) < 2 or a.engine != "exudyn" or (os.cpu_count() or 1) < 2:
         return False
-    from .fastpath import kernels_cached
+    from exu_aniso.kernel.point import kernels_cached
     return not kernels_cached()
 
 
@@ -335,7 +335,7 @@ def _run_jobs(jobs, a, tmp):
     if parallel:
         import concurrent.futures
         import multiprocessing
-        from .fastpath import announce_compile
+        from exu_aniso.kernel.point import announce_compile
         announce_compile(stream=sys.stderr)
         with concurrent.futures.ProcessPoolExecutor(max_workers=min(len(jobs), os.cpu_count()),
                                                     mp_context=multiprocessing.get_context("spawn"),
@@ -360,8 +360,8 @@ def _run_jobs(jobs, a, tmp):
 
 def _worker_announced():
     """A worker process: the compile notice was given once, by the parent."""
-    from . import fastpath
-    fastpath._announced = True
+    from exu_aniso.kernel import point
+    point._announced = True
 
 
 def _print_reports(reports):

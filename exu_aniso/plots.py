@@ -5,7 +5,7 @@
   its adhesion and friction fields (polar: rays and circles about the origin; cartesian: lines
   along direction 1), with the start, the end and the polar origin marked;
 * ``PlotScrewAdvance(traj, params, ax=None)``: axial position z [mm] against rotation [rev] with the
-  closed-form steady-sliding advance per revolution (``exu_aniso.calibration.steady_sliding``) as a
+  closed-form steady-sliding advance per revolution (``exu_aniso.scenes.screw.steady_sliding``) as a
   straight line through the last point, and the thread pitch for comparison;
 * ``PlotScrewTorque(traj, params, ax=None)``: drive torque [N m] against time [s] with the
   closed-form sliding torque as a horizontal line.
@@ -188,7 +188,7 @@ def PlotBlockPath(traj, params, ax=None):
 
 def screw_closed_form(params):
     """(SteadySliding or None, reason text when None) for the screw parameters ``params``."""
-    from .calibration import steady_sliding
+    from exu_aniso.scenes.screw import steady_sliding
     if params.return_map == "seed":
         return None, "seed map: no closed form (its steady state depends on dt)"
     if params.drive == "axial":
@@ -217,7 +217,7 @@ def PlotScrewAdvance(traj, params, ax=None):
         xr = np.array([min(rev.min(), 0.0), max(rev.max(), 0.0)])
         if xr[1] - xr[0] <= 0.0:
             xr = np.array([rev[-1] - 0.5, rev[-1] + 0.5])
-        from .scenes import pitch
+        from exu_aniso.scenes.base import pitch
         p_mm = pitch(params) * 1e3
         ax.plot(xr, z[-1] + p_mm * (xr - rev[-1]), ls=":", color="0.5", lw=1.0, gid="pitch",
                 label=f"thread pitch {p_mm:.4g} mm/rev")

@@ -20,8 +20,8 @@ least disturbed measure, which the test of linear growth uses).
 Settings: a *setting* is (implementation, factor variation); an implementation is a name ->
 (engine, dict of Build*/simulate_* keyword options) in ``IMPLEMENTATIONS``
 (``studies/_lib/implementations.py``), and a variation is a dict of BlockParams/ScrewParams
-overrides plus a dict of keyword options. The fast path is one more line in ``IMPLEMENTATIONS``,
-e.g. ``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
+overrides plus a dict of keyword options. Another implementation of the glue is one more line in
+``IMPLEMENTATIONS`` (as "exudyn-numpy" is).
 
 Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one row per setting),
 ``kernel.csv`` (law cost per point), ``baseline.csv`` (ours / C++ baseline), ``targets.csv`` (the speed
@@ -89,12 +89,12 @@ EXUDYN_ONLY = ("implementation", "symmetry", "nodeType")
 
 
 def n_points(scene, p):
-    from exu_aniso.scenes import block_points, screw_points
+    from exu_aniso.scenes.base import block_points, screw_points
     return len(block_points(p) if scene == "block" else screw_points(p))
 
 
 def make_params(scene, overrides):
-    from exu_aniso.scenes import BlockParams, ScrewParams
+    from exu_aniso.scenes.base import BlockParams, ScrewParams
     return (BlockParams if scene == "block" else ScrewParams)(**overrides)
 
 
@@ -115,7 +115,8 @@ def run_setting(scene, engine, p, options):
         wall, steps, iters, _ = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
         return (time.process_time() - c0, wall, steps, iters, model["contact"].get("implementation", "numpy"),
                 len(model["contact"]["points"]))
-    from exu_aniso.reference import simulate_block, simulate_screw
+    from exu_aniso.scenes.block import simulate_block
+    from exu_aniso.scenes.screw import simulate_screw
     options = {k: v for k, v in options.items() if k not in EXUDYN_ONLY}
     c0 = time.process_time()
     r = (simulate_block if scene == "block" else simulate_screw)(p, **options)

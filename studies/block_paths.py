@@ -23,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 from _lib import studylib as sl  # noqa: E402
-from exu_aniso.scenes import summary_float  # noqa: E402
+from exu_aniso.scenes.base import summary_float  # noqa: E402
 
 NAME = "block_paths"
 MAPS = ("seed", "exact", "radial")
@@ -48,7 +48,7 @@ XCHECK_TOL = {"exact": 1e-6 * R0, "radial": 1e-6 * R0, "seed": 1e-2 * R0}
 
 
 def params_for(ratio, return_map, drive, **over):
-    from exu_aniso.scenes import BlockParams
+    from exu_aniso.scenes.base import BlockParams
     s = math.sqrt(ratio)
     return BlockParams(**{**SCENE, "eps_1": GEOMETRIC_MEAN * s, "eps_2": GEOMETRIC_MEAN / s,
                           "return_map": return_map, "drive": drive, **over})
@@ -88,7 +88,7 @@ XKEYS = ("x_end", "y_end", "r_min", "r_max", "r_mean")
 def run_xcheck(case):
     """Same parameters through Exudyn and the numpy reference; max difference of the path measures."""
     from exu_aniso.models.block import RunBlock
-    from exu_aniso.reference import simulate_block
+    from exu_aniso.scenes.block import simulate_block
     p = params_for(case["ratio"], case["return_map"], case["drive"], t_end=case["t_end"])
     a, b = RunBlock(p).summary, simulate_block(p).summary
     return dict(exudyn=a, reference=b, diff=max(abs(a[k] - b[k]) for k in XKEYS))
@@ -293,7 +293,7 @@ step_reductions = accepted steps beyond t_end / dt (Exudyn halves a step whose N
 {main}
 ### Cross-check against the reference engine
 
-Same parameters in `exu_aniso.reference.simulate_block` (numpy, Lie-group trapezoidal, analytic Jacobian);
+Same parameters in `exu_aniso.scenes.block.simulate_block` (numpy, Lie-group trapezoidal, analytic Jacobian);
 max_diff = max |difference| of x_end, y_end, r_min, r_max, r_mean. Tolerance {XCHECK_TOL['radial']:g} m for
 exact/radial (parity to Newton tolerance), {XCHECK_TOL['seed']:g} m for seed (the engines cut steps differently at
 the seed map's jumps). Largest difference in this run: {dmax:.3g} m.

@@ -19,7 +19,7 @@ if HERE not in sys.path:
 from _lib.capstan_cases import mu_along_rope, run_case  # noqa: E402
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.scene_capstan import CapstanParams  # noqa: E402
+from exu_aniso.scenes.capstan import CapstanParams  # noqa: E402
 
 RATIO_RTOL = 1e-3          # tolerance of the ratio, as tests/test_capstan.py
 MU = 0.3                   # mu_1 (the scene's default)
@@ -208,7 +208,7 @@ def report(args, W, O, R, L, w_o, n_runs, undefined, energy_tol, fig):
                 f"tolerance {energy_tol:g}).")
     p = D
     body = f"""
-Scene: `exu_aniso/scene_capstan.py` (CapstanParams; Exudyn model `models/capstan.py`, `RunCapstan`): a rope of
+Scene: `exu_aniso/scenes/capstan.py` (CapstanParams; Exudyn model `exu_aniso/models/capstan.py`, `RunCapstan`): a rope of
 2D ANCF cables (EA = {p.axial_stiffness:g} N, EI = {p.bending_stiffness:g} N m^2, {p.mass_per_length:g} kg/m)
 over a drum of radius {p.radius:g} m, T_in = {p.tension_in:g} N held at one end, the other end's force
 ramped at {p.ramp_rate:g} T_in per second after a {p.t_load:g} s settling until the rope slips as a whole
@@ -247,7 +247,7 @@ At {w_o:g} deg, isotropic mu = {MU}: the rope (elements on the arc, points per e
 
 Per run: work of the end forces against the cable's kinetic and strain energy, the contact's stored energy and
 the dissipation of friction, normal damping and the end dashpots; residual = max over the run of
-|work in - sum| / scale (`exu_aniso.energy.ledger`), energy_ok = residual <= {energy_tol:g}.
+|work in - sum| / scale (`exu_aniso.engines.energy.ledger`), energy_ok = residual <= {energy_tol:g}.
 
 {markdown_table(LEDGER_COLS, rows(L, LEDGER_COLS), fmt="{:.4g}")}
 ![tension ratio and error against the wrap angle, refinement](./{fig})

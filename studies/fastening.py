@@ -24,8 +24,8 @@ from _lib.fastening_cases import (pitch_for_lead, run_case, timed_runs, vdi_band
                                   vdi_thread_error)
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso import oracles  # noqa: E402
-from exu_aniso.scene_fastening import FasteningParams, calibrate_net, theory  # noqa: E402
+from exu_aniso.law import oracles  # noqa: E402
+from exu_aniso.scenes.fastening import FasteningParams, calibrate_net, theory  # noqa: E402
 
 D = FasteningParams()
 T_TARGET = 30.0             # target torque of the torque-controlled tightening [N m]
@@ -603,14 +603,14 @@ def report(TT, BA, SI, HE, SP, figs, ring_cont, mu_net, repeats, t_end, n_runs, 
     grid = ", ".join(f"{m:g}" for m in sorted(set(TT["mu_thread [-]"])))
     body = f"""{verdict}
 
-Scene: `exu_aniso/scene_fastening.py` (FasteningParams; Exudyn model `models/fastening.py`, `RunFastening`): a
+Scene: `exu_aniso/scenes/fastening.py` (FasteningParams; Exudyn model `exu_aniso/models/fastening.py`, `RunFastening`): a
 rigid 6-DOF bolt turned at {p.rotation_speed:g} rad/s through a torsional spring into a nut's thread flank (a
 `Helicoid`; M10: d2 = {p.d2 * 1e3:g} mm, P = {p.pitch * 1e3:g} mm, flank angle {p.flank_angle:g} deg,
 {p.points_per_turn} points per turn on {p.turns} turns), its head ring ({p.head_points} points at r_K =
 {p.head_radius * 1e3:g} mm) landing after {p.rundown_angle:g} deg on a clamped part on a spring of
 {p.joint_stiffness:g} N/m, {p.axial_load:g} N pulling the bolt onto its flank. T/F and the other slopes are least
 squares over the tightening phase (clamp force above 20 % of its end value); the formula is ISO 16047 / VDI 2230's
-exact form (`exu_aniso.oracles`). {n_runs} runs in the sweep (equal cases run once) plus the timed runs of (4).
+exact form (`exu_aniso.law.oracles`). {n_runs} runs in the sweep (equal cases run once) plus the timed runs of (4).
 
 ### (1) Torque-tension scatter over mu_G and mu_K
 

@@ -19,7 +19,7 @@ if HERE not in sys.path:
 from _lib.feeder_cases import THROW_NUMBER, amplitude_for, run_case  # noqa: E402
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.scene_feeder import FeederParams  # noqa: E402
+from exu_aniso.scenes.feeder import FeederParams  # noqa: E402
 
 D = FeederParams()
 STIFF = 8e6                 # sticking stiffness of a part in the frequency sweep (theory within ~5 %)

@@ -8,8 +8,8 @@ failure), Newton iterations per step, the error against the same case at a finer
 in --quick), the energy balance residual relative to the work in, and a verdict against the case's
 own tolerance ("ok" or "FAIL: why"). ``tests/test_hard_cases.py`` runs every case in quick mode.
 
-Energy balance: the scene's energy ledger (``exu_aniso.scenes.block_energy`` / ``screw_energy``,
-see ``exu_aniso.energy``; the lift pulse's work added), max over the run of |residual| relative
+Energy balance: the scene's energy ledger (``exu_aniso.scenes.base.block_energy`` / ``screw_energy``,
+see ``exu_aniso.engines.energy``; the lift pulse's work added), max over the run of |residual| relative
 to the largest side. Exact with constant B and the trapezoidal rule (friction dissipation is the
 kernel's trapezoid); hypo-elastic (no potential) with polar B; generalized-alpha damps numerically.
 Tolerances per case are set from the measured values with a margin and a reason (``CASES``).
@@ -31,9 +31,9 @@ if HERE not in sys.path:
     sys.path.insert(0, HERE)
 from _lib import studylib  # noqa: E402
 
-from exu_aniso import energy  # noqa: E402
-from exu_aniso.failure import SimulationFailure  # noqa: E402
-from exu_aniso.scenes import BlockParams, ScrewParams, block_energy, screw_energy  # noqa: E402
+from exu_aniso.engines import energy  # noqa: E402
+from exu_aniso.engines.failure import SimulationFailure  # noqa: E402
+from exu_aniso.scenes.base import BlockParams, ScrewParams, block_energy, screw_energy  # noqa: E402
 
 NAME = "hard_cases"
 SEED_KNOWN = ("seed map: its sliding direction depends on the step (power iteration towards the dominant "
@@ -199,7 +199,7 @@ def run_master(t_end, dt):
     import exudyn as exu
     from exudyn.utilities import InertiaCuboid
     from exu_aniso import Adhesion, Friction, Plane
-    from exu_aniso.exudyn_glue import CreateAnisotropicContact
+    from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact
     from exu_aniso.models.block import HistoryOutputs, SolveTimed
 
     SC = exu.SystemContainer()
@@ -450,7 +450,7 @@ trapezoidal rule does not resolve the 3.6 kHz mode (omega dt = 22) and shows no 
 0.3 s, yet the undamped 2 s run still ends in a whirl (torque_mean of order 100 N m instead of 0.10; the whirl is chaotic, so the figure changes with any perturbation); a
 damping found stable at a coarse step can flutter at a fine one. The same holds for a stiffer
 contact (eps_n 1e8: omega dt = 7 at 1e-4). The default (300 N s/m,
-exu_aniso.scenes.SCREW_NORMAL_DAMPING) is stable at the resolved step (dt 2.5e-5 to 1e-3)."""
+exu_aniso.scenes.base.SCREW_NORMAL_DAMPING) is stable at the resolved step (dt 2.5e-5 to 1e-3)."""
 
 STABILITY_DT = 1e-4       # base step: resolves the lateral mode (omega dt = 2.2)
 STABILITY = ([dict(normal_damping=d) for d in (0.0, 30.0, 100.0, 200.0, 300.0)]
@@ -568,7 +568,7 @@ def plot(csv_path, png_path):
     fig.suptitle("Hard cases (red: verdict not ok; cases without bars stop with their clear error)", fontsize=9)
     fig.tight_layout()
     import io
-    from exu_aniso.output import atomic_write
+    from exu_aniso.util.output import atomic_write
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110)
     atomic_write(png_path, lambda f: f.write(buf.getvalue()))

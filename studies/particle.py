@@ -18,8 +18,8 @@ if HERE not in sys.path:
     sys.path.insert(0, HERE)
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso import oracles  # noqa: E402
-from exu_aniso.scene_particle import ParticleParams  # noqa: E402
+from exu_aniso.law import oracles  # noqa: E402
+from exu_aniso.scenes.particle import ParticleParams  # noqa: E402
 
 CASES = {"departure": dict(case="departure", t_end=0.8),
          "cavity": dict(case="cavity", side="inside", gravity=0.0, speed=2.0, mu_1=0.3, t_end=0.5),
@@ -45,7 +45,7 @@ def run_case(c):
             from exu_aniso.models.particle import RunParticle
             r = RunParticle(p, newtonTolerance=EXUDYN_NEWTON_TOLERANCE)
         else:
-            from exu_aniso.reference import simulate_particle
+            from exu_aniso.scenes.particle import simulate_particle
             r = simulate_particle(p)
     s = r.summary
     m, t = s["oracle_measured"], s["oracle_theory"]
@@ -81,8 +81,8 @@ def main(argv=None):
     rows = [[T[c][i] for c in COLS] for i in range(len(cases))]
     p0 = params("departure", *LEVELS[0])
     body = f"""
-Scene: `exu_aniso/scene_particle.py` (ParticleParams; Exudyn model `models/particle.py`), a mass point
-of {p0.mass:g} kg with the exact return map and isotropic friction; the oracles are `exu_aniso/oracles.py`:
+Scene: `exu_aniso/scenes/particle.py` (ParticleParams; Exudyn model `exu_aniso/models/particle.py`), a mass point
+of {p0.mass:g} kg with the exact return map and isotropic friction; the oracles are `exu_aniso/law/oracles.py`:
 
 * **departure** (`case=departure`): from the top of a rough sphere of radius {p0.radius:g} m at
   {p0.speed:g} m/s, mu = {p0.mu_1:g}: the angle where the normal force vanishes (textbook ODE

@@ -52,7 +52,7 @@ def run_refinement(case):
     rm, dt = case["return_map"], case["dt"]
     if case["scene"] == "block":
         from exu_aniso.models.block import BlockTrajectory, BuildBlock, SolveTimed
-        from exu_aniso.scenes import BlockParams
+        from exu_aniso.scenes.base import BlockParams
         p = BlockParams(**{**BLOCK, "return_map": rm, "dt": dt})
         model = BuildBlock(p)
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
@@ -61,14 +61,14 @@ def run_refinement(case):
     else:
         from exu_aniso.models.block import SolveTimed
         from exu_aniso.models.screw import BuildScrew, ScrewTrajectory
-        from exu_aniso.scenes import ScrewParams
+        from exu_aniso.scenes.base import ScrewParams
         p = ScrewParams(**{**SCREW, "return_map": rm, "dt": dt})
         model = BuildScrew(p)
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
         tr = ScrewTrajectory(model, contactOutputs=False)
         final = (float(tr["z"][-1]), float(tr["angle"][-1]))
     _, _, H = HistoryOutputs(model["mbs"], model["contact"])
-    from exu_aniso.contact import HISTORY_FIELDS
+    from exu_aniso.kernel.contact_law import HISTORY_FIELDS
     Dp = H[:, :, HISTORY_FIELDS.index("dissipated_energy")]        # (steps + 1, K) accumulated per point
     inc = np.diff(Dp, axis=0)
     total = float(Dp[-1].sum())
@@ -79,7 +79,7 @@ def run_refinement(case):
 
 def jump_rows():
     """Trial-direction sweep of return_map_point just outside the friction ellipse (Phi = 0+)."""
-    from exu_aniso.law import SLIP, return_map_point
+    from exu_aniso.law.return_maps import SLIP, return_map_point
     rows = []
     for name, (c, (m1, m2)) in JUMP_SETTINGS.items():
         B = tuple(-v for v in c)
@@ -269,7 +269,7 @@ per-step dissipation is still never negative.
 
 ### Stick/slip jump at Phi = 0+
 
-`exu_aniso.law.return_map_point` with a trial traction (1 + {JUMP_DELTA:g}) times the point of the friction
+`exu_aniso.law.return_maps.return_map_point` with a trial traction (1 + {JUMP_DELTA:g}) times the point of the friction
 ellipse in each direction 0 ... 180 deg (|N| = 1 N); jump = |T - T_tr| / |T_tr| (continuous maps give about
 {JUMP_DELTA:g}). Largest jump over the directions:
 

@@ -2,7 +2,7 @@
 
 Sweeps r = eps_1/eps_2 (adhesion along / across the helix) and the helix angle for the three return
 maps under the rotation drive (torsional spring to a driver at rotation_speed), compares with the
-closed-form steady sliding state (exu_aniso.calibration.steady_sliding), records time histories
+closed-form steady sliding state (exu_aniso.scenes.screw.steady_sliding), records time histories
 under the rotation and torque drives, finds the sticking threshold of the torque drive, and
 cross-checks a few cases with the full 6-DOF model and the reference engine.
 
@@ -22,8 +22,8 @@ if HERE not in sys.path:
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.calibration import steady_sliding  # noqa: E402
-from exu_aniso.failure import SimulationFailure  # noqa: E402
-from exu_aniso.scenes import ScrewParams, pitch, summary_float  # noqa: E402
+from exu_aniso.engines.failure import SimulationFailure  # noqa: E402
+from exu_aniso.scenes.base import ScrewParams, pitch, summary_float  # noqa: E402
 
 MAPS = ("radial", "exact", "seed")
 EPS_1 = 1e4          # N/m, along the helix, fixed; eps_2 = eps_1 / r
@@ -40,7 +40,7 @@ def base_params(quick):
 
 def _run(p, engine):
     if engine == "reference":
-        from exu_aniso.reference import simulate_screw
+        from exu_aniso.scenes.screw import simulate_screw
         return simulate_screw(p)
     from exu_aniso.models.screw import RunScrew
     return RunScrew(p, contactOutputs=False)
@@ -377,7 +377,7 @@ by up to about 1 %). Reduced model (2 DOF) on the Exudyn engine unless stated. A
 z over the screw angle over the last half of the run, normalised by the pitch 2 pi R tan(alpha); torque = mean drive
 torque over the last half.
 
-**Closed form** (`exu_aniso.calibration.steady_sliding`, derived in its docstring): in steady sliding the axial
+**Closed form** (`exu_aniso.scenes.screw.steady_sliding`, derived in its docstring): in steady sliding the axial
 force balance makes the traction purely circumferential (no axial load). On the friction ellipse this gives the
 sliding torque `M = (R + delta) eps_n delta / sqrt(cos^2 a / mu_1^2 + sin^2 a / mu_2^2)` =
 {cf.torque:.5g} N m, for every r and for both the radial and the exact map. The slip direction is

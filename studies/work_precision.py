@@ -41,8 +41,8 @@ from _lib import studylib  # noqa: E402
 from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
 from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.oracles import orthotropic_heading  # noqa: E402
-from exu_aniso.scenes import BlockParams, ScrewParams, pitch, summary_float  # noqa: E402
+from exu_aniso.law.oracles import orthotropic_heading  # noqa: E402
+from exu_aniso.scenes.base import BlockParams, ScrewParams, pitch, summary_float  # noqa: E402
 
 # ----------------------------------------------------------------------------------------------
 # families
@@ -115,7 +115,8 @@ def _run(scene, engine, p, options):
             return RunBlock(p, **options)
         from exu_aniso.models.screw import RunScrew
         return RunScrew(p, contactOutputs=False, **options)
-    from exu_aniso.reference import simulate_block, simulate_screw
+    from exu_aniso.scenes.block import simulate_block
+    from exu_aniso.scenes.screw import simulate_screw
     return (simulate_block if scene == "block" else simulate_screw)(p, **options)
 
 

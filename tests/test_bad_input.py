@@ -17,11 +17,12 @@ from exudyn.utilities import InertiaCuboid
 from exu_aniso import Adhesion, ContactLaw, Friction, return_map_batch, return_map_point
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.cli import main
-from exu_aniso.exudyn_glue import CreateAnisotropicContact
+from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact
 from exu_aniso.models.block import BuildBlock, RunBlock
 from exu_aniso.models.screw import BuildScrew, RunScrew
-from exu_aniso.reference import simulate_block, simulate_screw
-from exu_aniso.scenes import BlockParams, ScrewParams
+from exu_aniso.scenes.block import simulate_block
+from exu_aniso.scenes.screw import simulate_screw
+from exu_aniso.scenes.base import BlockParams, ScrewParams
 
 NAN, INF = float("nan"), float("inf")
 B_OK, F_OK = (-1e3, 0.0, -2e3), (11.0, 0.0, 4.0)   # valid law inputs (B negative, F positive definite)

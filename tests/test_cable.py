@@ -27,8 +27,8 @@ from exudyn.itemInterface import (NodePoint2DSlope1, NodePointSlope1, ObjectANCF
 
 import exu_aniso  # noqa: E402,F401
 from exu_aniso import Adhesion, Friction  # noqa: E402
-from exu_aniso import exudyn_glue as glue  # noqa: E402
-from exu_aniso.contact import ContactLaw  # noqa: E402
+from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 from exu_aniso.geometry import Plane  # noqa: E402
 
 SOS = exu.ConfigurationType.StartOfStep
@@ -309,7 +309,7 @@ def test_rope_on_an_incline_slides_below_tan_alpha():
     # energy: dissipation >= 0 and never decreasing; the ledger (Exudyn's cable energies, gravity,
     # contact stored + dissipated) closes
     assert np.all(np.diff(diss) >= -1e-14) and diss[-1] > 0.0
-    from exu_aniso import energy
+    from exu_aniso.engines import energy
     height = slide * math.sin(a)                        # of the centre of mass (a straight rope, along t)
     X, V, Hs = mbs.variables["test_points"]
     stored, dissipated = energy.contact_energy(c["law"], X, V, Hs)     # friction + dashpot, penalty + adhesion

@@ -1,8 +1,8 @@
-"""The capstan (models/capstan.py, exu_aniso/scene_capstan.py): a 2D ANCF rope over a drum pulled
+"""The capstan (exu_aniso/models/capstan.py, exu_aniso/scenes/capstan.py): a 2D ANCF rope over a drum pulled
 until it slips as a whole, against Euler-Eytelwein T_out / T_in = exp(mu_1 phi).
 
 Tolerance of the ratio: 1e-3 relative. What it covers (measured on these runs, see
-scene_capstan's docstring): the ramp's time resolution (ramp_rate dt = 1e-3 of T_in per step: 4e-4
+scenes.capstan's docstring): the ramp's time resolution (ramp_rate dt = 1e-3 of T_in per step: 4e-4
 of the ratio at 180 deg) and the quasi-static lag of the ramp (visible at fast ramps: slow test
 below); measured errors -1.2e-4 (180 deg) and +3.8e-4 (90 deg). The orthotropic net with mu_2 != mu_1 must give
 exp(mu_1 phi): mu_2 acts across the rope, along the drum axis, where nothing slides.
@@ -20,8 +20,8 @@ import pytest
 pytest.importorskip("exudyn")
 
 from exu_aniso.models.capstan import BuildCapstan, RunCapstan  # noqa: E402
-from exu_aniso.scene_capstan import COLUMNS, TITLE_KEYS, CapstanParams, PlotCapstan  # noqa: E402
-from exu_aniso.scenes import ENERGY_COLUMNS  # noqa: E402
+from exu_aniso.scenes.capstan import COLUMNS, TITLE_KEYS, CapstanParams, PlotCapstan  # noqa: E402
+from exu_aniso.scenes.base import ENERGY_COLUMNS  # noqa: E402
 
 RATIO_RTOL = 1e-3
 
@@ -164,7 +164,7 @@ def test_capstan_study_quick(tmp_path, quick_study):
     """studies/capstan.py --quick (90 deg: isotropic, orthotropic mu_2 = 0.8, the net turned by 90 deg):
     the ratios within the tolerance of exp(mu phi) along the rope, mu_2 across the rope without effect,
     the ledger closed in every run, the report and the figure written."""
-    from exu_aniso.output import read_table
+    from exu_aniso.util.output import read_table
     quick_study("capstan", tmp_path, timeout=120)
     W = read_table(tmp_path / "wrap.csv")
     assert W["wrap_angle [deg]"] == [90.0] and abs(W["error [-]"][0]) < RATIO_RTOL
@@ -186,7 +186,7 @@ def test_theory_domain_edge_bending_stiffness():
     RATIO_RTOL, whose source is the ramp's resolution and lag, module docstring), None just beyond
     (2.2e-4; at 3e-4 the measured error is -1.1e-3, beyond RATIO_RTOL) with the reason naming
     bending_stiffness."""
-    from exu_aniso.scene_capstan import BENDING_NUMBER_MAX, bending_number
+    from exu_aniso.scenes.capstan import BENDING_NUMBER_MAX, bending_number
     inside = run(bending_stiffness=2e-4).summary
     assert bending_number(CapstanParams(bending_stiffness=2e-4)) == pytest.approx(BENDING_NUMBER_MAX)
     assert inside["tension_ratio_theory"] is not None and "tension_ratio_theory" not in inside["undefined"]
@@ -203,7 +203,7 @@ def test_theory_domain_edge_quasi_static():
     sqrt(m'/EA) = QUASI_STATIC_MAX = 1e-2 (ramp_rate 6/s: 9.8e-3, dt scaled to keep ramp_rate dt at
     1e-3; within RATIO_RTOL), None just beyond (6.2/s: 1.01e-2; at 12/s, 2e-2, the measured error
     is +3.3e-3) with the reason naming ramp_rate."""
-    from exu_aniso.scene_capstan import QUASI_STATIC_MAX, quasi_static_number
+    from exu_aniso.scenes.capstan import QUASI_STATIC_MAX, quasi_static_number
     assert quasi_static_number(CapstanParams(ramp_rate=6.0)) < QUASI_STATIC_MAX < quasi_static_number(
         CapstanParams(ramp_rate=6.2))
     inside = run(ramp_rate=6.0, dt=1e-3 / 6.0, t_end=0.45).summary
@@ -222,8 +222,8 @@ def test_ledger_recomputed_from_csv(tmp_path):
     non-negative kinetic energy and the dissipated energy's parts (history + end dashpots + a
     non-negative normal-dashpot share). Exudyn engine only (no reference model)."""
     from exu_aniso import cli
-    from exu_aniso.output import read_table
-    from exu_aniso.scene_capstan import end_directions
+    from exu_aniso.util.output import read_table
+    from exu_aniso.scenes.capstan import end_directions
     out = tmp_path / "capstan"
     assert cli.main(["run", "capstan", "--out", str(out), "--quiet", "--set", "t_end=0.3", "--set", "elements=6",
                      "--set", "tail_elements=1"]) == 0

@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from exu_aniso.cli import main
-from exu_aniso.scenes import BLOCK_SUMMARY_KEYS, SCREW_SUMMARY_KEYS
+from exu_aniso.scenes.base import BLOCK_SUMMARY_KEYS, SCREW_SUMMARY_KEYS
 
 QUICK = {"block": ["t_end=0.1", "dt=2e-3"], "screw": ["t_end=0.1", "dt=2e-3"]}
 

@@ -11,8 +11,8 @@ import pytest
 pytest.importorskip("exudyn")
 
 from exu_aniso.models.screw import RunScrew  # noqa: E402
-from exu_aniso.reference import simulate_screw  # noqa: E402
-from exu_aniso.scenes import ScrewParams  # noqa: E402
+from exu_aniso.scenes.screw import simulate_screw  # noqa: E402
+from exu_aniso.scenes.base import ScrewParams  # noqa: E402
 
 
 def test_zero_half_angle_is_the_cylinder():
@@ -90,7 +90,7 @@ def test_tapered_thread_study_quick(tmp_path, quick_study):
     """studies/tapered_thread.py --quick: the cylinder row equals the screw scene's closed form
     (advance/pitch 0.99, torque 0.1014 N m), the 1:16 taper jams (torque up), and the back-out rows
     agree with tan(half_angle) < mu."""
-    from exu_aniso.output import read_table
+    from exu_aniso.util.output import read_table
     quick_study("tapered_thread", tmp_path)
     D = read_table(tmp_path / "drive.csv")
     i0 = D["half_angle [deg]"].index(0.0)

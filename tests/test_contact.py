@@ -1,4 +1,4 @@
-"""Contact set (exu_aniso.contact on the covariant kernel): consistent tangent against finite
+"""Contact set (exu_aniso.kernel.contact_law on the covariant kernel): consistent tangent against finite
 differences on the plane (both charts) and the cylinder (hole and shaft), invariance under a change
 of chart (polar vs Cartesian plane; the cylinder's seam phi = +-pi moved away by a rotation about its
 axis), conventions, history, dissipation, imports."""
@@ -213,28 +213,42 @@ def test_accumulated_dissipation_nonnegative_on_a_random_walk(method):
     assert np.all(H[:, 5] > 0)
 
 
-KERNEL_MODULES = ("geometry", "geometry._base", "geometry._core", "geometry.plane", "geometry.cylinder",
-                  "geometry.cone", "geometry.sphere", "geometry.torus", "geometry.revolution", "geometry.parametric",
-                  "nets", "kernel", "fields", "law", "contact", "validation", "reference", "scenes", "energy",
-                  "calibration", "oracles", "fastpath", "output", "failure")
+# the modules that talk to Exudyn: its adapter, the model scripts and what runs them (the command line,
+# its catalog, the calibration that fits a scene on either engine)
+EXUDYN_PARTS = ("engines.exudyn_adapter", "models", "cli", "catalog", "calibration")
+
+
+def _package_modules():
+    """Dotted names (relative to exu_aniso) of every module of the package."""
+    import exu_aniso
+    root = os.path.dirname(exu_aniso.__file__)
+    out = []
+    for folder, _, files in os.walk(root):
+        for f in sorted(files):
+            if f.endswith(".py"):
+                rel = os.path.relpath(os.path.join(folder, f), root)[:-3].replace(os.sep, ".")
+                out.append(rel[:-len(".__init__")] if rel.endswith(".__init__") else rel)
+    return root, sorted(m for m in out if m != "__init__")
 
 
 def test_kernels_do_not_import_exudyn():
-    """No kernel module imports exudyn (only exudyn_glue, mainsystem and graphics do), and with
-    Exudyn unavailable the package and every kernel still import."""
+    """No module outside Exudyn's adapter, the model scripts and the command line imports exudyn or
+    the adapter, and with Exudyn unavailable the package and every such module still import."""
     import ast
-    import exu_aniso
-    root = os.path.dirname(exu_aniso.__file__)
-    for name in KERNEL_MODULES:
+    root, modules = _package_modules()
+    kernel_modules = [m for m in modules if not m.startswith(EXUDYN_PARTS)]
+    assert {"geometry._core", "kernel.point", "kernel.sets", "engines.reference", "scenes.base"} <= set(kernel_modules)
+    for name in kernel_modules:
         path = os.path.join(root, *name.split("."))
         tree = ast.parse(open(os.path.join(path, "__init__.py") if os.path.isdir(path) else path + ".py").read())
         for node in ast.walk(tree):
             mods = ([a.name for a in node.names] if isinstance(node, ast.Import)
                     else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
-            assert not any(m.split(".")[0] == "exudyn" or m.endswith(("exudyn_glue", "mainsystem", "graphics"))
+            assert not any(m.split(".")[0] == "exudyn" or m.startswith(("exu_aniso.engines.exudyn_adapter",
+                                                                         "exu_aniso.models"))
                            for m in mods), (name, mods)
     code = ("import sys\nsys.modules['exudyn'] = None   # import exudyn now raises ImportError\n"
-            + "".join(f"import exu_aniso.{m}\n" for m in KERNEL_MODULES)
+            + "".join(f"import exu_aniso.{m}\n" for m in kernel_modules)
             + "import exu_aniso\nassert not hasattr(exu_aniso, '_mainsystem')\n")
     subprocess.run([sys.executable, "-c", code], check=True)
 
@@ -261,8 +275,8 @@ def test_block_path_is_the_same_in_cartesian_and_polar_coordinates():
     in the step, so the paths differ by O(dt^2): the difference falls by ~4 when dt halves (measured
     3.3e-7 and 8.4e-8 of the travel) and stays far below the integrator's own error (the path at dt
     against dt/2: 1.9e-4 of the travel)."""
-    from exu_aniso.reference import simulate_block
-    from exu_aniso.scenes import BlockParams
+    from exu_aniso.scenes.block import simulate_block
+    from exu_aniso.scenes.base import BlockParams
     K = 4
     diff, paths = [], {}
     for dt in (2e-3, 1e-3):

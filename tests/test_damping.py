@@ -9,10 +9,10 @@ import pytest
 
 exu = pytest.importorskip("exudyn")
 from exu_aniso import Adhesion, Friction, Plane  # noqa: E402
-from exu_aniso.exudyn_glue import CreateAnisotropicContact  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
 from exu_aniso.models.block import RunBlock  # noqa: E402
 from exu_aniso.models.screw import RunScrew  # noqa: E402
-from exu_aniso.scenes import (SCREW_NORMAL_DAMPING, BlockParams, ScrewParams, block_contact_law,  # noqa: E402
+from exu_aniso.scenes.base import (SCREW_NORMAL_DAMPING, BlockParams, ScrewParams, block_contact_law,  # noqa: E402
                               screw_contact_law)
 
 

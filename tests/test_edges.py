@@ -17,10 +17,12 @@ import os
 import numpy as np
 import pytest
 
-from exu_aniso import cli, energy
-from exu_aniso.reference import Result, simulate_block
-from exu_aniso.scene_catalog import SCENES
-from exu_aniso.scenes import (MAGNITUDE_LIMITS, MAX_STEPS, BlockParams, ScrewParams, _energy, block_inertia,
+from exu_aniso import cli
+from exu_aniso.engines import energy
+from exu_aniso.engines.result import Result
+from exu_aniso.scenes.block import simulate_block
+from exu_aniso.catalog import SCENES
+from exu_aniso.scenes.base import (MAGNITUDE_LIMITS, MAX_STEPS, BlockParams, ScrewParams, _energy, block_inertia,
                               screw_inertia, step_count, time_grid)
 
 exudyn = pytest.importorskip("exudyn")

@@ -1,4 +1,4 @@
-"""The energy ledger (exu_aniso.energy) and the defects it exposed.
+"""The energy ledger (exu_aniso.engines.energy) and the defects it exposed.
 
 Oracles: exact discrete balance for a conservative law (constant B, trapezoidal rule), parity of
 the ledgers of the two engines, the friction torque's work equal to the dissipation in steady
@@ -10,12 +10,13 @@ import warnings
 import numpy as np
 import pytest
 
-from exu_aniso import energy
+from exu_aniso.engines import energy
 from exu_aniso.calibration import steady_sliding
 from exu_aniso.models.block import RunBlock
 from exu_aniso.models.screw import RunScrew
-from exu_aniso.reference import simulate_block, simulate_screw
-from exu_aniso.scenes import ENERGY_COLUMNS, BlockParams, ScrewParams
+from exu_aniso.scenes.block import simulate_block
+from exu_aniso.scenes.screw import simulate_screw
+from exu_aniso.scenes.base import ENERGY_COLUMNS, BlockParams, ScrewParams
 
 CARTESIAN = dict(adhesion="cartesian", friction="cartesian", eps_1=1e5, eps_2=1e3, adhesion_angle=30.0, mu_1=0.2,
                  mu_2=0.6)

@@ -41,9 +41,10 @@ exudyn = pytest.importorskip("exudyn")
 
 from exu_aniso.models.block import BuildBlock, RunBlock, SolveTimed  # noqa: E402
 from exu_aniso.models.screw import RunScrew  # noqa: E402
-from exu_aniso.oracles import orthotropic_heading  # noqa: E402
-from exu_aniso.reference import simulate_block, simulate_screw  # noqa: E402
-from exu_aniso.scenes import BlockParams, ScrewParams, pitch  # noqa: E402
+from exu_aniso.law.oracles import orthotropic_heading  # noqa: E402
+from exu_aniso.scenes.block import simulate_block  # noqa: E402
+from exu_aniso.scenes.screw import simulate_screw
+from exu_aniso.scenes.base import BlockParams, ScrewParams, pitch  # noqa: E402
 
 PARITY_RTOL = 1e-7
 LG_RTOL = 2e-4
@@ -203,9 +204,9 @@ def test_history_unchanged_by_forced_step_rejections():
     discontinuous error and recommends h, EXUDYN_NOTES 2.4) after the glue has written its history
     candidate, so all accepted steps have size h, as in the plain run at h. The history (read at
     StartOfStep, candidate in Current, committed on acceptance) must make both runs agree."""
-    from exu_aniso.exudyn_glue import _post_newton
+    from exu_aniso.engines.exudyn_adapter.glue import _post_newton
     from exu_aniso.models.block import BlockTrajectory
-    from exu_aniso.reference import Result
+    from exu_aniso.engines.result import Result
     h = 1e-3
     p = BlockParams(t_end=0.2, dt=h)
     plain = RunBlock(p)

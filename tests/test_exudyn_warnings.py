@@ -14,10 +14,10 @@ What allocates (measured with exudyn 1.13.6):
   30000 steps). It cannot be avoided by how the function is called or what it returns;
 * the capstan's KineticEnergy sensor on every ANCF element (4 arrays, a vector and a matrix per
   element and step: 131266 arrays in the default run, which printed the warning) and its pre-step
-  function's GetNodeOutput (a vector per step). models/capstan.py now computes the rope's kinetic
+  function's GetNodeOutput (a vector per step). exu_aniso/models/capstan.py now computes the rope's kinetic
   energy from the node velocities and reads the end node from a view;
 * Exudyn's C++ items of the scenes, below its count per force call: the block's displacement drive
-  off an axis (``ObjectConnectorCoordinateVector``, models/block.py) 1 matrix per residual on the
+  off an axis (``ObjectConnectorCoordinateVector``, exu_aniso/models/block.py) 1 matrix per residual on the
   planar block, 2 on the full one; a dense Jacobian returned by a Jacobian user function 3 to 5
   matrices per call (called once per Jacobian update, under the scenes' modified Newton rarely).
 
@@ -34,7 +34,7 @@ import exudyn.solver
 from exudyn.itemInterface import MassPoint, NodePoint, ObjectGenericODE2
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-import exu_aniso.exudyn_glue as glue
+import exu_aniso.engines.exudyn_adapter.glue as glue
 import exu_aniso.models.block as block_model
 from exu_aniso import Adhesion, Friction, Plane
 from exu_aniso.models.block import RunBlock
@@ -43,9 +43,9 @@ from exu_aniso.models.fastening import RunFastening
 from exu_aniso.models.feeder import RunFeeder
 from exu_aniso.models.particle import RunParticle
 from exu_aniso.models.screw import RunScrew
-from exu_aniso.scene_capstan import CapstanParams
-from exu_aniso.scene_feeder import FeederParams
-from exu_aniso.scenes import BlockParams
+from exu_aniso.scenes.capstan import CapstanParams
+from exu_aniso.scenes.feeder import FeederParams
+from exu_aniso.scenes.base import BlockParams
 
 WARNING = "memory allocations"
 PER_NEWTON = 0.1           # allocations per Newton iteration allowed beyond Exudyn's own count

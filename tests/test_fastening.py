@@ -17,14 +17,14 @@ import sys
 import numpy as np
 import pytest
 
-from exu_aniso import oracles
+from exu_aniso.law import oracles
 from exu_aniso.calibration import steady_sliding
 from exu_aniso.geometry import Helicoid
 from exu_aniso.models.fastening import RunFastening
-from exu_aniso.scene_fastening import (MIN_TIGHTENING_SAMPLES, FasteningParams, calibrate_net, calibration_force,
+from exu_aniso.scenes.fastening import (MIN_TIGHTENING_SAMPLES, FasteningParams, calibrate_net, calibration_force,
                                        fastening_summary, lead, theory, tightening)
-from exu_aniso.validation import ParameterError
-from exu_aniso.scenes import ScrewParams
+from exu_aniso.util.validation import ParameterError
+from exu_aniso.scenes.base import ScrewParams
 
 
 @pytest.fixture(scope="module")
@@ -151,7 +151,7 @@ def test_orthotropic_head_bearing_follows_the_associated_ring_torque():
 
 def test_net_model_is_calibrated_by_the_closed_form_and_misses_the_torque_tension_line():
     """thread=net (a spiral net on a cylinder): its friction along the helix is calibrated with
-    exu_aniso.calibration.steady_sliding to the flank's thread torque at the predicted end force. The
+    exu_aniso.scenes.screw.steady_sliding to the flank's thread torque at the predicted end force. The
     simulation's thread torque at its own end force equals that closed form (the engine does what the
     calibration assumes, 1e-2). Its normal force is the interference's, not the load's, so the thread
     torque hardly grows with the clamp force: T_thread/F is a fraction of the flank's (measured 0.22x,
@@ -255,7 +255,7 @@ def test_fastening_study_quick(tmp_path, quick_study):
     clamp force spreads by 1.8x); the square-thread flank where VDI 2230 is 10 % off and the simulation on
     the exact term; the machined head between its two coefficients and on the ring formula at its current
     orientation; the net far off the torque-tension line; the report's verdict and figures."""
-    from exu_aniso.output import read_table
+    from exu_aniso.util.output import read_table
     quick_study("fastening", tmp_path, timeout=300)
     T = read_table(tmp_path / "torque_tension.csv")
     assert len(T["T/F_error [-]"]) == 4 and set(T["status [-]"]) == {"ok"}
@@ -335,8 +335,8 @@ def test_ledger_recomputed_from_csv(tmp_path):
     potential (the part's displacement) recomputed from the file and the parameters match the file's
     energy_* columns, and so does the residual with the file's energy_stored and energy_dissipated."""
     from exu_aniso.cli import main
-    from exu_aniso.output import read_table
-    from exu_aniso.scene_fastening import bolt_inertia
+    from exu_aniso.util.output import read_table
+    from exu_aniso.scenes.fastening import bolt_inertia
     assert main(["run", "fastening", "--out", str(tmp_path), "--quiet", "--set", "t_end=0.7"]) == 0
     c = {k: np.asarray(v, float) for k, v in read_table(tmp_path / "trajectory.csv").items()}
     p = FasteningParams(t_end=0.7)

@@ -1,8 +1,8 @@
 """The compiled route is held equal to the Python route.
 
-Three levels: the compiled point kernel (exu_aniso.kernel.contact_point) against its plain-Python
+Three levels: the compiled point kernel (exu_aniso.kernel.point.contact_point) against its plain-Python
 twin (the same source run by the interpreter: force, tangent, history) over surfaces, fields,
-maps and random states; a whole compiled contact set (exu_aniso.fastpath.evaluate_set) on every
+maps and random states; a whole compiled contact set (exu_aniso.kernel.sets.evaluate_set) on every
 node kind against the numpy glue (generalized force, Jacobian, history candidate); and whole
 Exudyn runs of both scenes with implementation="compiled" against implementation="numpy".
 """
@@ -17,8 +17,8 @@ import pytest
 
 from exu_aniso import Adhesion, Friction
 from exu_aniso.geometry import Cylinder, Plane
-from exu_aniso.contact import ContactLaw
-from exu_aniso import kernel
+from exu_aniso.kernel.contact_law import ContactLaw
+from exu_aniso.kernel import point as kernel
 
 
 def _laws():
@@ -139,7 +139,7 @@ KIND_CASES = [
 def test_set_kernel_equals_numpy_glue(node_kind, lawname, q0, v0):
     """Generalized force, Jacobian (with its geometric term) and history candidate of the
     compiled set equal the numpy set, at perturbed states with an active history."""
-    from exu_aniso import exudyn_glue as glue
+    from exu_aniso.engines.exudyn_adapter import glue
     law = dict(LAWS)[lawname]
     rng = np.random.default_rng(7)
     if node_kind == "GenericODE2":
@@ -198,7 +198,7 @@ PLANE_HEIGHT = _Height()
 
 def test_compiled_requires_a_compiled_surface():
     """(A moving master is compiled too: tests/test_moving_master_compiled.py.)"""
-    from exu_aniso import exudyn_glue as glue
+    from exu_aniso.engines.exudyn_adapter import glue
     from exu_aniso.geometry import ParametricSurface
     surface = ParametricSurface(_python_only_plane, bounds=((-1.0, 1.0), (-1.0, 1.0)))
     assert not surface.compiled
@@ -231,7 +231,7 @@ RUNS = [
 def test_exudyn_run_compiled_equals_numpy(scene, over, opts):
     """Whole Exudyn runs: the compiled route reproduces the numpy route to round-off (same steps,
     same Newton iterations)."""
-    from exu_aniso.scenes import BlockParams, ScrewParams
+    from exu_aniso.scenes.base import BlockParams, ScrewParams
     if scene == "block":
         from exu_aniso.models.block import RunBlock as run
         p = BlockParams(**over)
@@ -259,7 +259,7 @@ def test_reduced_screw_symmetry_equals_all_points(over):
     """The reduced screw with one representative point (symmetry=True, default) reproduces the
     run that evaluates every point of the layout."""
     from exu_aniso.models.screw import RunScrew
-    from exu_aniso.scenes import ScrewParams
+    from exu_aniso.scenes.base import ScrewParams
     p = ScrewParams(**over)
     a = RunScrew(p, symmetry=False)
     b = RunScrew(p)
@@ -278,9 +278,9 @@ def test_first_compile_is_announced_once_and_cached(tmp_path):
     """A fresh numba cache: the first run says it compiles (before the 15-25 s pass), the second
     run loads the cache from disk and says nothing."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
-    code = ("import numpy as np\nfrom exu_aniso import Adhesion, ContactLaw, Friction, Plane, fastpath\n"
+    code = ("import numpy as np\nfrom exu_aniso import Adhesion, ContactLaw, Friction, Plane\n"
             "law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)\n"
-            "from exu_aniso.kernel import CovariantSet\n"
+            "from exu_aniso.kernel.point import CovariantSet\n"
             "pk = CovariantSet(law, 'RigidBody2D', np.zeros(3), [[0.0, 0.0, -1e-3]])\n"
             "pk.evaluate(0, np.zeros(3), np.zeros(3), 0.0, 0.0, 1e-3)\n"
             "assert pk.Q[1] == 0.0 and pk.Q.shape == (3,)\n")
@@ -292,11 +292,11 @@ def test_first_compile_is_announced_once_and_cached(tmp_path):
 
 
 def test_compile_announcement_only_when_not_cached(monkeypatch, capsys):
-    from exu_aniso import fastpath
+    from exu_aniso.kernel import point as kernel_point
     for cached, expected in ((True, ""), (False, "compiling the contact kernels")):
-        monkeypatch.setattr(fastpath, "_announced", False)
-        monkeypatch.setattr(fastpath, "kernels_cached", lambda entry=None: cached)
-        fastpath.announce_compile()
-        fastpath.announce_compile()            # once per process
+        monkeypatch.setattr(kernel_point, "_announced", False)
+        monkeypatch.setattr(kernel_point, "kernels_cached", lambda entry=None: cached)
+        kernel_point.announce_compile()
+        kernel_point.announce_compile()            # once per process
         err = capsys.readouterr().err
         assert (expected in err) and err.count("compiling") == (0 if cached else 1)

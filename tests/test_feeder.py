@@ -20,10 +20,10 @@ import sys
 import numpy as np
 import pytest
 
-from exu_aniso import oracles
+from exu_aniso.law import oracles
 from exu_aniso.models.feeder import RunFeeder
-from exu_aniso.reference import simulate_feeder
-from exu_aniso.scene_feeder import FeederParams, throw_number
+from exu_aniso.scenes.feeder import simulate_feeder
+from exu_aniso.scenes.feeder import FeederParams, throw_number
 
 
 def _moreau(A, f, beta, mu, g=9.81, periods=40, n=10000):
@@ -146,7 +146,7 @@ def test_cli_runs_the_feeder(tmp_path):
 
 def test_feeder_study_quick(tmp_path, quick_study):
     quick_study("feeder", tmp_path, timeout=300)
-    from exu_aniso.output import read_table
+    from exu_aniso.util.output import read_table
     F, A = read_table(tmp_path / "frequency.csv"), read_table(tmp_path / "net_angle.csv")
     assert all(abs(r - 1.0) < 0.06 for r in F["vx/theory [-]"])
     assert A["net_angle [deg]"] == [0.0, 45.0] and A["vy [m/s]"][1] < -1e-3 and abs(A["vy [m/s]"][0]) < 1e-12
@@ -156,9 +156,9 @@ def test_feeder_study_quick(tmp_path, quick_study):
 def test_theory_domain_edge_rocking():
     """The 1D theory treats a part as a point mass: a cube does not rock while the friction force's
     moment cannot lift its edge, mu < 1 (mu part_size/2 < N part_size/2). Just inside, mu_1 = 0.9: reported
-    and within THEORY_RTOL (measured -0.3 %; the tolerance is the elastic stick's bias, scene_feeder);
+    and within THEORY_RTOL (measured -0.3 %; the tolerance is the elastic stick's bias, scenes.feeder);
     just outside, mu_1 = 1.0: None naming mu_1 (measured at 1.1: +33.5 %, the part walks on its edges)."""
-    from exu_aniso.scene_feeder import THEORY_RTOL
+    from exu_aniso.scenes.feeder import THEORY_RTOL
     s = RunFeeder(FeederParams(parts=1, net="isotropic", mu_1=0.9, t_end=0.2)).summary
     assert s["transport_velocity_theory"] is not None, s["undefined"]
     assert abs(s["part_velocity_x"][0] / s["transport_velocity_theory"] - 1.0) < THEORY_RTOL
@@ -169,9 +169,9 @@ def test_theory_domain_edge_rocking():
 def test_theory_domain_edge_stick_stiffness():
     """Rigid stick: reported while sqrt(eps_1 / part_mass) / (2 pi) >= STICK_FREQUENCY_MIN x frequency,
     and then within THEORY_RTOL = 0.2 of the scene (its source: the elastic stick's bias -2.5 f / f_stick
-    at mu 0.3, scene_feeder). Just inside (ratio 15.2): reported and matches; just outside (14.8): None
+    at mu 0.3, scenes.feeder). Just inside (ratio 15.2): reported and matches; just outside (14.8): None
     naming eps_1."""
-    from exu_aniso.scene_feeder import STICK_FREQUENCY_MIN, THEORY_RTOL, stick_frequency
+    from exu_aniso.scenes.feeder import STICK_FREQUENCY_MIN, THEORY_RTOL, stick_frequency
     eps = lambda r: 0.02 * (2 * math.pi * 50.0 * r) ** 2            # noqa: E731
     p = FeederParams(parts=1, net="isotropic", eps_1=eps(15.2), eps_2=eps(15.2), t_end=0.3)
     assert stick_frequency(p) / p.frequency == pytest.approx(15.2) and 15.2 > STICK_FREQUENCY_MIN
@@ -187,7 +187,7 @@ def test_theory_domain_plate_mass_and_transient():
     measured +56 %): None naming plate_mass beyond. And its periodic state: the slow case mu 0.15 at
     10 deg (42 periods to settle) measured over the second half of 0.08 s still sees the transient:
     None naming t_end (no simulation needed for either: the rule is on the parameters)."""
-    from exu_aniso.scene_feeder import MASS_RATIO_MAX, feeder_theory, measure_window
+    from exu_aniso.scenes.feeder import MASS_RATIO_MAX, feeder_theory, measure_window
     p = FeederParams(parts=1, plate_mass=0.02 / (1.1 * MASS_RATIO_MAX))
     v, why = feeder_theory(p)
     assert v is None and "plate_mass" in why
@@ -237,7 +237,7 @@ def test_ledger_recomputed_from_csv(tmp_path, engine):
     and cannot be recomputed from the file: checked are the residual identity and that the dissipated
     energy holds the history's friction dissipation plus a non-negative dashpot share."""
     from exu_aniso import cli
-    from exu_aniso.output import read_table
+    from exu_aniso.util.output import read_table
     out = tmp_path / engine
     assert cli.main(["run", "feeder", "--engine", engine, "--out", str(out), "--quiet", "--set", "parts=2",
                      "--set", "t_end=0.08"]) == 0

@@ -17,9 +17,9 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from exu_aniso import Adhesion, ContactLaw, Friction
-from exu_aniso.contact import N_HISTORY
+from exu_aniso.kernel.contact_law import N_HISTORY
 from exu_aniso.geometry import Cylinder, Plane
-from exu_aniso.law import RETURN_MAPS, SLIP, STICK, return_map_batch, return_map_point
+from exu_aniso.law.return_maps import RETURN_MAPS, SLIP, STICK, return_map_batch, return_map_point
 
 FUZZ_EXAMPLES = 200
 SLOW_EXAMPLES = 1000
@@ -298,7 +298,7 @@ def check_tangent_frame(surface, x):
 
 
 # ----------------------------------------------------------------------------------------------
-# tensor fields (nets of exu_aniso.nets, through ContactLaw.adhesion_components / friction_components)
+# tensor fields (nets of exu_aniso.fields.nets, through ContactLaw.adhesion_components / friction_components)
 
 @st.composite
 def fields(draw, kind, surface_kind, patterns=None):

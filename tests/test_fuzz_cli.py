@@ -30,7 +30,7 @@ import sys
 import numpy as np
 import pytest
 
-from exu_aniso.scene_catalog import SCENES
+from exu_aniso.catalog import SCENES
 
 pytest.importorskip("exudyn")
 

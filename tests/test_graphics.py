@@ -1,4 +1,4 @@
-"""Renderer graphics of a contact set (exu_aniso.graphics.AddContactGraphics), checked without a display.
+"""Renderer graphics of a contact set (exu_aniso.engines.exudyn_adapter.graphics.AddContactGraphics), checked without a display.
 
 Two views of what is drawn: the user function's own output (float64 GraphicsData, compared to
 1e-12) and ``SC.renderer.GetGraphicsData()`` (what the renderer draws; Exudyn stores its
@@ -19,9 +19,9 @@ from exudyn.utilities import InertiaCuboid, LoadSolutionFile, RigidBodyInertia, 
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane
-from exu_aniso.contact import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK  # noqa: E402
-from exu_aniso.exudyn_glue import CreateAnisotropicContact  # noqa: E402
-from exu_aniso.graphics import NET_COLORS, STATUS_COLORS, AddContactGraphics  # noqa: E402
+from exu_aniso.kernel.contact_law import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.graphics import NET_COLORS, STATUS_COLORS, AddContactGraphics  # noqa: E402
 
 V = exu.ConfigurationType.Visualization
 OBJECT = int(exu.ItemType.Object)

@@ -1,4 +1,4 @@
-"""The contact history in place, on Exudyn's own memory (exudyn_glue._SystemViews).
+"""The contact history in place, on Exudyn's own memory (exudyn_adapter.glue._SystemViews).
 
 The compiled sets read the last accepted history from a view of the StartOfStep data coordinates,
 write the candidate into a view of the Current ones, and read q, q_t from views of the Current
@@ -28,9 +28,9 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso import Adhesion, Friction, Plane
-from exu_aniso.exudyn_glue import _SETS_KEY
+from exu_aniso.engines.exudyn_adapter.glue import _SETS_KEY
 from exu_aniso.models.block import BuildBlock
-from exu_aniso.scenes import BlockParams, block_contact_law
+from exu_aniso.scenes.base import BlockParams, block_contact_law
 
 from test_group import _cubes
 

@@ -23,8 +23,8 @@ from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane
-from exu_aniso import exudyn_glue as glue  # noqa: E402
-from exu_aniso.contact import ContactLaw  # noqa: E402
+from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 
 NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D"]
 SOS = exu.ConfigurationType.StartOfStep
@@ -243,7 +243,7 @@ NEWTON_RUNS = [
                          ids=[f"{r[0]}-{r[1].get('model', 'default')}-{r[2].get('nodeType', 'default')}"
                               for r in NEWTON_RUNS])
 def test_analytic_needs_no_more_newton_iterations_than_numerical(scene, over, opts):
-    from exu_aniso.scenes import BlockParams, ScrewParams
+    from exu_aniso.scenes.base import BlockParams, ScrewParams
     if scene == "block":
         from exu_aniso.models.block import RunBlock as run
         p = BlockParams(**over)

@@ -1,11 +1,11 @@
-"""Return maps: stick/slip oracles, invariants, agreement limits and tangents (exu_aniso.law)."""
+"""Return maps: stick/slip oracles, invariants, agreement limits and tangents (exu_aniso.law.return_maps)."""
 import math
 
 import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from exu_aniso.law import (RETURN_MAPS, SLIP, STICK, elastic_energy, return_map_batch, return_map_point,
+from exu_aniso.law.return_maps import (RETURN_MAPS, SLIP, STICK, elastic_energy, return_map_batch, return_map_point,
                            slip_function)
 
 

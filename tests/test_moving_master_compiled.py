@@ -1,7 +1,7 @@
-"""The compiled route of a moving master (fastpath.evaluate_pair: the surface carried by a 3D rigid
+"""The compiled route of a moving master (kernel.sets.evaluate_pair: the surface carried by a 3D rigid
 body) against independent oracles.
 
-1. Generalized force (mode 0) and history candidate (mode 2): the numpy route (exudyn_glue
+1. Generalized force (mode 0) and history candidate (mode 2): the numpy route (exudyn_adapter.glue
    _ContactSet.force / .state, ContactLaw.evaluate at the relative kinematics, the reaction on the
    master through its point Jacobian), for slaves with NodeRigidBodyRotVecLG, NodeRigidBodyEP, a
    mass point and a 3D ANCF cable against masters with NodeRigidBodyRotVecLG and NodeRigidBodyEP, at general
@@ -24,8 +24,8 @@ exu = pytest.importorskip("exudyn")
 from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
-from exu_aniso import exudyn_glue as glue  # noqa: E402
-from exu_aniso.contact import ContactLaw  # noqa: E402
+from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane  # noqa: E402
 
 SOS = exu.ConfigurationType.StartOfStep
@@ -394,11 +394,11 @@ def test_moving_master_run_compiled_equals_numpy(motion):
 
 
 def _block_on_plate(node_type, implementation, jacobian):
-    """models/block.py's full block (4 points, displacement drive, 0.2 s) on a free plate of 1e9 kg at
+    """exu_aniso/models/block.py's full block (4 points, displacement drive, 0.2 s) on a free plate of 1e9 kg at
     rest carrying the plane (no load on it: the block's weight moves it by ~1e-9 m), built through
     BuildBlock's contactBuilder so that nothing else of the scene changes."""
     from exu_aniso.models.block import BuildBlock, SolveTimed, block_contact_law
-    from exu_aniso.scenes import BlockParams
+    from exu_aniso.scenes.base import BlockParams
     p = BlockParams(model="full", t_end=0.2)
 
     def builder(mbs, oBlock, localPoints):

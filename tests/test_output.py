@@ -1,4 +1,4 @@
-"""Result files (exu_aniso.output): written atomically, with the permissions of any other file the
+"""Result files (exu_aniso.util.output): written atomically, with the permissions of any other file the
 user writes (the umask decides, as for open()), never the 0600 of the temporary file."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import stat
 
 import pytest
 
-from exu_aniso.output import atomic_write, write_json, write_text
+from exu_aniso.util.output import atomic_write, write_json, write_text
 
 
 @pytest.mark.parametrize("umask", [0o022, 0o077, 0o002])

@@ -1,8 +1,8 @@
-"""The particle scene (exu_aniso.scene_particle, models/particle.py, studies/particle.py): its
+"""The particle scene (exu_aniso.scenes.particle, exu_aniso/models/particle.py, studies/particle.py): its
 parameters and their errors, the textbook oracles measured through the scene on both engines, the
 summary, the columns and the plot.
 
-Oracles (exu_aniso.oracles), with the error budget the tests hold them to:
+Oracles (exu_aniso.law.oracles), with the error budget the tests hold them to:
 
 * ``incline``: a point sliding along the top line of an inclined cylinder accelerates at
   g (sin a - mu cos a): the trapezoidal rule integrates a constant acceleration exactly, so the fit
@@ -21,9 +21,9 @@ import warnings
 
 import pytest
 
-from exu_aniso import oracles
-from exu_aniso.reference import simulate_particle
-from exu_aniso.scene_particle import (COLUMNS, ORACLE_KEYS, TITLE_KEYS, ParticleParams, PlotParticle,
+from exu_aniso.law import oracles
+from exu_aniso.scenes.particle import simulate_particle
+from exu_aniso.scenes.particle import (COLUMNS, ORACLE_KEYS, TITLE_KEYS, ParticleParams, PlotParticle,
                                       particle_contact_law)
 
 CAVITY = dict(case="cavity", side="inside", gravity=0.0, speed=2.0, mu_1=0.3, t_end=0.5)
@@ -173,7 +173,7 @@ def test_departure_error_is_the_startup_term():
 
 # ----------------------------------------------------------------------------------------------
 # every oracle knows its domain: just inside it the theory is reported and met, just outside it
-# is None with the reason (scene_particle.theory_domain, oracles.OutsideDomain)
+# is None with the reason (scenes.particle.theory_domain, oracles.OutsideDomain)
 
 MU_EDGE = 0.2312331401      # departure at speed 0.5 m/s, R 0.5 m: the ODE's point stops above this mu
 #                             (bisection of oracles.departure_angle; checked below, not trusted)
@@ -274,9 +274,9 @@ def test_incline_domain_edges():
     (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, angle=90.0, return_map="seed"), 0.3, None),
 ])
 def test_theory_domain_rules(values, mu, reason):
-    """The rules of scene_particle.theory_domain (the measurements behind them: its docstring and the
+    """The rules of scenes.particle.theory_domain (the measurements behind them: its docstring and the
     tests above; an orthotropic F at angle 90 deg gave the isotropic mu_2 angle to 1e-12 deg)."""
-    from exu_aniso.scene_particle import path_mu, theory_domain
+    from exu_aniso.scenes.particle import path_mu, theory_domain
     p = ParticleParams(**values)
     why = theory_domain(p)
     if reason is None:
@@ -381,7 +381,7 @@ def test_plot_draws_path_and_oracle(case):
 
 def test_particle_study_quick(tmp_path, quick_study):
     """studies/particle.py --quick: the three oracles against theory on both engines at two steps."""
-    from exu_aniso.output import read_table
+    from exu_aniso.util.output import read_table
     quick_study("particle", tmp_path, timeout=300)
     T = read_table(tmp_path / "refinement.csv")
     assert set(T["case [-]"]) == {"departure", "cavity", "incline"}

@@ -15,7 +15,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 from peers import orthotropic_heading  # noqa: E402
-from exu_aniso.output import read_table  # noqa: E402
+from exu_aniso.util.output import read_table  # noqa: E402
 
 
 # ----------------------------------------------------------------------------------------------

@@ -1,10 +1,10 @@
-"""Progress display (exu_aniso.progress): the formatter on synthetic input, the rate limiting with a
+"""Progress display (exu_aniso.util.progress): the formatter on synthetic input, the rate limiting with a
 fake clock (terminal and log modes), and the Exudyn pre-step hook (chaining, counts, removal)."""
 import io
 
 import pytest
 
-from exu_aniso.progress import (AFTER_ENV, DEFAULT_AFTER, LOG_INTERVAL, TTY_INTERVAL, Progress, default_after,
+from exu_aniso.util.progress import (AFTER_ENV, DEFAULT_AFTER, LOG_INTERVAL, TTY_INTERVAL, Progress, default_after,
                                 eta_seconds, format_duration, format_progress, fraction_done)
 
 
@@ -122,7 +122,7 @@ def test_exudyn_hook_chains_counts_and_is_removed():
     restored afterwards; the lines carry the solver's step and Newton counts (full Newton: 2 iterations
     in every step of this sliding block)."""
     from exu_aniso.models.block import BuildBlock, SolveTimed
-    from exu_aniso.scenes import BlockParams
+    from exu_aniso.scenes.base import BlockParams
     model = BuildBlock(BlockParams(t_end=0.05, dt=1e-3), newton="full")
     mbs = model["mbs"]
     calls = []
@@ -147,7 +147,7 @@ def test_exudyn_hook_chains_counts_and_is_removed():
 def test_exudyn_hook_is_off_by_default_and_leaves_no_function(capsys, monkeypatch):
     monkeypatch.delenv(AFTER_ENV, raising=False)
     from exu_aniso.models.block import BuildBlock, RunBlock, SolveTimed
-    from exu_aniso.scenes import BlockParams
+    from exu_aniso.scenes.base import BlockParams
     model = BuildBlock(BlockParams(t_end=0.01))
     SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"], progress=True)
     assert model["mbs"].GetPreStepUserFunction() == 0

@@ -1,4 +1,4 @@
-"""Oracle tests of the numpy reference (exu_aniso.reference) and the scene parameters (exu_aniso.scenes).
+"""Oracle tests of the numpy reference (exu_aniso.engines.reference) and the scene parameters (exu_aniso.scenes.base).
 
 Analytic oracles first (harmonic solutions, Coulomb sliding, anisotropic steady sliding, thread
 pitch), then model-vs-model checks (planar vs full block, reduced vs full screw), then the
@@ -12,9 +12,13 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from exu_aniso.oracles import orthotropic_heading
-from exu_aniso.reference import jacobian_check, simulate_block, simulate_screw
-from exu_aniso.scenes import BlockParams, ScrewParams, block_points, pitch, screw_points
+from exu_aniso.law.oracles import orthotropic_heading
+from exu_aniso.engines.reference import jacobian_check
+from exu_aniso.scenes import block as block_scene
+from exu_aniso.scenes import screw as screw_scene
+from exu_aniso.scenes.block import simulate_block
+from exu_aniso.scenes.screw import simulate_screw
+from exu_aniso.scenes.base import BlockParams, ScrewParams, block_points, pitch, screw_points
 
 # ----------------------------------------------------------------------------------------------
 # convergence order on smooth (stick-only, constant B) cases against the analytic solution
@@ -237,7 +241,8 @@ def test_analytic_jacobian_matches_differences(params):
     """The analytic Newton Jacobian (contact tangent through the point Jacobians, moment geometry,
     drive springs, SO(3) right Jacobian) equals central differences of the residual mid-run."""
     for steps in (3, 150):
-        _, _, err = jacobian_check(params, steps)
+        scene = block_scene if isinstance(params, BlockParams) else screw_scene
+        _, _, err = jacobian_check(*scene.reference_model(params), params, steps)
         assert err < 1e-5, (steps, err)
 
 
@@ -338,7 +343,7 @@ def test_reference_runs_without_exudyn():
     """The standalone reference needs numpy and scipy only: with Exudyn unavailable (import exudyn
     raises ImportError) it still simulates a scene."""
     code = ("import sys\nsys.modules['exudyn'] = None\n"
-            "from exu_aniso.reference import simulate_block\nfrom exu_aniso.scenes import BlockParams\n"
+            "from exu_aniso.scenes.block import simulate_block\nfrom exu_aniso.scenes.base import BlockParams\n"
             "r = simulate_block(BlockParams(t_end=0.01))\nprint(r.summary['steps'], 'exudyn' in sys.modules "
             "and sys.modules['exudyn'] is not None)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -6,11 +6,11 @@ import exudyn as exu
 import pytest
 
 import exu_aniso
-from exu_aniso import solver_settings
+from exu_aniso.engines.exudyn_adapter import solver_settings
 from exu_aniso.models import block
 from exu_aniso.models.block import SimulationSettingsFor
-from exu_aniso.scenes import BlockParams, ScrewParams, step_count
-from exu_aniso.solver_settings import RecommendedSimulationSettings
+from exu_aniso.scenes.base import BlockParams, ScrewParams, step_count
+from exu_aniso.engines.exudyn_adapter.solver_settings import RecommendedSimulationSettings
 
 
 def _former(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None, newton="modified"):
@@ -35,10 +35,10 @@ def _former(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None, newton="modif
 
 
 def _params():
-    from exu_aniso.scene_capstan import CapstanParams
-    from exu_aniso.scene_fastening import FasteningParams
-    from exu_aniso.scene_feeder import FeederParams
-    from exu_aniso.scene_particle import ParticleParams
+    from exu_aniso.scenes.capstan import CapstanParams
+    from exu_aniso.scenes.fastening import FasteningParams
+    from exu_aniso.scenes.feeder import FeederParams
+    from exu_aniso.scenes.particle import ParticleParams
     return [BlockParams(), BlockParams(solver="generalized_alpha", t_end=0.3, dt=7e-4),
             BlockParams(t_end=1.3e-3, dt=1e-3), ScrewParams(),
             ScrewParams(solver="generalized_alpha", dt=2e-4),

@@ -11,7 +11,7 @@ import os
 
 import pytest
 
-from exu_aniso.output import read_table    # what the studies write their CSV files with (studies/_lib/studylib.py)
+from exu_aniso.util.output import read_table    # what the studies write their CSV files with (studies/_lib/studylib.py)
 
 
 def _row(tab, **match):

@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from exu_aniso.output import read_table
+from exu_aniso.util.output import read_table
 
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from exu_aniso.output import read_table
+from exu_aniso.util.output import read_table
 
 ROOT = Path(__file__).resolve().parent.parent
 STUDIES = ROOT / "studies"

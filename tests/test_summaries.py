@@ -12,8 +12,9 @@ import math
 import pytest
 
 from exu_aniso.cli import main
-from exu_aniso.reference import simulate_block, simulate_screw
-from exu_aniso.scenes import BlockParams, ScrewParams
+from exu_aniso.scenes.block import simulate_block
+from exu_aniso.scenes.screw import simulate_screw
+from exu_aniso.scenes.base import BlockParams, ScrewParams
 
 
 def _strict(text):

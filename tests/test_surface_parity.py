@@ -2,7 +2,7 @@
 point on Plane, Cylinder, Cone, Sphere, Torus, SurfaceOfRevolution and ParametricSurface, inside and
 outside.
 
-* parity: Exudyn (models/particle.py) against the numpy reference (exu_aniso.reference), the
+* parity: Exudyn (exu_aniso/models/particle.py) against the numpy reference (exu_aniso.engines.reference), the
   trajectory to 1e-6 relative in the norm
       e_x = max_n |x_exu(t_n) - x_ref(t_n)|_2 / max_n |x_ref(t_n) - x_ref(0)|_2   (position: relative
       to the distance travelled, stricter than relative to |x|),
@@ -29,10 +29,10 @@ import pytest
 
 exu = pytest.importorskip("exudyn")
 
-from exu_aniso.contact import SLIP, STICK  # noqa: E402
+from exu_aniso.kernel.contact_law import SLIP, STICK  # noqa: E402
 from exu_aniso.models.particle import RunParticle  # noqa: E402
-from exu_aniso.reference import simulate_particle  # noqa: E402
-from exu_aniso.scene_particle import (ParticleParams, gravity_vector, initial_state,  # noqa: E402
+from exu_aniso.scenes.particle import simulate_particle  # noqa: E402
+from exu_aniso.scenes.particle import (ParticleParams, gravity_vector, initial_state,  # noqa: E402
                                       particle_contact_law)
 
 R, A, MASS, EPS_N, G = 0.5, 0.2, 0.1, 1e6, 9.81

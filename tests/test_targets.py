@@ -16,7 +16,7 @@ pytest.importorskip("exudyn")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "studies"))
 
-from exu_aniso.output import read_table  # noqa: E402
+from exu_aniso.util.output import read_table  # noqa: E402
 
 
 def _positive_finite(values):

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import check_vector
+from exu_aniso.util.validation import check_vector
 from . import _core
 
 TWO_PI = 2.0 * math.pi

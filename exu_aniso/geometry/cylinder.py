@@ -12,7 +12,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..validation import check_positive
+from exu_aniso.util.validation import check_positive
 from . import _core
 from ._base import TWO_PI, Surface, placement, side_sign
 

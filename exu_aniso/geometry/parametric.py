@@ -18,7 +18,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit, types
 
-from ..validation import check_nonnegative
+from exu_aniso.util.validation import check_nonnegative
 from . import _core
 from ._base import Surface, side_sign
 from .revolution import compile_user_function, python_function

@@ -13,7 +13,7 @@ from collections import namedtuple
 
 from numba import njit
 
-from ..validation import check_positive, check_vector
+from exu_aniso.util.validation import check_positive, check_vector
 from . import _core
 from ._base import TWO_PI, Surface, placement, side_sign
 

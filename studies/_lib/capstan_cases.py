@@ -1,7 +1,7 @@
 """Cases of studies/capstan.py (not part of the installed package): one capstan run per case dict,
 reduced to the numbers the study tabulates.
 
-CapstanParams has no angle for the orthotropic friction net (scene_capstan.capstan_contact_law
+CapstanParams has no angle for the orthotropic friction net (scenes.capstan.capstan_contact_law
 builds ``Friction.orthotropic(mu_1, mu_2, angle=0.0)``: mu_1 along the circumference, mu_2 along
 the axis). A "turned" case (``turn_deg``) builds the same law with the net turned by that angle in
 the drum's transport frame (``Friction.orthotropic(mu_1, mu_2, angle=radians(turn_deg))``) and runs
@@ -20,11 +20,11 @@ LEDGER_KEYS = ("work_in", "kinetic", "potential", "stored", "dissipated", "resid
 
 
 def turned_contact_law(turn_deg):
-    """A replacement for scene_capstan.capstan_contact_law whose friction net is turned by turn_deg."""
-    from exu_aniso.contact import ContactLaw
-    from exu_aniso.fields import Adhesion, Friction
+    """A replacement for scenes.capstan.capstan_contact_law whose friction net is turned by turn_deg."""
+    from exu_aniso.kernel.contact_law import ContactLaw
+    from exu_aniso.fields.tensor_fields import Adhesion, Friction
     from exu_aniso.geometry import Cylinder
-    from exu_aniso.scene_capstan import point_spacing
+    from exu_aniso.scenes.capstan import point_spacing
 
     def law(p):
         ds = point_spacing(p)
@@ -50,7 +50,7 @@ def run_case(case):
     """case: dict(params=dict of CapstanParams fields, turn_deg=0.0 optional). Returns the summary
     numbers, the theory exp(mu_along phi), its relative error and the ledger."""
     from exu_aniso.models import capstan as model
-    from exu_aniso.scene_capstan import CapstanParams
+    from exu_aniso.scenes.capstan import CapstanParams
     p = CapstanParams(**case["params"])
     turn = case.get("turn_deg", 0.0)
     with warnings.catch_warnings():

@@ -35,7 +35,7 @@ def clamp_force_at_torque_theory(p, target):
     """The formula's clamp force [N] at the torque ``target``: the thread carries clamp force plus
     axial_load, the head the clamp force, so T = (T_th/F)(F + F_a) + (T_h/F) F and
     F = (target - (T_th/F) F_a) / (T/F)."""
-    from exu_aniso.scene_fastening import theory
+    from exu_aniso.scenes.fastening import theory
     th = theory(p)[0]
     return (target - th["thread_torque_per_clamp_force_theory"] * p.axial_load) / th["torque_per_clamp_force_theory"]
 
@@ -47,9 +47,9 @@ def ring_check(p, traj):
     """The head torque per clamp force against the ring formula at the ring's *current* orientation:
     the head's points turn with the bolt while the lay stays with the part, so at the bolt angle a the
     lay lies at head_lay_angle - a from the ring's points (oracles.orthotropic_ring_torque_factor).
-    Over the tightening phase (scene_fastening.tightening): the largest relative error, the range
+    Over the tightening phase (scenes.fastening.tightening): the largest relative error, the range
     of the formula, the bolt angles, and a thinned trace (relative lay angle [deg], simulated, formula)."""
-    from exu_aniso.scene_fastening import head_ring_factor, tightening
+    from exu_aniso.scenes.fastening import head_ring_factor, tightening
     F = np.asarray(traj["clamp_force"], float)
     tight = tightening(F)
     ang = np.asarray(traj["angle"], float)[tight]
@@ -77,9 +77,9 @@ def run_case(case):
     target=torque [N m] (optional: the clamp force there), ring=True (optional: ring_check)).
     Returns dict(status="ok" or the failure's text, summary=the run's summary (energy ledger
     included), plus clamp_force_at_target, its theory, a thinned torque-tension curve, the ring check)."""
-    from exu_aniso.failure import SimulationFailure
+    from exu_aniso.engines.failure import SimulationFailure
     from exu_aniso.models.fastening import RunFastening
-    from exu_aniso.scene_fastening import FasteningParams
+    from exu_aniso.scenes.fastening import FasteningParams
     p = FasteningParams(**case["params"])
     t0 = time.perf_counter()
     try:
@@ -113,9 +113,9 @@ def timed_runs(configs, repeats):
     and of the whole RunFastening call (build, solve, the torques and the energy ledger from the
     trajectory), the last run's summary, and for a run that stops, its failure text, time, steps and the
     largest tilt of the bolt up to the failure."""
-    from exu_aniso.failure import SimulationFailure
+    from exu_aniso.engines.failure import SimulationFailure
     from exu_aniso.models.fastening import RunFastening
-    from exu_aniso.scene_fastening import FasteningParams
+    from exu_aniso.scenes.fastening import FasteningParams
     params = [FasteningParams(**c["params"]) for c in configs]
     for c, p in zip(configs, params):
         try:
@@ -161,7 +161,7 @@ def pitch_for_lead(lead_deg, d2):
 def vdi_thread_error(lead_deg, flank_deg, mu, d2):
     """Relative error of VDI 2230's thread term 0.16 P + 0.58 d2 mu_G against the exact one
     (oracles.thread_torque_per_force) at this lead angle [deg], full flank angle [deg] and mu_G."""
-    from exu_aniso import oracles
+    from exu_aniso.law import oracles
     P = pitch_for_lead(lead_deg, d2)
     exact = oracles.thread_torque_per_force(d2, P, math.radians(flank_deg), mu)
     return oracles.torque_per_clamp_force_vdi2230(d2, P, mu, 0.0, 0.0) / exact - 1.0

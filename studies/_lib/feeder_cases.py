@@ -17,7 +17,7 @@ def amplitude_for(frequency, throw_angle_deg, throw_number=THROW_NUMBER, gravity
 def run_case(case):
     """case: dict(params=dict of FeederParams fields). Returns the summary numbers of the run."""
     from exu_aniso.models.feeder import RunFeeder
-    from exu_aniso.scene_feeder import FeederParams
+    from exu_aniso.scenes.feeder import FeederParams
     p = FeederParams(**case["params"])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -3,8 +3,8 @@
 An implementation is a name -> (engine, keyword options for BuildBlock/BuildScrew (engine
 "exudyn") or simulate_block/simulate_screw (engine "reference")). "exudyn" runs BuildBlock /
 BuildScrew with their defaults (CreateAnisotropicContact's default implementation; the one used
-is recorded in the benchmark's column contact_impl). The fast path is one more line, e.g.
-``"exudyn-fast": ("exudyn", {"implementation": "fast"})``.
+is recorded in the benchmark's column contact_impl); "exudyn-numpy" the glue's numpy route
+(``implementation="numpy"``).
 """
 from __future__ import annotations
 

@@ -30,7 +30,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.models.block import SimulationSettingsFor, SolveTimed
-from exu_aniso.scenes import BlockParams, block_contact_law, block_points
+from exu_aniso.scenes.base import BlockParams, block_contact_law, block_points
 
 from .baseline import _cartesian_springs
 from .studylib import markdown_table
@@ -118,7 +118,7 @@ def count_callbacks(M, contact, t_end, dt):
     """(force callbacks, Jacobian callbacks, Newton iterations, steps) of one untimed run: the user
     functions the contact classes give Exudyn (numpy route: force, jacobian; compiled: force_in_place,
     jacobian_in_place) wrapped with counters while the model is built."""
-    from exu_aniso import exudyn_glue
+    from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
     counts = [0, 0]
     names = {exudyn_glue._ContactSet: ("force", "jacobian"),
              exudyn_glue._CompiledSet: ("force_in_place", "jacobian_in_place")}

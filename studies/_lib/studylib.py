@@ -18,7 +18,7 @@ Every study is a script ``studies/NAME.py`` that
 5. writes ``report.md`` (its section of the results document: tables generated from the CSV,
    figure links, the wall time of the run and the machine) and ``timing.json``.
 
-All files are written atomically (``exu_aniso.output``); a study that fails leaves no file
+All files are written atomically (``exu_aniso.util.output``); a study that fails leaves no file
 half-written. ``python studies/run_all.py`` runs every study and assembles ``docs/RESULTS.md``.
 """
 from __future__ import annotations
@@ -31,7 +31,7 @@ import platform
 import sys
 import time
 
-from exu_aniso.output import read_table, write_json, write_table, write_text
+from exu_aniso.util.output import read_table, write_json, write_table, write_text
 
 HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))     # the folder studies/
 ROOT = os.path.dirname(HERE)

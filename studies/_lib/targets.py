@@ -70,7 +70,7 @@ from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.models.block import BuildBlock, SolveTimed
 from exu_aniso.models.screw import BuildScrew
-from exu_aniso.scenes import BlockParams, ScrewParams
+from exu_aniso.scenes.base import BlockParams, ScrewParams
 
 from .baseline import _cartesian_springs
 from .studylib import markdown_table
@@ -136,7 +136,7 @@ def empty_contact(mbs, nodes, K, storeHistory, sparse=False):
     dissipation sensor and with storeHistory the history sensor, the post-Newton function) with user
     functions that return zeros and accept every step. sparse: the Jacobian as a sparse matrix (a
     group's)."""
-    from exu_aniso.contact import N_HISTORY
+    from exu_aniso.kernel.contact_law import N_HISTORY
     n = sum(len(mbs.GetNodeParameter(nd, "referenceCoordinates")) for nd in nodes)
     zq = np.zeros(n)
     if sparse:
@@ -429,7 +429,7 @@ class CallBench:
     each over a batch of ``calls`` calls."""
 
     def __init__(self, calls, layouts=CALL_LAYOUTS):
-        from exu_aniso import exudyn_glue
+        from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
         self.calls, self.items = calls, []
         for points in layouts:
             model = BuildBlock(BlockParams(model="full", points=points, t_end=0.02))

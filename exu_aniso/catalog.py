@@ -1,0 +1,109 @@
+"""The scenes the command line knows, one record each: ``exu-aniso run NAME`` and ``exu-aniso params NAME``.
+
+A scene is a parameter class (a frozen dataclass with ``scenes._ParamsMixin``), the columns of its
+trajectory.csv with their SI units, the two summary values in the plot title, a function that
+draws trajectory.png on a matplotlib Figure, its Exudyn model script (``exu_aniso.models.<model>``
+with ``Build<Model>(p)`` and ``Run<Model>(p, progress=, snapshot=, solutionFile=)``) and, where one
+exists, its reference-engine function ``params -> Result``.
+
+Adding a scene means one module (parameters, summary, plot), one model script and one entry in
+``_ENTRIES`` below; the command line does not change.
+"""
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from typing import Callable
+
+from exu_aniso.scenes.base import ENERGY_COLUMNS
+
+# the main job of ``exu-aniso run all``: the papers' two scenes (README quick start)
+MAIN_JOB = ("block", "screw")
+
+_LEDGER = {k: "J" for k in ENERGY_COLUMNS}
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One scene of the command line (see the module docstring)."""
+
+    name: str
+    params: type
+    columns: dict
+    title_keys: tuple
+    plot: Callable            # (traj, params, fig) -> None: the content of trajectory.png
+    model: str                # module of exu_aniso.models: Build<Model>, Run<Model>
+    reference: Callable | None = None  # params -> Result of the reference engine, None if it has no model
+    figsize: tuple = (6.0, 5.0)         # of trajectory.png [in]
+
+    def _model_function(self, prefix):
+        module = importlib.import_module(f"exu_aniso.models.{self.model}")
+        return getattr(module, prefix + self.model.capitalize())
+
+    def run_exudyn(self, params, **kw):
+        """Run<Model>(params, progress=, snapshot=, solutionFile=) -> Result."""
+        return self._model_function("Run")(params, **kw)
+
+    def build_exudyn(self, params):
+        """Build<Model>(params): the assembled Exudyn model (for the SolutionViewer)."""
+        return self._model_function("Build")(params)
+
+
+def _plot_block(traj, params, fig):
+    from exu_aniso.plots import PlotBlockPath
+    PlotBlockPath(traj, params, ax=fig.add_subplot(1, 1, 1))
+
+
+def _plot_screw(traj, params, fig):
+    from exu_aniso.plots import PlotScrewAdvance, PlotScrewTorque
+    PlotScrewAdvance(traj, params, ax=fig.add_subplot(2, 1, 1))
+    PlotScrewTorque(traj, params, ax=fig.add_subplot(2, 1, 2))
+
+
+def _block():
+    from exu_aniso.scenes.block import simulate_block
+    from exu_aniso.scenes.base import BlockParams
+    return Scene("block", BlockParams,
+                 {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
+                  "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N",
+                  # the full model's other motions (the planar model holds z and has no vz, tilt, omega_x, omega_y)
+                  "z": "m", "vz": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s", **_LEDGER},
+                 ("heading_deg", "r_mean"), _plot_block, "block", simulate_block, (5.5, 5.0))
+
+
+def _screw():
+    from exu_aniso.scenes.screw import simulate_screw
+    from exu_aniso.scenes.base import ScrewParams
+    return Scene("screw", ScrewParams,
+                 {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
+                  "axial_force": "N", "dissipated_energy": "J",
+                  # the full model's other motions (axis_*: the screw's axis in the world)
+                  "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s",
+                  "axis_x": "-", "axis_y": "-", "axis_z": "-", **_LEDGER},
+                 ("advance_per_rev", "torque_mean"), _plot_screw, "screw", simulate_screw, (6.0, 6.5))
+
+
+def _particle():
+    from exu_aniso.scenes.particle import COLUMNS, TITLE_KEYS, ParticleParams, PlotParticle, simulate_particle
+    return Scene("particle", ParticleParams, COLUMNS, TITLE_KEYS, PlotParticle, "particle", simulate_particle,
+                 (6.0, 6.5))
+
+
+def _capstan():     # no reference-engine model of the ANCF rope: the oracle is Euler-Eytelwein
+    from exu_aniso.scenes.capstan import COLUMNS, TITLE_KEYS, CapstanParams, PlotCapstan
+    return Scene("capstan", CapstanParams, COLUMNS, TITLE_KEYS, PlotCapstan, "capstan", None, (6.0, 6.5))
+
+
+def _feeder():
+    from exu_aniso.scenes.feeder import COLUMNS, TITLE_KEYS, FeederParams, PlotFeeder, simulate_feeder
+    return Scene("feeder", FeederParams, COLUMNS, TITLE_KEYS, PlotFeeder, "feeder", simulate_feeder, (7.5, 6.5))
+
+
+def _fastening():     # no reference-engine model: the oracles are ISO 16047 / VDI 2230's closed forms
+    from exu_aniso.scenes.fastening import COLUMNS, TITLE_KEYS, FasteningParams, PlotFastening
+    return Scene("fastening", FasteningParams, COLUMNS, TITLE_KEYS, PlotFastening, "fastening", None, (7.0, 7.0))
+
+
+_ENTRIES = (_block, _screw, _particle, _capstan, _feeder, _fastening)
+
+SCENES = {s.name: s for s in (entry() for entry in _ENTRIES)}

@@ -1,0 +1,1015 @@
+"""The one place that talks to Exudyn: ``CreateAnisotropicContact`` adds a contact set to an mbs.
+
+Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
+
+* one ``ObjectGenericODE2`` per contact set acting on the slave body node (and the master body
+  node when the surface moves), with a ``forceUserFunction`` returning the generalized contact
+  forces ``Q = sum_k Jp_k^T f_k`` and a ``jacobianUserFunction`` with the consistent tangent of
+  ``exu_aniso.kernel.contact_law`` mapped through the point Jacobians ``Jp_k``, completed by the terms of
+  ``Jp_k`` depending on the node coordinates (lever arms and point velocities turning with the
+  body; ``_ContactSet._add_geometric``) for every node type; with a moving master the compiled
+  route (``kernel.sets.evaluate_pair``) gives it over the slave's and the master's coordinates, the
+  numpy route leaves the Jacobian to Exudyn (numerical);
+* the history lives in a ``NodeGenericData`` (9 numbers per point, ``HISTORY_FIELDS``). During
+  Newton the law is evaluated from the last *converged* history (``ConfigurationType.StartOfStep``);
+  one post-Newton function per mbs evaluates every set at the converged state and writes the
+  candidate to ``ConfigurationType.Current``. Exudyn copies Current to StartOfStep only when a step
+  is accepted and restores Current from StartOfStep when it rejects a step, so rejected or reduced
+  steps leave no trace. The compiled sets do this in place, on Exudyn's own vectors
+  (``_SystemViews``: numpy views of the Current and StartOfStep coordinates): the history is read
+  from the StartOfStep data, the candidate written into the Current data, the state read from the
+  Current ODE2 coordinates, with no Get/Set of whole vectors per step;
+* a group (bodyNumber a list of rigid bodies): one such object over all their nodes, the same points on
+  each body (_RigidGroup; compiled: kernel.sets.evaluate_group, the Jacobian a scipy CSR matrix of the
+  bodies' diagonal blocks, so Exudyn's sparse solver gets no coupling that is not there);
+* node types: ``NodeRigidBody2D`` (planar: in-plane force and z torque; the local z of a point is
+  its fixed height over the plane), ``NodeRigidBodyRotVecLG`` (``NodeType.RotationRotationVector``)
+  and ``NodeRigidBodyEP``. Explicit solvers work with the 2D and rotation-vector nodes (Exudyn
+  refuses EP nodes there).
+
+The law itself is never changed here: every force comes from ``ContactLaw.evaluate``.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
+from numba import njit
+
+from exu_aniso.kernel.sets import stage_candidate
+from exu_aniso.kernel.point import _entry_point
+from exu_aniso.kernel.contact_law import HISTORY_FIELDS, N_HISTORY, UNRESOLVED, ContactLaw
+from exu_aniso.util.validation import check_bool, check_index, check_instance, check_points
+
+_SETS_KEY = "exu_aniso_contact_sets"
+_UNRESOLVED_KEY = "exu_aniso_unresolved_time"   # time of the last step rejected as unresolved
+_SOS = exu.ConfigurationType.StartOfStep
+_STATUS = HISTORY_FIELDS.index("status")
+_DISSIPATED = HISTORY_FIELDS.index("dissipated_energy")
+_CUR = exu.ConfigurationType.Current
+
+
+def _rot_vec_matrix(th):
+    a = math.sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2])
+    K = np.array([[0.0, -th[2], th[1]], [th[2], 0.0, -th[0]], [-th[1], th[0], 0.0]])
+    if a < 1e-8:
+        return np.eye(3) + K + 0.5 * K @ K
+    return np.eye(3) + math.sin(a) / a * K + (1.0 - math.cos(a)) / (a * a) * K @ K
+
+
+def _ep_matrix(e):
+    e0, e1, e2, e3 = e
+    A = np.array([[e0 * e0 + e1 * e1 - e2 * e2 - e3 * e3, 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
+                  [2 * (e1 * e2 + e0 * e3), e0 * e0 - e1 * e1 + e2 * e2 - e3 * e3, 2 * (e2 * e3 - e0 * e1)],
+                  [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3]])
+    G = 2.0 * np.array([[-e1, e0, e3, -e2], [-e2, -e3, e0, e1], [-e3, e2, -e1, e0]])  # omega_local = G de/dt
+    return A, G
+
+
+def _ep_derivatives(e):
+    """dA/de_m (4, 3, 3) and dG/de_m (4, 3, 4) of _ep_matrix: A is quadratic and G linear in the
+    Euler parameters e (not normalised: the force is a smooth function of e in R^4)."""
+    e0, e1, e2, e3 = e
+    dA = 2.0 * np.array([[[e0, -e3, e2], [e3, e0, -e1], [-e2, e1, e0]],
+                         [[e1, e2, e3], [e2, -e1, -e0], [e3, e0, -e1]],
+                         [[-e2, e1, e0], [e1, e2, e3], [-e0, e3, -e2]],
+                         [[-e3, -e0, e1], [e0, -e3, e2], [e1, e2, e3]]])
+    dG = np.stack([_ep_matrix(np.eye(4)[m])[1] for m in range(4)])
+    return dA, dG
+
+
+def _rotate_z(angle, b):
+    """In-plane arms (ax, ay) of local points b rotated by angle about z."""
+    c, s = math.cos(angle), math.sin(angle)
+    return c * b[:, 0] - s * b[:, 1], s * b[:, 0] + c * b[:, 1]
+
+
+class _BodyKinematics:
+    """Positions, velocities and point Jacobians of body-fixed points for one Exudyn node."""
+
+    def __init__(self, mbs, node_number):
+        self.node = node_number
+        self.kind = mbs.GetNode(node_number)["nodeType"]
+        self.nodes = [node_number]
+        kinds = {"RigidBody2D": 3, "RigidBodyRotVecLG": 6, "RigidBodyEP": 7, "GenericODE2": 2}
+        if self.kind not in kinds:
+            raise ValueError(f"CreateAnisotropicContact: body node {node_number} has type {self.kind!r}; supported "
+                             f"are NodeRigidBody2D, NodeRigidBodyRotVecLG (RotationRotationVector), NodeRigidBodyEP, "
+                             f"NodePoint and NodePoint2D (mass points), NodePoint2DSlope1 and NodePointSlope1 (ANCF "
+                             f"cables) and a 2-coordinate NodeGenericODE2 (screw joint: rotation about z, translation "
+                             f"along z)")
+        self.n = kinds[self.kind]
+        self.ref = np.asarray(mbs.GetNodeParameter(node_number, "referenceCoordinates"), dtype=float)
+        if self.ref.shape != (self.n,):   # only a NodeGenericODE2 can have another size
+            raise ValueError(f"CreateAnisotropicContact: NodeGenericODE2 {node_number} must have exactly 2 coordinates "
+                             f"(rotation about z [rad], translation along z [m]); got {self.ref.shape[0]}")
+        q0 = mbs.GetNodeParameter(node_number, "initialCoordinates")
+        self.q0 = np.asarray(q0, dtype=float) if len(q0) else np.zeros(self.n)
+        v0 = mbs.GetNodeParameter(node_number, "initialCoordinates_t" if self.kind == "GenericODE2"
+                                  else "initialVelocities")
+        self.v0 = np.asarray(v0, dtype=float) if len(v0) else np.zeros(self.n)
+
+    linear = False
+
+    def number_of_points(self, b):
+        return b.shape[0]
+
+    def coordinates(self, mbs, variable, configuration):
+        """The node's coordinates (variable: exu.OutputVariableType.Coordinates or Coordinates_t)."""
+        return np.asarray(mbs.GetNodeOutput(self.node, variable, configuration=configuration), dtype=float)
+
+    def points(self, q, q_t, b):
+        """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) of local points b, and
+        the rotation matrix of a 3D node (None for the planar and screw-joint nodes)."""
+        q = self.ref + np.asarray(q, dtype=float)
+        q_t = np.asarray(q_t, dtype=float)
+        K = b.shape[0]
+        if self.kind == "RigidBody2D":
+            ax, ay = _rotate_z(q[2], b)
+            x = np.stack([q[0] + ax, q[1] + ay, b[:, 2]], axis=-1)
+            v = np.stack([q_t[0] - q_t[2] * ay, q_t[1] + q_t[2] * ax, np.zeros(K)], axis=-1)
+            J = np.zeros((K, 3, 3))
+            J[:, 0, 0] = J[:, 1, 1] = 1.0
+            J[:, 0, 2] = -ay
+            J[:, 1, 2] = ax
+            return x, v, J, None
+        if self.kind == "GenericODE2":                 # screw joint: q = (psi, z)
+            ax, ay = _rotate_z(q[0], b)
+            x = np.stack([ax, ay, b[:, 2] + q[1]], axis=-1)
+            v = np.stack([-q_t[0] * ay, q_t[0] * ax, np.full(K, q_t[1])], axis=-1)
+            J = np.zeros((K, 3, 2))
+            J[:, 0, 0] = -ay
+            J[:, 1, 0] = ax
+            J[:, 2, 1] = 1.0
+            return x, v, J, None
+        A, G = self.rotation(q)
+        arm = b @ A.T
+        omega_local = G @ q_t[3:]
+        x = q[0:3] + arm
+        v = q_t[0:3] + np.cross(omega_local, b) @ A.T
+        skew = np.zeros((K, 3, 3))
+        skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -b[:, 2], b[:, 1], -b[:, 0]
+        skew[:, 1, 0], skew[:, 2, 0], skew[:, 2, 1] = b[:, 2], -b[:, 1], b[:, 0]
+        J = np.zeros((K, 3, self.n))
+        J[:, :, 0:3] = np.eye(3)
+        J[:, :, 3:] = -np.einsum("ij,kjl,lm->kim", A, skew, G)
+        return x, v, J, A
+
+    def point_derivatives(self, q, b):
+        """dJp/dq (K, 3, n, n) of local points b: dJp[k, :, :, c] is the derivative of Jp[k] by
+        coordinate c at fixed q_t. Since v = Jp q_t for every node type, dv/dq = dJp q_t.
+
+        2D / screw joint (rotation coordinate r): d(-a_y, a_x, 0)/dr = (-a_x, -a_y, 0);
+        RotVecLG: by the local rotation increment dtheta (A -> A (I + [dtheta]x), what Exudyn's
+        Lie-group solver linearises in), Jp_rot e_a = -A (b x e_a), so
+        d(Jp_rot e_a)/dtheta_c = -A (e_c x (b x e_a)) = -A (b delta_ac - e_a b_c);
+        EP: Jp_rot = -A(e) [b]x G(e), d/de_m = -(dA/de_m [b]x G + A [b]x dG/de_m)."""
+        q = self.ref + np.asarray(q, dtype=float)
+        K = b.shape[0]
+        dJ = np.zeros((K, 3, self.n, self.n))
+        if self.kind in ("RigidBody2D", "GenericODE2"):
+            r = 2 if self.kind == "RigidBody2D" else 0
+            ax, ay = _rotate_z(q[r], b)
+            dJ[:, 0, r, r] = -ax
+            dJ[:, 1, r, r] = -ay
+            return dJ
+        A, G = self.rotation(q)
+        if self.kind == "RigidBodyRotVecLG":
+            Ab = b @ A.T                                              # (K, 3): A b
+            for a in range(3):
+                dJ[:, :, 3 + a, 3 + a] -= Ab
+                dJ[:, :, 3 + a, 3:6] += np.einsum("i,kc->kic", A[:, a], b)
+            return dJ
+        dA, dG = _ep_derivatives(q[3:7])
+        bxG = np.cross(b[:, None, :], G.T[None, :, :])                    # (K, a, 3): b x G e_a
+        bxdG = np.cross(b[:, None, None, :], dG.transpose(0, 2, 1)[None])  # (K, m, a, 3): b x dG_m e_a
+        dJ[:, :, 3:, 3:] = -(np.einsum("mij,kaj->kiam", dA, bxG) + np.einsum("ij,kmaj->kiam", A, bxdG))
+        return dJ
+
+    def position_jacobian(self, q, b, Jp):
+        """dx/dq (K, 3, n) of local points b, given their virtual-work Jacobian Jp: Jp itself but
+        for Euler parameters, where dx/de_m = dA/de_m b (see _PointTangent)."""
+        if self.kind != "RigidBodyEP":
+            return Jp
+        dA, _ = _ep_derivatives(self.ref[3:7] + np.asarray(q, dtype=float)[3:7])
+        Jx = Jp.copy()
+        Jx[:, :, 3:7] = np.einsum("mij,kj->kim", dA, b)
+        return Jx
+
+    def rotation(self, q_total):
+        """Rotation matrix A and G (omega_local = G dq_rot/dt) of a 3D node at total coordinates."""
+        if self.kind == "RigidBodyRotVecLG":
+            return _rot_vec_matrix(q_total[3:6]), np.eye(3)
+        return _ep_matrix(q_total[3:7])
+
+    def frame(self, q, q_t):
+        """Position, rotation matrix, global angular velocity of the node (3D nodes only: the
+        caller checks the node type)."""
+        q = self.ref + np.asarray(q, dtype=float)
+        q_t = np.asarray(q_t, dtype=float)
+        A, G = self.rotation(q)
+        return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
+
+
+class _RigidGroup:
+    """Several rigid bodies of one node type carrying the same body-local points (a group: one
+    contact set, one Exudyn object and one compiled call for all). The set's coordinates
+    are the nodes' one after the other, its points body by body (K = bodies x points). Composed of
+    one _BodyKinematics per body: every point depends on its own body's coordinates only."""
+
+    linear = False
+
+    def __init__(self, mbs, objects):
+        self.bodies = [_BodyKinematics(mbs, _body_node(mbs, o)) for o in objects]
+        self.kind = self.bodies[0].kind
+        self.nodes = [bd.node for bd in self.bodies]
+        self.node = self.nodes[0]
+        self.nq = self.bodies[0].n
+        self.n = self.nq * len(self.bodies)
+        self.ref, self.q0, self.v0 = (np.concatenate([getattr(bd, name) for bd in self.bodies])
+                                      for name in ("ref", "q0", "v0"))
+
+    def number_of_points(self, b):
+        return b.shape[0] * len(self.bodies)
+
+    def coordinates(self, mbs, variable, configuration):
+        return np.concatenate([bd.coordinates(mbs, variable, configuration) for bd in self.bodies])
+
+    def _each(self, q):
+        q = np.asarray(q, dtype=float)
+        return ((j * self.nq, bd, q[j * self.nq:(j + 1) * self.nq]) for j, bd in enumerate(self.bodies))
+
+    def points(self, q, q_t, b):
+        """As _BodyKinematics.points over all bodies (Jp (K, 3, n): each point's body's columns); no
+        rotation matrix (None)."""
+        q_t = np.asarray(q_t, dtype=float)
+        K = b.shape[0]
+        x, v, J = [], [], np.zeros((K * len(self.bodies), 3, self.n))
+        for j, (c, bd, qj) in enumerate(self._each(q)):
+            xj, vj, Jj, _ = bd.points(qj, q_t[c:c + self.nq], b)
+            x.append(xj)
+            v.append(vj)
+            J[j * K:(j + 1) * K, :, c:c + self.nq] = Jj
+        return np.concatenate(x), np.concatenate(v), J, None
+
+    def point_derivatives(self, q, b):
+        K = b.shape[0]
+        dJ = np.zeros((K * len(self.bodies), 3, self.n, self.n))
+        for j, (c, bd, qj) in enumerate(self._each(q)):
+            dJ[j * K:(j + 1) * K, :, c:c + self.nq, c:c + self.nq] = bd.point_derivatives(qj, b)
+        return dJ
+
+    def position_jacobian(self, q, b, Jp):
+        if self.kind != "RigidBodyEP":
+            return Jp
+        K = b.shape[0]
+        Jx = Jp.copy()
+        for j, (c, bd, qj) in enumerate(self._each(q)):
+            rows = slice(j * K, (j + 1) * K)
+            Jx[rows, :, c:c + self.nq] = bd.position_jacobian(qj, b, Jp[rows, :, c:c + self.nq])
+        return Jx
+
+
+def hermite_shape_functions(x, L):
+    """Exudyn's cubic Hermite shape functions of an ANCF cable element of length L at the local
+    position x in [0, L]: r(x) = S1 r0 + S2 r0' + S3 r1 + S4 r1' (node 0 at x = 0, node 1 at x = L;
+    r' the slope coordinates; tests/test_cable.py checks them against Exudyn's output)."""
+    xi = x / L
+    return np.array([1.0 - 3.0 * xi ** 2 + 2.0 * xi ** 3, L * (xi - 2.0 * xi ** 2 + xi ** 3),
+                     3.0 * xi ** 2 - 2.0 * xi ** 3, L * (-xi ** 2 + xi ** 3)])
+
+
+_CABLES = {"ANCFCable2D": ("Point2DSlope1", 2), "ANCFCable": ("PointSlope1", 3)}   # object: (node type, dim)
+_MASS_POINTS = {"MassPoint": ("Point", 3), "MassPoint2D": ("Point2D", 2)}
+_RIGID_BODIES = ("RigidBody", "RigidBody2D")                      # objects a group may hold
+
+
+class _LinearSlave:
+    """A slave whose points are linear in its node coordinates: x_k = c_k + S_k q_total, with a
+    constant point Jacobian Jp_k = S_k (so dJp/dq = 0 and v_k = S_k q_t).
+
+    * mass points (ObjectMassPoint, ObjectMassPoint2D): S = I over the node's coordinates
+      (2D: x, y in the plane z = 0), c = the local point b;
+    * ANCF cables (ObjectANCFCable2D with NodePoint2DSlope1 (x, y, x', y') in the plane z = 0;
+      ObjectANCFCable with NodePointSlope1 (x, y, z, x', y', z')): a list of elements, every local
+      point [x, 0, 0] (0 <= x <= element length) on every element, S = Exudyn's Hermite shape
+      functions (``hermite_shape_functions``), c = 0.
+
+    The set's coordinates are those of the distinct nodes in order of first appearance; points are
+    ordered element by element (K = number of elements x number of local points)."""
+
+    linear = True
+
+    def __init__(self, mbs, objects):
+        types = [mbs.GetObject(o)["objectType"] for o in objects]
+        self.kind = types[0]
+        self.objects = list(objects)
+        if self.kind in _MASS_POINTS:
+            node_type, self.dim = _MASS_POINTS[self.kind]
+            self.elements = [[int(mbs.GetObject(objects[0])["nodeNumber"])]]
+            self.lengths = [0.0]
+            self.kind = node_type                       # the node type, as the rigid kinds
+        else:
+            node_type, self.dim = _CABLES[self.kind]
+            self.elements = [[int(nd) for nd in mbs.GetObject(o)["nodeNumbers"]] for o in objects]
+            self.lengths = [float(mbs.GetObject(o)["length"]) for o in objects]
+        self.nodes = []
+        for el in self.elements:
+            for nd in el:
+                if nd not in self.nodes:
+                    self.nodes.append(nd)
+        self.node = self.nodes[0]
+        self.nc = len(mbs.GetNodeParameter(self.nodes[0], "referenceCoordinates"))   # coordinates per node
+        self.n = self.nc * len(self.nodes)
+        self.ref, self.q0, self.v0 = (np.concatenate([self._node_vector(mbs, nd, name) for nd in self.nodes])
+                                      for name in ("referenceCoordinates", "initialCoordinates", "initialVelocities"))
+
+    def _node_vector(self, mbs, node, name):
+        v = mbs.GetNodeParameter(node, name)
+        return np.asarray(v, dtype=float) if len(v) else np.zeros(self.nc)
+
+    def number_of_points(self, b):
+        return b.shape[0] * len(self.elements)
+
+    def coordinates(self, mbs, variable, configuration):
+        return np.concatenate([np.asarray(mbs.GetNodeOutput(nd, variable, configuration=configuration), dtype=float)
+                               for nd in self.nodes])
+
+    def linear_map(self, b):
+        """(idx (K, m), S (K, 3, m), c (K, 3)) of local points b: x_k = c_k + S_k q_total[idx_k]."""
+        b = np.asarray(b, dtype=float)
+        d = self.dim
+        if self.kind in ("Point", "Point2D"):
+            K = b.shape[0]
+            idx = np.tile(np.arange(d), (K, 1))
+            S = np.zeros((K, 3, d))
+            for i in range(d):
+                S[:, i, i] = 1.0
+            return idx, S, b.copy()
+        rows = []
+        for el, L in zip(self.elements, self.lengths):
+            cols = np.concatenate([self.nodes.index(nd) * self.nc + np.arange(2 * d) for nd in el])
+            for x in b[:, 0]:
+                h = hermite_shape_functions(x, L)          # (4,): r0, r0', r1, r1'
+                S = np.zeros((3, 4 * d))
+                for j in range(4):
+                    S[:d, j * d:(j + 1) * d] = h[j] * np.eye(d)
+                rows.append((cols, S))
+        idx = np.array([r[0] for r in rows], dtype=np.int64)
+        S = np.array([r[1] for r in rows])
+        return idx, S, np.zeros((len(rows), 3))
+
+    def jacobian_matrix(self, b):
+        """Dense point Jacobians Jp (K, 3, n) and offsets c (K, 3) of local points b."""
+        idx, S, c = self.linear_map(b)
+        Jp = np.zeros((idx.shape[0], 3, self.n))
+        for k in range(idx.shape[0]):
+            Jp[k][:, idx[k]] += S[k]
+        return Jp, c
+
+    def points(self, q, q_t, b):
+        """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) of local points b and None."""
+        Jp, c = self.jacobian_matrix(b)
+        q = self.ref + np.asarray(q, dtype=float)
+        return c + Jp @ q, Jp @ np.asarray(q_t, dtype=float), Jp, None
+
+    def point_derivatives(self, q, b):
+        return None                                     # dJp/dq = 0
+
+    def position_jacobian(self, q, b, Jp):
+        return Jp
+
+
+class _PointTangent(NamedTuple):
+    """q-derivatives of the slave point kinematics for the Jacobian: dx (K, 3, n) = dx/dq,
+    dJp (K, 3, n, n) = dJp/dq (_BodyKinematics.point_derivatives), dv (K, 3, n) = dv/dq at fixed
+    q_t = dJp q_t, and the law's damping Dv = df/dv (K, 3, 3). dx equals Jp except for Euler
+    parameters: x = p + A(e) b with A quadratic in e, so along e itself dx/de e = 2 A b while the
+    virtual-work Jacobian -A [b]x G(e) e = 0 (the unit norm is Exudyn's separate constraint)."""
+    dx: np.ndarray
+    dJp: np.ndarray
+    dv: np.ndarray
+    damping: np.ndarray
+
+
+class _ContactSet:
+    """State-free glue between one GenericODE2 object and a ContactLaw."""
+
+    force_calls = 0             # calls of the force user function Exudyn made (each costs Exudyn 2 vectors)
+
+    def __init__(self, mbs, law, slave, points, master):
+        self.law = law
+        self.slave = slave
+        self.points = points
+        self.master = master
+        self.K = slave.number_of_points(points)
+        self.nData = None
+
+    def _split(self, q, q_t):
+        ns = self.slave.n
+        return q[:ns], q_t[:ns], q[ns:], q_t[ns:]
+
+    def state(self, mbs, q, q_t, history, tangent, dt=None):
+        """Evaluate the law (dt: time since the converged history, see ContactLaw.evaluate); returns
+        (ContactState, slave Jp, F_global, master Jp or None, tangent data of the slave points for
+        _add_geometric: _PointTangent when tangent and the master is ground, else None)."""
+        qs, vs, qm, vm = self._split(q, q_t)
+        x, v, Jp, _ = self.slave.points(qs, vs, self.points)
+        if self.master is None:
+            st = self.law.evaluate(x, v, history, tangent, dt)
+            tg = None
+            if tangent and self.slave.linear:          # Jp constant: dx/dq = Jp, dJp/dq = 0
+                tg = _PointTangent(Jp, None, None, st.damping)
+            elif tangent:
+                dJ = self.slave.point_derivatives(qs, self.points)
+                tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), dJ, np.einsum("kiac,a->kic", dJ, np.asarray(vs, dtype=float)), st.damping)
+            return st, Jp, st.force, None, tg
+        p, A, w, vp = self.master.frame(qm, vm)
+        d = x - p
+        x_rel = d @ A
+        v_rel = (v - vp - np.cross(w, d)) @ A
+        st = self.law.evaluate(x_rel, v_rel, history, tangent, dt)
+        F = st.force @ A.T
+        b_master = x_rel                       # reaction at the master's material point at S
+        Jm = self.master.points(qm, vm, b_master)[2]
+        return st, Jp, F, Jm, None
+
+    def history(self, mbs, configuration):
+        h = mbs.GetNodeOutput(self.nData, exu.OutputVariableType.Coordinates, configuration=configuration)
+        return np.asarray(h, dtype=float).reshape(self.K, N_HISTORY)
+
+    # --- read-only views for graphics and post-processing (never called by the solver) -----------
+    def history_at(self, mbs, configuration=None):
+        """History (K, 9) in an exu.ConfigurationType (e.g. Visualization: what the renderer and the
+        SolutionViewer show); None: the initial history given to the node (works before Assemble)."""
+        if configuration is None:
+            return np.asarray(mbs.GetNodeParameter(self.nData, "initialCoordinates"), dtype=float).reshape(
+                self.K, N_HISTORY)
+        return self.history(mbs, configuration)
+
+    def points_and_master_pose(self, mbs, configuration=None):
+        """Slave points in the master frame (K, 3) and the master's pose: position (3,) and rotation
+        matrix (3, 3) (master frame -> global; the origin and the identity for a ground master), in an
+        exu.ConfigurationType; None: the nodes' initial coordinates (works before Assemble). Global
+        positions are p + A x. Positions only: the law is not evaluated."""
+        def coordinates(nd):
+            if configuration is None:
+                return nd.q0
+            return nd.coordinates(mbs, exu.OutputVariableType.Coordinates, configuration)
+        x = self.slave.points(coordinates(self.slave), np.zeros(self.slave.n), self.points)[0]
+        if self.master is None:
+            return x, np.zeros(3), np.eye(3)
+        p, A, _, _ = self.master.frame(coordinates(self.master), np.zeros(self.master.n))
+        return (x - p) @ A, np.array(p, dtype=float), A
+
+    def body_position(self, mbs, configuration=None):
+        """Global position (3,) of the slave body's local origin (node reference point; the joint
+        origin of a screw-joint node; the start of the first element of a cable) in a configuration
+        (None: initial coordinates)."""
+        q = self.slave.q0 if configuration is None else self.slave.coordinates(
+            mbs, exu.OutputVariableType.Coordinates, configuration)
+        return self.slave.points(q, np.zeros(self.slave.n), np.zeros((1, 3)))[0][0]
+
+    @staticmethod
+    def step_time(mbs, t):
+        """Time since the start of the step [s] (the age of the converged history)."""
+        return t - mbs.systemData.GetTime(_SOS)
+
+    def force(self, mbs, t, itemNumber, q, q_t):
+        self.force_calls += 1
+        st, Jp, F, Jm, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))
+        Q = np.einsum("kij,ki->j", Jp, F)
+        if Jm is not None:
+            Q = np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
+        return Q.tolist()
+
+    def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        """-(fODE2 dQ/dq + fODE2_t dQ/dq_t) of Q = sum_k Jp_k^T f_k(x_k, v_k) (ground master)."""
+        st, Jp, F, _, tg = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True, dt=self.step_time(mbs, t))
+        Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, tg.dx)
+        Dq = np.einsum("kia,kij,kjb->ab", Jp, st.damping, Jp)
+        self._add_geometric(Kq, Jp, F, tg)
+        return -(fODE2 * Kq + fODE2_t * Dq)
+
+    def _add_geometric(self, Kq, Jp, F, tg):
+        """Add the terms of dQ/dq that come from Jp depending on q (every node type; tg: the
+        _PointTangent of state()). With v = Jp q_t and f = f(x, v):
+
+            dQ/dq = sum_k Jp^T Kx Jp + sum_k f . dJp/dq + sum_k Jp^T Dv (dJp/dq q_t),
+
+        the first (law stiffness) is in Kq already; the second is the lever arms turning at fixed
+        point forces (the reference's geometric term), the third the point velocities turning
+        with the body (nonzero only with normal damping: Dv = df/dv). A linear slave has none."""
+        if tg.dJp is None:
+            return
+        Kq += np.einsum("kiac,ki->ac", tg.dJp, F)
+        if np.any(tg.damping):
+            Kq += np.einsum("kia,kij,kjc->ac", Jp, tg.damping, tg.dv)
+
+    def candidate(self, mbs, t, q, q_t):
+        """The history candidate (K, 9) at the converged state q, q_t (the set's coordinates) at time
+        t, or None when a contact point's motion in the step is unresolved."""
+        H = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))[0].history
+        return None if np.any(H[:, _STATUS] == UNRESOLVED) else H
+
+    def stage(self, mbs, t):
+        """Put the history candidate at the converged state (Exudyn's Current coordinates) at time t
+        into the Current data coordinates, in place; False (nothing written) when a point's step is
+        unresolved. The numpy route fetches the views and its indices afresh at every commit (its
+        own cost is far above theirs), so it never holds a view across a re-assembly."""
+        self._indices(mbs)
+        V = _SystemViews(mbs)
+        self._check_indices(V)
+        H = self.candidate(mbs, t, V.q[self.ltgODE2], V.q_t[self.ltgODE2])
+        if H is None:
+            return False
+        V.data[self.ltg] = H.ravel()
+        V.data[self.ltgTotal] = H[:, _DISSIPATED].sum()
+        return True
+
+    def locate(self, mbs, oContact):
+        """Remember where the set's coordinates and history live in the system vectors (after
+        Assemble): ODE2 indices of the contact object, data indices of the history and total."""
+        self.oContact = oContact
+        self.ltgODE2 = None
+
+    def _indices(self, mbs):
+        self.ltgODE2 = np.asarray(mbs.systemData.GetObjectLTGODE2(self.oContact), dtype=np.int64)
+        self.ltg = np.asarray(mbs.systemData.GetNodeLTGData(self.nData), dtype=np.int64)
+        self.ltgTotal = int(mbs.systemData.GetNodeLTGData(self.nTotal)[0])
+
+    def _check_indices(self, V):
+        """Assert that the set's indices lie in the system vectors of the views V: the object's
+        coordinates (slave, then master), the history (one range of K * 9 data coordinates) and
+        the total dissipation (one data coordinate)."""
+        n = self.slave.n + (self.master.n if self.master is not None else 0)
+        assert self.ltgODE2.shape == (n,) and 0 <= self.ltgODE2.min() and self.ltgODE2.max() < V.q.size, \
+            (self.ltgODE2, V.sizes)
+        assert np.array_equal(self.ltg, self.ltg[0] + np.arange(self.K * N_HISTORY)), self.ltg
+        assert 0 <= self.ltg[0] and self.ltg[-1] < V.data.size and 0 <= self.ltgTotal < V.data.size, V.sizes
+
+
+class _SystemViews:
+    """numpy views of Exudyn's own system vectors (``copy=False``, Exudyn 1.13): the Current ODE2
+    coordinates q [m, rad] and velocities q_t [m/s, rad/s], the Current data coordinates and the
+    StartOfStep data coordinates. Writing into them writes into Exudyn's memory. They stay valid
+    through solves and through re-assemblies of the same sizes; Exudyn reallocates a vector when
+    it grows (Assemble of a larger system), so a holder compares ``sizes`` (ODE2, data) with the
+    system's before it uses them again (_CompiledSet._load_history)."""
+
+    def __init__(self, mbs):
+        sd = mbs.systemData
+        self.sizes = (sd.ODE2Size(), sd.DataSize())
+        self.q = sd.GetODE2Coordinates(configuration=_CUR, copy=False)
+        self.q_t = sd.GetODE2Coordinates_t(configuration=_CUR, copy=False)
+        self.data = sd.GetDataCoordinates(configuration=_CUR, copy=False)
+        self.data0 = sd.GetDataCoordinates(configuration=_SOS, copy=False)
+        for v, size in ((self.q, self.sizes[0]), (self.q_t, self.sizes[0]), (self.data, self.sizes[1]),
+                        (self.data0, self.sizes[1])):
+            assert v.shape == (size,) and v.dtype == np.float64 and v.flags.c_contiguous and v.flags.writeable, \
+                (v.shape, v.dtype, v.flags, self.sizes)
+
+    def current(self, mbs):
+        """True while the system's sizes (ODE2, data) are those at fetch time. With the new-solve rule
+        of _CompiledSet._load_history this misses only a system re-assembled smaller and then back
+        to the same sizes between two solves, the second starting at the first one's last commit."""
+        sd = mbs.systemData
+        return sd.ODE2Size() == self.sizes[0] and sd.DataSize() == self.sizes[1]
+
+
+@njit(cache=True)
+def gather_coordinates(q, q_t, idx, qb, q_tb):
+    """qb[i] = q[idx[i]], q_tb[i] = q_t[idx[i]]: a contact object's coordinates and velocities, at its
+    indices idx in Exudyn's ODE2 vector, from the views q, q_t of the Current ones into the set's
+    float64 buffers (compiled: a loop over a few numbers in numba costs less than converting
+    Exudyn's lists or numpy's fancy indexing)."""
+    for i in range(idx.shape[0]):
+        j = idx[i]
+        qb[i] = q[j]
+        q_tb[i] = q_t[j]
+
+
+class _CompiledSet(_ContactSet):
+    """The same contact set evaluated by the compiled kernel ``exu_aniso.kernel.sets`` (ground
+    master, a surface numba compiles): one compiled call per user function on arrays packed once
+    (``kernel.CovariantSet``).
+
+    What is not recomputed or copied:
+    * the converged history is not copied: the kernel reads it from the StartOfStep data
+      coordinates (a view of Exudyn's vector, which changes only when a step is accepted);
+    * q, q_t are read from the Current ODE2 coordinates (views: Exudyn's q, q_t lists are these
+      numbers, at the object's coordinates), never from the lists: a slice of the views when the
+      object's coordinates are one range of the system vector (a body, a group of consecutive
+      bodies), else gathered at its indices into float64 buffers by a compiled loop
+      (``gather_coordinates``; a moving master: the slave's range, then the master's);
+    * every residual (mode 0) also leaves its history candidate and its state; the post-Newton commit
+      takes the candidate of the last residual when that state is the converged one (it is: Newton
+      stops after a residual), and evaluates afresh otherwise, and writes it into the Current data
+      coordinates (a view) in place. Exudyn's accept (Current -> StartOfStep) is the commit, its
+      reject (StartOfStep -> Current) the rollback.
+
+    The views are fetched again (_views) at the first step of a solve (a start-of-step time that
+    is neither the last one nor the last commit's) and whenever the system's sizes changed."""
+
+    def __init__(self, mbs, law, slave, points, master):
+        super().__init__(mbs, law, slave, points, master)
+        from exu_aniso.kernel.sets import LinearMap
+        # a linear slave (mass points, cables) goes to kernel.sets.evaluate_linear, a rigid one to evaluate_set
+        kind = LinearMap(*slave.linear_map(points), slave.n) if slave.linear else slave.kind
+        self.pk = self._pack(law, kind, slave, points, master)
+        self._t = None                        # time of the Newton solve of the current arguments
+        self._t0 = None                       # its start-of-step time [s]
+        self._dt = 0.0
+        self._committed_t = None              # time of the last commit [s]
+        self.recomputed = 0                   # commits that had to evaluate afresh (diagnostics)
+        # the compiled function itself (numba's dispatch done once) and its packed arguments: q, q_t
+        # are the views of Exudyn's Current coordinates at the object's range (_views) or float64
+        # buffers they are gathered into (_gathered; the kernel keeps no reference to them: a
+        # residual copies its state into X); fODE2, fODE2_t are floats
+        self._entry, self._tail = self.pk.entry(), self.pk.tail
+        self._V = None                        # _SystemViews
+        self._gathered = True
+        self._gather, self._gather_args = None, None   # gather_coordinates and its arguments (_views)
+        self._qb, self._q_tb = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])   # own buffers
+        self._q, self._q_t = self._qb, self._q_tb
+        self._force_args = None               # the force call's arguments, made with dt by _load_history
+
+    @staticmethod
+    def _pack(law, kind, slave, points, master):
+        """The set packed for its compiled kernel (_CompiledPairSet: a moving master's)."""
+        from exu_aniso.kernel.point import CovariantSet
+        return CovariantSet(law, kind, slave.ref, points)
+
+    def _views(self, mbs):
+        """(Re)fetch the views of Exudyn's vectors and the set's indices, assert them, and make the
+        set's slices: the history (K, 9) in the StartOfStep data and its q, q_t in the Current ODE2
+        vectors (one range: slices of the views; else the buffers and the gather's arguments)."""
+        self._indices(mbs)
+        V = _SystemViews(mbs)
+        self._check_indices(V)
+        a, n = self.ltgODE2, self.ltgODE2.size
+        self._gathered = not np.array_equal(a, a[0] + np.arange(n))
+        if self._gathered:
+            self._q, self._q_t = self._qb, self._q_tb
+            self._gather_args = (V.q, V.q_t, np.ascontiguousarray(a, dtype=np.int64), self._qb, self._q_tb)
+            self._gather = _entry_point(gather_coordinates, self._gather_args)
+        else:
+            self._q, self._q_t = V.q[a[0]:a[0] + n], V.q_t[a[0]:a[0] + n]
+            self._gather, self._gather_args = None, None
+        h = int(self.ltg[0])
+        self._h0 = V.data0[h:h + self.K * N_HISTORY].reshape(self.K, N_HISTORY)
+        self._V = V
+        # the commit's compiled function (numba's dispatch done once: it cost ~1 us per step) and arguments
+        self._stage_args = (self.pk.X, self._q, self._q_t, self.pk.Hn, V.data, np.ascontiguousarray(self.ltg),
+                            int(self.ltgTotal))
+        self._stage = _entry_point(stage_candidate, self._stage_args)
+
+    def _load_history(self, mbs, t):
+        t0 = mbs.systemData.GetTime(_SOS)
+        if self._V is None or (t0 != self._t0 and t0 != self._committed_t) or not self._V.current(mbs):
+            self._views(mbs)                  # a new solve, or a re-assembled system
+        self._t = t
+        self._t0 = t0
+        self._dt = t - t0
+        self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt, self._h0) + self._tail
+
+    def force(self, mbs, t, itemNumber, q, q_t):
+        """Generalized contact forces at the given q, q_t (the set's coordinates, any values: for
+        direct calls, e.g. finite differences); Exudyn calls force_in_place."""
+        if t != self._t:
+            self._load_history(mbs, t)
+        self._qb[:] = q
+        self._q_tb[:] = q_t
+        self._entry(0, self._qb, self._q_tb, 0.0, 0.0, self._dt, self._h0, *self._tail)
+        return self.pk.Q
+
+    def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        """As force: the Jacobian at the given q, q_t; Exudyn calls jacobian_in_place."""
+        if t != self._t:
+            self._load_history(mbs, t)
+        self._qb[:] = q
+        self._q_tb[:] = q_t
+        self._entry(1, self._qb, self._q_tb, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
+        return self.pk.J
+
+    def force_in_place(self, mbs, t, itemNumber, q, q_t):
+        """The force user function given to Exudyn: the lists q, q_t Exudyn passes are its Current
+        coordinates at the object's indices, read here from the views instead (a slice, or gathered
+        when the indices are not one range; tests/test_history_in_place.py checks they are equal)."""
+        self.force_calls += 1
+        if t != self._t:
+            self._load_history(mbs, t)
+        if self._gathered:
+            self._gather(*self._gather_args)
+        self._entry(*self._force_args)
+        return self.pk.Q
+
+    def jacobian_in_place(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
+        """The Jacobian user function given to Exudyn (q, q_t as in force_in_place)."""
+        if t != self._t:
+            self._load_history(mbs, t)
+        if self._gathered:
+            self._gather(*self._gather_args)
+        self._entry(1, self._q, self._q_t, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
+        return self.pk.J
+
+    def stage(self, mbs, t):
+        if t != self._t:
+            self._load_history(mbs, t)
+        if self._gathered:                    # the object's coordinates are not one range
+            self._gather(*self._gather_args)
+        q, q_t = self._q, self._q_t
+        code = self._stage(*self._stage_args)
+        if code == 1:                         # the last residual was not at the converged state
+            self.recomputed += 1
+            self._entry(2, q, q_t, 0.0, 0.0, self._dt, self._h0, *self._tail)
+            self.pk.X[0] = q                  # the candidate now belongs to this state
+            self.pk.X[1] = q_t
+            code = self._stage(*self._stage_args)
+        if code == 0:
+            self._committed_t = t
+            # the next call reloads (and checks the views), even at this time: a solve that
+            # continues from here may follow a re-assembly
+            self._t = None
+        return code == 0
+
+
+def _commit(mbs, t, sets):
+    """Write the history candidates of the contact sets at the converged state of time t into the
+    Current data coordinates (in place, through views of Exudyn's vector). Returns False when a
+    set's step is unresolved; sets staged before it have written into Current, which Exudyn
+    restores from StartOfStep when it rejects the step."""
+    for cs in sets:
+        if not cs.stage(mbs, t):
+            return False
+    return True
+
+
+class _CompiledPairSet(_CompiledSet):
+    """A contact set with a moving master (the surface on a 3D rigid body) on the compiled kernel
+    ``kernel.sets.evaluate_pair`` (``kernel.CovariantPairSet``): the slave's and the master's
+    coordinates (the contact object's) in one compiled call, with the consistent Jacobian over both
+    (so ``jacobian="analytic"`` applies). Its coordinates are two ranges of Exudyn's ODE2 vector,
+    gathered from the views at every call (``gather_coordinates``). Everything else as _CompiledSet."""
+
+    @staticmethod
+    def _pack(law, kind, slave, points, master):
+        from exu_aniso.kernel.point import CovariantPairSet
+        return CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)
+
+
+class _CompiledGroupSet(_CompiledSet):
+    """A group (_RigidGroup: the same points on several rigid bodies) on the compiled kernel
+    ``kernel.sets.evaluate_group`` (``kernel.CovariantGroupSet``): one compiled call for all bodies;
+    the Jacobian goes to Exudyn as a sparse matrix of the bodies' diagonal blocks."""
+
+    @staticmethod
+    def _pack(law, kind, slave, points, master):
+        from exu_aniso.kernel.point import CovariantGroupSet
+        return CovariantGroupSet(law, kind, slave.ref, points, len(slave.bodies))
+
+
+def _body_node(mbs, bodyNumber):
+    """Node of a body object: 'nodeNumber' of a rigid body, the single node of an ObjectGenericODE2."""
+    obj = mbs.GetObject(bodyNumber)
+    if "nodeNumber" in obj:
+        return obj["nodeNumber"]
+    nodes = list(obj.get("nodeNumbers", []))
+    if len(nodes) != 1:
+        raise ValueError(f"CreateAnisotropicContact: body {bodyNumber} ({obj.get('objectType')}) must have exactly one "
+                         f"node; got nodeNumbers={nodes}")
+    return nodes[0]
+
+
+def _slave_kinematics(mbs, bodyNumber, nObjects):
+    """The slave kinematics of bodyNumber: one body, a list of ANCF cable elements (one set) or a
+    list of rigid bodies of one node type (a group, _RigidGroup)."""
+    many = isinstance(bodyNumber, (list, tuple, np.ndarray))
+    objects = list(bodyNumber) if many else [bodyNumber]
+    if many and not objects:
+        raise ValueError("CreateAnisotropicContact: bodyNumber is an empty list; give a body or a list of ANCF cable "
+                         "elements")
+    for i, o in enumerate(objects):
+        check_index(f"bodyNumber[{i}]" if many else "bodyNumber", o, nObjects, "object")
+    types = [mbs.GetObject(o)["objectType"] for o in objects]
+    cables = [t in _CABLES for t in types]
+    rigid = [t in _RIGID_BODIES for t in types]
+    if many and all(rigid):
+        if len(set(int(o) for o in objects)) < len(objects):
+            raise ValueError(f"CreateAnisotropicContact: bodyNumber lists a body more than once; got {objects}")
+        group = _RigidGroup(mbs, objects)
+        kinds = [bd.kind for bd in group.bodies]
+        if len(set(kinds)) > 1:
+            raise ValueError(f"CreateAnisotropicContact: the rigid bodies of a list in bodyNumber must have nodes of "
+                             f"one type; got {sorted(set(kinds))}")
+        return group
+    if many and not all(cables):
+        bad = [f"bodyNumber[{i}] = {o} is Object{t}" for i, (o, t, c) in enumerate(zip(objects, types, cables))
+               if not c]
+        raise ValueError("CreateAnisotropicContact: a list in bodyNumber must hold either ANCF cable elements "
+                         "(ObjectANCFCable2D or ObjectANCFCable, all of one type) or rigid bodies (ObjectRigidBody, "
+                         "ObjectRigidBody2D, all of one node type); " + "; ".join(bad))
+    if many and len(set(types)) > 1:
+        raise ValueError(f"CreateAnisotropicContact: the cable elements in bodyNumber must be all ObjectANCFCable2D or "
+                         f"all ObjectANCFCable; got {sorted(set(types))}")
+    if many and len(set(int(o) for o in objects)) < len(objects):
+        raise ValueError(f"CreateAnisotropicContact: bodyNumber lists a cable element more than once; got {objects}")
+    if cables[0] or types[0] in _MASS_POINTS:
+        return _LinearSlave(mbs, objects)
+    return _BodyKinematics(mbs, _body_node(mbs, bodyNumber))
+
+
+def _check_cable_points(slave, points):
+    """localPoints of a cable: [x, 0, 0] with 0 <= x <= the length of every listed element."""
+    if slave.kind in ("Point", "Point2D") or not slave.linear:
+        return
+    Lmin = min(slave.lengths)
+    for k, b in enumerate(points):
+        if b[1] != 0.0 or b[2] != 0.0:
+            raise ValueError(f"CreateAnisotropicContact: localPoints of ANCF cable elements are [x, 0, 0] (a point on "
+                             f"the cable's axis); got localPoints[{k}] = {b.tolist()}")
+        if not 0.0 <= b[0] <= Lmin:
+            raise ValueError(f"CreateAnisotropicContact: localPoints x of an ANCF cable element must lie in [0, L] "
+                             f"with L = {Lmin:g} m (the shortest element listed in bodyNumber); got localPoints[{k}] "
+                             f"= {b.tolist()}")
+
+
+# Step reduction asked for when a contact point's motion in a step is unresolved (see
+# ContactLaw.evaluate): the step is repeated with this fraction of its size.
+UNRESOLVED_STEP_FACTOR = 0.25
+
+
+def contact_force_calls(mbs):
+    """How many times Exudyn called the force user functions of this system's contact sets so far.
+    Exudyn allocates 2 vectors per call of an ObjectGenericODE2 force function (its own copies of the
+    returned force), which its solver's allocation check counts (models.block.SolveTimed)."""
+    return sum(cs.force_calls for cs in mbs.variables.get(_SETS_KEY, ()))
+
+
+def _post_newton(mbs, t):
+    """Commit every contact set's history candidate; if any set saw an unresolved step, reject the
+    step and ask Exudyn to repeat it with a quarter of the step size (Exudyn restores Current
+    from StartOfStep, so sets already written leave no trace)."""
+    if not _commit(mbs, t, mbs.variables[_SETS_KEY]):
+        h = t - mbs.systemData.GetTime(_SOS)
+        mbs.variables[_UNRESOLVED_KEY] = t
+        return [1.0, UNRESOLVED_STEP_FACTOR * h]
+    return [0.0, -1.0]
+
+
+def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
+                             normalStiffness=None, normalDamping=None, returnMap="exact", contactLaw=None,
+                             masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True,
+                             implementation="auto", tangentialDamping=None, storeHistory=False):
+    """Add anisotropic frictional contact between body-fixed points and an analytical surface.
+
+    bodyNumber: slave body (ObjectRigidBody, ObjectRigidBody2D for a planar model, ObjectMassPoint or
+    ObjectMassPoint2D), or an ANCF cable: one ObjectANCFCable2D / ObjectANCFCable element or a list of
+    them (one contact set over all their distinct nodes, e.g. a whole rope), or a list of rigid
+    bodies with nodes of one type (a group: one contact set over all of them with localPoints on
+    each, one ObjectGenericODE2, one compiled call per user function, the Jacobian as the bodies'
+    diagonal blocks in a sparse matrix; a fixed surface only; history rows body by body); localPoints: (K, 3)
+    body-local contact points [m]; for cables element-local points [x, 0, 0] with 0 <= x <= element
+    length, applied to every element of the list (points ordered element by element: K = elements x
+    points; x = Exudyn's Hermite shape functions, linear in the node coordinates, so the analytic
+    Jacobian has no geometric terms); surface: a surface of
+    exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, Helicoid, SurfaceOfRevolution, ParametricSurface) in the
+    master frame; adhesion / friction: exu_aniso Adhesion / Friction fields; normalStiffness
+    eps_N [N/m per point]; normalDamping d_N [N s/m per point, default 0]; tangentialDamping d_T
+    [N s/m per point, default 0: a dashpot -d_T v_t parallel to friction while loaded];
+    returnMap "seed" | "exact" | "radial"; or contactLaw: a ready ContactLaw instead of these
+    seven arguments (giving both is an error).
+    masterBodyNumber: None (surface fixed to ground) or a 3D rigid body (RotVecLG or EP node)
+    carrying the surface (equal and opposite force on it at the material point coinciding with each
+    slave point).
+    jacobian: "analytic" (consistent tangent; with a moving master over the slave's and the master's
+    coordinates, on the compiled route only: the numpy route then uses Exudyn's) or "numerical"
+    (Exudyn's).
+    storeSensors: True -> a sensor of the set's total dissipated energy (one number per step);
+    storeHistory: True -> also a sensor of the whole history (9 numbers per point and step: memory
+    grows with points x steps, so it is off unless asked for; the history itself is always in the
+    data node 'nData', for the renderer, the solution file and 'historyAt').
+    initializeHistory: True -> points already in contact at the initial configuration start
+    sticking there (anchor = initial contact point, T = 0), as in the reference engine; False ->
+    they start as a new contact in the first step.
+    Slave node types: NodeRigidBody2D, NodeRigidBodyRotVecLG, NodeRigidBodyEP, NodePoint, NodePoint2D,
+    NodePoint2DSlope1 / NodePointSlope1 (cables), or a NodeGenericODE2 with 2 coordinates (psi about
+    z [rad], z [m]) for a reduced screw-joint model.
+    implementation: "compiled" (the numba kernel of exu_aniso.kernel.sets: one compiled call per user
+    function; a surface and fields numba compiles; ground or moving master), "numpy"
+    (ContactLaw.evaluate with numpy; any configuration) or "auto" (compiled where it applies, numpy
+    otherwise). Both give the same results to round-off (tests/test_fastpath.py,
+    tests/test_moving_master_compiled.py).
+
+    Returns a dict with 'oContact' (ObjectGenericODE2), 'nDissipation' (NodeGenericData with the set's
+    total dissipated energy [J], written with the history), 'nData' (NodeGenericData, the history:
+    9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history, with storeHistory),
+    'sDissipation' (sensor of the total dissipated energy [J], with storeSensors), 'law', 'points' and 'implementation' (the one used),
+    and for graphics and post-processing: 'bodyNumber', 'masterBodyNumber' (as given), and three
+    read-only functions of (mbs, configuration=None) (an exu.ConfigurationType; None: the initial
+    coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
+    (K, 3), master position (3,), master rotation (3, 3)), 'historyAt' -> history (K, 9) and
+    'bodyPosition' -> global position (3,) of the slave body's local origin (a cable: the start of
+    its first element).
+    """
+    if contactLaw is None:
+        if normalStiffness is None:
+            raise ValueError("CreateAnisotropicContact: give normalStiffness (with surface, adhesion, friction) "
+                             "or a ready contactLaw")
+        try:
+            contactLaw = ContactLaw(surface, adhesion, friction, normalStiffness,
+                                    0.0 if normalDamping is None else normalDamping, returnMap,
+                                    tangential_damping=0.0 if tangentialDamping is None else tangentialDamping)
+        except (TypeError, ValueError) as e:   # name the arguments as this function spells them
+            raise type(e)("CreateAnisotropicContact: " + str(e).replace("normal_stiffness", "normalStiffness").replace(
+                "normal_damping", "normalDamping").replace("tangential_damping", "tangentialDamping").replace(
+                "return_map", "returnMap")) from None
+    elif any(a is not None for a in (surface, adhesion, friction, normalStiffness, normalDamping, tangentialDamping)):
+        raise ValueError("CreateAnisotropicContact: contactLaw replaces surface/adhesion/friction/normalStiffness/"
+                         "normalDamping/tangentialDamping; give one or the other")
+    check_instance("mbs", mbs, exu.MainSystem, "MainSystem of Exudyn (SC.AddSystem())")
+    check_instance("contactLaw", contactLaw, ContactLaw)
+    nObjects = mbs.systemData.NumberOfObjects()
+    slave = _slave_kinematics(mbs, bodyNumber, nObjects)
+    if masterBodyNumber is not None and check_index("masterBodyNumber", masterBodyNumber, nObjects, "object") in (
+            [int(o) for o in (bodyNumber if isinstance(bodyNumber, (list, tuple, np.ndarray)) else [bodyNumber])]):
+        raise ValueError(f"CreateAnisotropicContact: masterBodyNumber must differ from bodyNumber; got both "
+                         f"{masterBodyNumber}")
+    check_bool("initializeHistory", initializeHistory)
+    check_bool("storeSensors", storeSensors)
+    check_bool("storeHistory", storeHistory)
+    if jacobian not in ("analytic", "numerical"):
+        raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
+    points = check_points("localPoints", localPoints)
+    _check_cable_points(slave, points)
+    master = None
+    if masterBodyNumber is not None:
+        master = _BodyKinematics(mbs, _body_node(mbs, masterBodyNumber))
+        if master.kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
+            raise ValueError("CreateAnisotropicContact: masterBodyNumber must be a 3D rigid body (RotVecLG or EP node)")
+    if implementation not in ("auto", "compiled", "numpy"):
+        raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
+                         f"got {implementation!r}")
+    compiled_ok = contactLaw.compiled
+    if implementation == "compiled" and not compiled_ok:
+        raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a surface and fields numba can "
+                         "compile; use 'numpy' or 'auto'")
+    use_compiled = compiled_ok and implementation != "numpy"
+    if isinstance(slave, _RigidGroup) and master is not None:
+        raise ValueError("CreateAnisotropicContact: a list of rigid bodies in bodyNumber (a group) needs a fixed "
+                         "surface (masterBodyNumber None); give each body its own contact set on a moving master")
+    if use_compiled and isinstance(slave, _RigidGroup):
+        cls = _CompiledGroupSet
+    else:
+        cls = _ContactSet if not use_compiled else (_CompiledSet if master is None else _CompiledPairSet)
+    cs = cls(mbs, contactLaw, slave, points, master)
+    K = cs.K
+    h0 = np.zeros(K * N_HISTORY)
+    if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
+        nodes = [slave] + ([master] if master is not None else [])
+        st = cs.state(mbs, np.concatenate([nd.q0 for nd in nodes]), np.concatenate([nd.v0 for nd in nodes]),
+                      None, tangent=False)[0]
+        h0 = st.history.ravel()
+    cs.nData = mbs.AddNode(NodeGenericData(initialCoordinates=h0.tolist(), numberOfDataCoordinates=K * N_HISTORY))
+    # the set's total dissipated energy, written with the history: a C++ sensor reads it (no Python per step)
+    cs.nTotal = mbs.AddNode(NodeGenericData(initialCoordinates=[float(h0[_DISSIPATED::N_HISTORY].sum())],
+                                            numberOfDataCoordinates=1))
+    nodes = slave.nodes + (master.nodes if master is not None else [])
+    kw = {}
+    if jacobian == "analytic" and (master is None or use_compiled):   # numpy route, moving master: Exudyn's
+        kw["jacobianUserFunction"] = cs.jacobian_in_place if use_compiled else cs.jacobian
+    # no mass matrix (the bodies have theirs): a dense zero n x n one would put (n)^2 zeros into a group's
+    # sparse system matrix
+    oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=cs.force_in_place
+                                               if use_compiled else cs.force, **kw))
+    cs.locate(mbs, oContact)
+    if _SETS_KEY not in mbs.variables:
+        mbs.variables[_SETS_KEY] = []
+        mbs.SetPostNewtonUserFunction(_post_newton)
+    mbs.variables[_SETS_KEY].append(cs)
+    out = {"oContact": oContact, "nData": cs.nData, "nDissipation": cs.nTotal, "law": contactLaw, "points": points,
+           "implementation": "compiled" if use_compiled else "numpy",
+           # read-only views (exu_aniso.engines.exudyn_adapter.graphics); functions of (mbs, configuration=None), see _ContactSet
+           "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
+           "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
+           "bodyPosition": cs.body_position}
+    if storeHistory:     # 9 numbers per point and step: only when asked for
+        out["sHistory"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nData,
+                                                   outputVariableType=exu.OutputVariableType.Coordinates,
+                                                   storeInternal=True))
+    if storeSensors:
+        out["sDissipation"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nTotal,
+                                                       outputVariableType=exu.OutputVariableType.Coordinates,
+                                                       storeInternal=True))
+    return out
+
+
+def HistoryComponent(point, field):
+    """Sensor component index of `field` (a HISTORY_FIELDS name) of contact point `point` in the
+    'sHistory' sensor, e.g. mbs.PlotSensor(sHistory, components=HistoryComponent(0, 'traction_1'))."""
+    if field not in HISTORY_FIELDS:
+        raise ValueError(f"field must be one of {HISTORY_FIELDS}; got {field!r}")
+    return int(point) * N_HISTORY + HISTORY_FIELDS.index(field)

@@ -1,0 +1,197 @@
+"""A contact set: K slave points against one analytical master surface, evaluated at once.
+
+``ContactLaw.evaluate`` is the kernel every engine calls (reference integrator and Exudyn glue):
+given the slave points and their velocities relative to the master (master frame) and the last
+*converged* history, it returns forces, the consistent tangent and the history candidate that
+``commit`` makes the new converged history once a step is accepted. Nothing is stored inside.
+
+Every point goes through the covariant kernel (``exu_aniso.kernel.point.contact_point``), the same
+definition the compiled Exudyn route calls: compiled when the surface is (every built-in surface,
+a user surface numba can compile), plain Python otherwise.
+
+History layout, one row per point (``HISTORY_FIELDS``): traction T in the orthonormal tangent
+frame of the anchor (2), surface coordinates xi of the anchor, the contact point at the last
+accepted step (2; periodic coordinates unwrapped, so they count revolutions), active flag
+(1 = was in contact), accumulated dissipated energy [J],
+accumulated slip distance [m], status of the step (OPEN 0 / STICK 1 / SLIP 2) and the normal
+traction N [N] (the last two are outputs for sensors; the law does not read them back).
+
+Decisions (documented in README):
+* rate form, papers' eq. (5): ``T_tr = T_n (transported to the new contact point) + B(C_new) du``
+  with B evaluated at the new contact point (backward Euler); with a position-dependent B (polar
+  orthotropy) or a curved surface (holonomy) the stick response is hypo-elastic (path dependent),
+  as in the papers;
+* first contact (active = 0): the anchor is the current contact point, T_n = 0, so the first
+  contact step carries no tangential traction; losing contact resets T and the anchor (the
+  accumulated dissipation and slip distance are kept);
+* normal damping ``d_N`` (off by default) adds ``d_N dxi3/dt`` to N; N is clipped to <= 0.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from exu_aniso import geometry as _geometry
+from exu_aniso.law.return_maps import check_return_map, elastic_energy_batch
+from exu_aniso.fields.nets import net_of
+from exu_aniso.util.validation import check_array, check_nonnegative, check_points, check_positive
+
+HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
+                  "dissipated_energy", "slip_distance", "status", "normal")
+N_HISTORY = len(HISTORY_FIELDS)
+OPEN, STICK, SLIP, UNRESOLVED = 0, 1, 2, 3
+STATUS_NAMES = ("open", "stick", "slip", "unresolved")
+
+
+@dataclass
+class ContactState:
+    """Result of one evaluation of K points (all arrays have leading axis K).
+
+    force: on the slave points, master frame (K, 3) [N]; stiffness: d force / d x (K, 3, 3);
+    damping: d force / d v (K, 3, 3); traction: T in the transport frame (K, 2); normal: N (K,)
+    (<= 0); gap: xi3 (K,); status: OPEN / STICK / SLIP / UNRESOLVED;
+    dissipation: energy dissipated by friction in the step (K,) [J]; history: candidate (K, 9).
+    """
+
+    force: np.ndarray
+    stiffness: np.ndarray | None
+    damping: np.ndarray | None
+    traction: np.ndarray
+    normal: np.ndarray
+    gap: np.ndarray
+    status: np.ndarray
+    dissipation: np.ndarray
+    history: np.ndarray
+    contact_point: np.ndarray
+
+
+class ContactLaw:
+    """Point-to-analytical-surface contact with anisotropic adhesion B and friction F.
+
+    surface: a surface of exu_aniso.geometry (Plane, Cylinder, Cone, Sphere, Torus, Helicoid,
+    SurfaceOfRevolution, ParametricSurface); adhesion, friction: TensorField (see
+    exu_aniso.fields.tensor_fields); normal_stiffness eps_N [N/m per point]; normal_damping d_N [N s/m per
+    point]; tangential_damping d_T [N s/m per point]; return_map: "seed" | "exact" | "radial".
+    """
+
+    def __init__(self, surface, adhesion, friction, normal_stiffness, normal_damping=0.0, return_map="exact",
+                 tangential_damping=0.0):
+        if getattr(adhesion, "kind", None) != "adhesion":
+            raise TypeError(f"adhesion must be an Adhesion field (exu_aniso.Adhesion.*); got {adhesion!r}")
+        if getattr(friction, "kind", None) != "friction":
+            raise TypeError(f"friction must be a Friction field (exu_aniso.Friction.*); got {friction!r}")
+        if not isinstance(surface, _geometry.Surface):
+            raise TypeError("surface must be a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, Helicoid, "
+                            f"SurfaceOfRevolution, ParametricSurface); got {surface!r}")
+        self._nets = (net_of(adhesion, surface), net_of(friction, surface))
+        # the compiled kernel, or its plain-Python source for a user surface or field numba cannot compile
+        self.compiled = surface.compiled and all(f.pattern != "user" or f.cfunc is not None for f in (adhesion, friction))
+        self.surface = surface
+        self.adhesion = adhesion
+        self.friction = friction
+        self.eps_N = check_positive("normal_stiffness", normal_stiffness)
+        self.d_N = check_nonnegative("normal_damping", normal_damping)
+        self.d_T = check_nonnegative("tangential_damping", tangential_damping)
+        self.return_map = check_return_map(return_map)
+
+    @property
+    def nets(self):
+        """(adhesion net, friction net): the fields as the kernel evaluates them (exu_aniso.fields.nets)."""
+        return self._nets
+
+    def __repr__(self):
+        return (f"ContactLaw({self.surface!r}, {self.adhesion!r}, {self.friction!r}, "
+                f"normal_stiffness={self.eps_N}, normal_damping={self.d_N}, tangential_damping={self.d_T}, "
+                f"return_map={self.return_map!r})")
+
+    @staticmethod
+    def initial_history(n_points):
+        return np.zeros((int(n_points), N_HISTORY))
+
+    def adhesion_components(self, anchors):
+        """B (negative definite) by its components (b11, b12, b22) in the frame of the stored
+        traction at the anchors (K, 2) of history rows."""
+        return -self._net_components(self._nets[0], anchors)
+
+    def friction_components(self, anchors):
+        """F by its components (f11, f12, f22) in the frame of the stored traction at the anchors
+        (K, 2) of history rows."""
+        return self._net_components(self._nets[1], anchors)
+
+    def _net_components(self, net, anchors):
+        anchors = np.asarray(anchors, dtype=float)
+        from exu_aniso.kernel import point as kernel
+        batch = kernel.net_at_batch if self.compiled else kernel.plain_python().net_at_batch
+        out = np.empty((anchors.shape[0], 3))
+        batch(self.surface.params, net, np.ascontiguousarray(anchors.reshape(-1, 2)), out)
+        return out
+
+    def gap_and_normal(self, x):
+        """Normal gap xi3 (K,) and unit normal n (K, 3) (towards the slave side) of slave points x
+        (K, 3); the normal is NaN where the point is not in contact (xi3 >= 0)."""
+        x = np.ascontiguousarray(x, dtype=float).reshape(-1, 3)
+        gap, n = np.empty(x.shape[0]), np.empty(x.shape)
+        self.surface.protocol.gap_and_normal_batch(self.surface.params, x, gap, n)
+        return gap, n
+
+    def traction_frames(self, x):
+        """The frame E (K, 3, 2) in which the history stores the traction of points in contact at
+        x (K, 3), and the normal n (K, 3) (graphics: the force E T - N n)."""
+        x = np.asarray(x, dtype=float)
+        from exu_aniso.fields.nets import tangent_frame
+        E, n = np.zeros((x.shape[0], 3, 2)), np.zeros((x.shape[0], 3))
+        for k in range(x.shape[0]):
+            p = self.surface.project(x[k])
+            a1, a2, _ = tangent_frame(tuple(p.rho[0]), tuple(p.rho[1]))
+            E[k, :, 0], E[k, :, 1], n[k] = a1, a2, p.n
+        return E, n
+
+    def released_energy(self, H):
+        """Tangential elastic energy T . C^-1 T / 2 [J] (K,) of history rows H (K, 9), C = -B at the
+        stored anchor; zero for inactive rows. Losing contact resets T, so this energy leaves the
+        adhesion spring: the law books it as dissipated."""
+        H = np.asarray(H, dtype=float)
+        E = np.zeros(H.shape[0])
+        act = H[:, 4] > 0.5
+        if np.any(act):
+            E[act] = elastic_energy_batch(H[act, 0:2], self.adhesion_components(H[act, 2:4]))
+        return E
+
+    def evaluate(self, x, v=None, history=None, tangent=True, dt=None):
+        """Contact forces of K slave points. x, v: (K, 3) position and velocity relative to the
+        master, master frame; history: (K, 9) last converged history (zeros if None); dt: time
+        since the converged history [s] (engines pass it): it predicts the increment of periodic
+        surface coordinates (cylinder phi) as du_dx v dt, so a point may turn more than half a
+        revolution per step; a step whose motion the prediction cannot resolve gets the status
+        UNRESOLVED and must be rejected by the engine."""
+        x = check_points("x", x)
+        K = x.shape[0]
+        v = np.zeros((K, 3)) if v is None else check_array("v", np.reshape(v, (K, 3)) if np.size(v) == 3 * K else v,
+                                                            (K, 3))
+        H = self.initial_history(K) if history is None else check_array(
+            "history", np.reshape(history, (K, N_HISTORY)) if np.size(history) == K * N_HISTORY else history,
+            (K, N_HISTORY))
+        from exu_aniso.kernel import point as kernel
+        from exu_aniso.kernel.point import LawParams, MAP_CODES
+        # a Python loop over the points: a compiled loop would inline the whole kernel once more per surface
+        # and field types (+2 s of compilation each, measured; the set kernels already hold their own copy)
+        contact_point = kernel.contact_point if self.compiled else kernel.plain_python().contact_point
+        K = x.shape[0]
+        law = LawParams(self.eps_N, self.d_N, self.d_T, MAP_CODES[self.return_map])
+        sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]
+        force = np.zeros((K, 3))
+        stiff = np.zeros((K, 3, 3))
+        damp = np.zeros((K, 3, 3))
+        newH = np.zeros((K, N_HISTORY))
+        status = np.zeros(K, dtype=int)
+        gap = np.zeros(K)
+        W = np.zeros((3, 9, 9))
+        for k in range(K):
+            status[k], gap[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k], 0.0 if dt is None else float(dt),
+                                              tangent, force[k], stiff[k], damp[k], newH[k], W)
+        closed = status != OPEN
+        return ContactState(force, stiff if tangent else None, damp if tangent else None,
+                            np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,
+                            newH[:, 5] - H[:, 5], newH,
+                            np.where(closed[:, None], newH[:, 2:4], np.nan))

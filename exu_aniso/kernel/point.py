@@ -1,0 +1,654 @@
+"""The covariant contact kernel for one slave point on any surface of the protocol, compiled with
+numba and composed from the surface's chart (``geometry._core``), the adhesion and friction nets
+(``nets``) and the return maps (``law.return_map``). Python
+callers (the numpy reference) call the same compiled function, so both engines evaluate one
+definition.
+
+Symbols (papers' notation): x the slave point, (xi1, xi2) the convective coordinates
+of its closest point C, xi3 the normal gap, rho_i, n, m_ij, h_ij, A_ij = m_ij - xi3 h_ij; T the
+tangential traction, N the normal traction (<= 0), B = -C adhesion (negative definite), F friction.
+Tensors and the traction are stored by their components in the orthonormal tangent frame
+(a_1, a_2) of C (``nets.tangent_frame``), which the law treats as the papers' metric-free case.
+
+One step from the converged history (T_n in the frame at the anchor xi_n):
+
+1. project x (hint xi_n); open if xi3 >= 0 (a sticking history is released: T.C^-1 T / 2 is
+   booked as dissipated);
+2. the coordinate increment d xi = xi - xi_n, periodic coordinates unwrapped to the branch
+   closest to the prediction (A^-1 rho^T v dt); a branch farther than a quarter period from the
+   prediction is an unresolved step (status 3) that the engine must refine;
+3. T_n is carried to C by parallel transport along d xi (midpoint rule, second order); the slip
+   increment is d xi^i rho_i at the midpoint, carried from there to C the same way, so steady
+   sliding does not depend on the step;
+4. T_tr = T_n + B slip, T = return map (seed / exact / radial), N = eps_N xi3 + d_N n.v;
+5. the force on the slave point is the one conjugate to the slip of C: G^T T - N n, with
+   G = E^T rho A^-1 rho^T (2 x 3); a tangential dashpot -d_T (v - n (n.v)) while loaded;
+6. the tangent df/dx: chain rule through q = (xi1, xi2, xi3) with d xi / dx = A^-1 rho^T and
+   d xi3 / dx = n; the law's derivative analytic (dT/dp of the return map); the derivatives of the
+   surface quantities (transported traction, slip, B, F, n, G) with respect to xi by central
+   differences of their analytic definitions (they are smooth in xi; the only non-smooth part, the
+   return map, is differentiated analytically at the state itself; central stencil, ~1e-10).
+
+All geometry is done in the surface's local frame; x, v in and f, df/dx, df/dv out are in the
+master frame.
+"""
+from __future__ import annotations
+
+import math
+import sys
+import warnings
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+from numba.extending import overload
+
+from exu_aniso.kernel.sets import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
+from exu_aniso.kernel.sets import point_force as sets_point_force
+from exu_aniso.kernel.sets import point_law as sets_point_law
+from exu_aniso.geometry import _core
+from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
+from exu_aniso.law.return_maps import MAP_CODES, return_map
+from exu_aniso.fields.nets import physical, tangent_frame
+
+LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
+OPEN, STICK, SLIP, UNRESOLVED = 0, 1, 2, 3
+N_HISTORY = 9
+# central difference step of the surface quantities in xi, relative to the local length scale
+# (angles: in radians); the central stencil's error is ~ step^2 (truncation) + eps / step
+# (round-off), ~1e-10 relative: Newton needs no more (a fourth-order stencil, ~1e-12, cost twice the
+# surface-term evaluations, the larger part of a Jacobian call)
+XI_STEP = 1e-5
+
+
+@njit(cache=True)
+def _rot_to_local(p, v):
+    return (dot(v, p.ex), dot(v, p.ey), dot(v, p.ez))
+
+
+@njit(cache=True)
+def _A_inv(r1, r2, r11, r12, r22, n, xi3):
+    m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
+    h11, h12, h22 = dot(r11, n), dot(r12, n), dot(r22, n)
+    a11, a12, a22 = m11 - xi3 * h11, m12 - xi3 * h12, m22 - xi3 * h22
+    idet = 1.0 / (a11 * a22 - a12 * a12)
+    return a22 * idet, -a12 * idet, a11 * idet, h11, h12, h22
+
+
+@njit(cache=True)
+def _contra(r1, r2, w):
+    """Contravariant components of the tangent vector w in the basis (r1, r2)."""
+    m11, m12, m22 = dot(r1, r1), dot(r1, r2), dot(r2, r2)
+    idet = 1.0 / (m11 * m22 - m12 * m12)
+    b1, b2 = dot(w, r1), dot(w, r2)
+    return (m22 * b1 - m12 * b2) * idet, (m11 * b2 - m12 * b1) * idet
+
+
+@njit(cache=True)
+def anchor_contravariant(sp, xn1, xn2, Tn1, Tn2):
+    """Contravariant components at the anchor xi_n of the stored traction (physical components in
+    the anchor's tangent frame): what parallel transport carries. Computed once per evaluation,
+    not in every stencil point of the tangent. On a chart with a constant metric the physical
+    components themselves (transport changes neither, and the frame has the same components in
+    (rho_1, rho_2) everywhere): surface_terms takes them as they are."""
+    if (Tn1 == 0.0 and Tn2 == 0.0) or _core.constant_metric(sp):
+        return Tn1, Tn2
+    rn, rn1, rn2, _, _, _ = local_chart(sp, xn1, xn2)
+    b1, b2, _ = tangent_frame(rn1, rn2)
+    return _contra(rn1, rn2, add(scale(Tn1, b1), scale(Tn2, b2)))
+
+
+@njit(cache=True)
+def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
+    """The quantities at C(xi1, xi2) (unwrapped coordinates) for the stored state: anchor xi_n and
+    the traction's contravariant components (tn1, tn2) there (``anchor_contravariant``):
+    transported traction (2), slip (2), B (3, negative definite), F (3), n (3), G (6, rows of the
+    2 x 3 matrix), all in the local frame. Smooth in xi: the kernel differences them for the tangent."""
+    d1, d2 = xi1 - xn1, xi2 - xn2
+    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
+    a1, a2, nu = tangent_frame(r1, r2)
+    n = scale(sp.sign, nu)
+    # T_n: contravariant at xi_n -> transport -> physical components at xi (a constant metric: the
+    # physical components unchanged, anchor_contravariant)
+    Tt1, Tt2 = (tn1, tn2) if _core.constant_metric(sp) else (0.0, 0.0)
+    if (tn1 != 0.0 or tn2 != 0.0) and not _core.constant_metric(sp):
+        t1, t2 = _core.transport(sp, xn1, xn2, d1, d2, tn1, tn2)
+        w = add(scale(t1, r1), scale(t2, r2))
+        Tt1, Tt2 = dot(w, a1), dot(w, a2)
+    # slip: d xi at the midpoint, carried to C
+    s1, s2 = _core.transport(sp, xn1 + 0.5 * d1, xn2 + 0.5 * d2, 0.5 * d1, 0.5 * d2, d1, d2)
+    w = add(scale(s1, r1), scale(s2, r2))
+    S1, S2 = dot(w, a1), dot(w, a2)
+    c11, c12, c22 = physical(netB, xi1, xi2, r, r1, r2, a1, a2)
+    f11, f12, f22 = physical(netF, xi1, xi2, r, r1, r2, a1, a2)
+    # G = E^T rho A^-1 rho^T
+    M11, M12, M22, _, _, _ = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    e11, e12 = dot(a1, r1), dot(a1, r2)
+    e21, e22 = dot(a2, r1), dot(a2, r2)
+    g11, g12 = e11 * M11 + e12 * M12, e11 * M12 + e12 * M22      # row 1 of E^T rho A^-1
+    g21, g22 = e21 * M11 + e22 * M12, e21 * M12 + e22 * M22
+    G1 = add(scale(g11, r1), scale(g12, r2))
+    G2 = add(scale(g21, r1), scale(g22, r2))
+    return (Tt1, Tt2, S1, S2, -c11, -c12, -c22, f11, f12, f22, n[0], n[1], n[2],
+            G1[0], G1[1], G1[2], G2[0], G2[1], G2[2])
+
+
+_NT = 19            # number of surface terms
+
+
+@njit(cache=True)
+def net_at(sp, net, xi1, xi2):
+    """Components (p11, p12, p22) of a net's positive tensor (C = -B or F) in the tangent frame at
+    (xi1, xi2)."""
+    r, r1, r2, _, _, _ = local_chart(sp, xi1, xi2)
+    a1, a2, _ = tangent_frame(r1, r2)
+    return physical(net, xi1, xi2, r, r1, r2, a1, a2)
+
+
+@njit(cache=True)
+def net_at_batch(sp, net, anchors, out):
+    """net_at at every row (xi1, xi2) of anchors (K, 2) into out (K, 3), in one call."""
+    for k in range(anchors.shape[0]):
+        c = net_at(sp, net, anchors[k, 0], anchors[k, 1])
+        out[k, 0], out[k, 1], out[k, 2] = c[0], c[1], c[2]
+
+
+@njit(cache=True)
+def _release(sp, netB, h, hn):
+    """Contact lost: T . C^-1 T / 2 at the anchor of an active row h is booked as dissipated."""
+    if not h[4] > 0.5:
+        return
+    r, r1, r2, _, _, _ = local_chart(sp, h[2], h[3])
+    a1, a2, _ = tangent_frame(r1, r2)
+    c11, c12, c22 = physical(netB, h[2], h[3], r, r1, r2, a1, a2)
+    det = c11 * c22 - c12 * c12
+    hn[5] += 0.5 * (c22 * h[0] * h[0] - 2.0 * c12 * h[0] * h[1] + c11 * h[1] * h[1]) / det
+
+
+@njit(cache=True)
+def _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, Minv, hc, X1, X2, xi1, xi2, xi3, xn1, xn2, tn1,
+                   tn2, active, st, N, loaded, vn, T1, T2, G1, G2, dTd, Kx, Dv, W):
+    """df/dx Kx and df/dv Dv (3, 3, master frame) of contact_point at its state (step 6 of the
+    module docstring): the quantities contact_point computed at the contact point C are passed in
+    (local frame: y, vl the slave point and its velocity, the chart basis r1, r2, the frame a1, a2, n,
+    Minv = A^-1 and hc = h_ij as (11, 12, 22), X1, X2 the rows of d xi / dx, the surface terms st,
+    the normal traction N, the traction T, G's rows G1, G2, the tangential dashpot dTd; W[0, 0:2]
+    holds dT/dp of the return map). A function of its own, compiled once per law, so that the
+    force-only copy of contact_point inlined into the force loops holds none of this code."""
+    M11, M12, M22 = Minv
+    h11, h12, h22 = hc
+    dT = W[0, 0:2, :]
+    # surface terms differenced in xi (at fixed xi3); G also depends on xi3 (analytic)
+    Kl = W[0, 2:5, 0:3]
+    Dl = W[0, 5:8, 0:3]
+    dS = W[1].reshape(81)[:2 * _NT].reshape((2, _NT))
+    dq = W[2].reshape(81)[:_NT]
+    # step: XI_STEP of the local length scale (the point's distance from the local origin, at
+    # most the smallest radius of curvature); an angle coordinate steps XI_STEP radians
+    m11, m22 = dot(r1, r1), dot(r2, r2)
+    kappa = math.sqrt(h11 * h11 / (m11 * m11) + 2.0 * h12 * h12 / (m11 * m22) + h22 * h22 / (m22 * m22))
+    ell = max(math.sqrt(dot(y, y)), 1e-9)
+    if kappa * ell > 1.0:
+        ell = 1.0 / kappa
+    for i in range(2):
+        period = sp.period1 if i == 0 else sp.period2
+        hs = XI_STEP if period > 0.0 else XI_STEP * ell / math.sqrt(m11 if i == 0 else m22)
+        e1, e2 = hs * (i == 0), hs * (i == 1)
+        # a new contact anchors at the current point: the anchor moves with it (no slip)
+        m1, m2 = (0.0, 0.0) if active else (e1, e2)
+        # central difference (f(h) - f(-h)) / 2 h
+        a = surface_terms(sp, netB, netF, xi1 + e1, xi2 + e2, xi3, xn1 + m1, xn2 + m2, tn1, tn2)
+        b = surface_terms(sp, netB, netF, xi1 - e1, xi2 - e2, xi3, xn1 - m1, xn2 - m2, tn1, tn2)
+        for k in range(_NT):
+            dS[i, k] = (a[k] - b[k]) / (2.0 * hs)
+    # dG/dxi3 = E^T rho A^-1 h A^-1 rho^T
+    Ah11 = M11 * h11 + M12 * h12
+    Ah12 = M11 * h12 + M12 * h22
+    Ah21 = M12 * h11 + M22 * h12
+    Ah22 = M12 * h12 + M22 * h22
+    W11, W12 = Ah11 * M11 + Ah12 * M12, Ah11 * M12 + Ah12 * M22
+    W21, W22 = Ah21 * M11 + Ah22 * M12, Ah21 * M12 + Ah22 * M22   # A^-1 h A^-1
+    e11, e12, e21, e22 = dot(a1, r1), dot(a1, r2), dot(a2, r1), dot(a2, r2)
+    q11, q12 = e11 * W11 + e12 * W21, e11 * W12 + e12 * W22
+    q21, q22 = e21 * W11 + e22 * W21, e21 * W12 + e22 * W22
+    dG3_1 = add(scale(q11, r1), scale(q12, r2))
+    dG3_2 = add(scale(q21, r1), scale(q22, r2))
+    for j in range(3):
+        X1j, X2j, nj = X1[j], X2[j], n[j]
+        for k in range(_NT):
+            dq[k] = dS[0, k] * X1j + dS[1, k] * X2j
+        dn = (dq[10], dq[11], dq[12])
+        dNj = 0.0
+        if loaded:
+            dNj = law.eps_N * nj + law.d_N * dot(dn, vl)
+        # p = (Ttr1, Ttr2, |N|, b11, b12, b22, f11, f12, f22)
+        dTtr1 = dq[0] + dq[4] * st[2] + dq[5] * st[3] + st[4] * dq[2] + st[5] * dq[3]
+        dTtr2 = dq[1] + dq[5] * st[2] + dq[6] * st[3] + st[5] * dq[2] + st[6] * dq[3]
+        dp = (dTtr1, dTtr2, -dNj, dq[4], dq[5], dq[6], dq[7], dq[8], dq[9])
+        dT1 = 0.0
+        dT2 = 0.0
+        for k in range(9):
+            dT1 += dT[0, k] * dp[k]
+            dT2 += dT[1, k] * dp[k]
+        dG1 = add((dq[13], dq[14], dq[15]), scale(nj, dG3_1))
+        dG2 = add((dq[16], dq[17], dq[18]), scale(nj, dG3_2))
+        col = add(add(scale(T1, dG1), scale(T2, dG2)), add(scale(dT1, G1), scale(dT2, G2)))
+        col = sub(col, add(scale(dNj, n), scale(N, dn)))
+        if dTd > 0.0:
+            col = add(col, scale(dTd, add(scale(vn, dn), scale(dot(vl, dn), n))))
+        for i in range(3):
+            Kl[i, j] = col[i]
+    # df/dv: N through d_N n.v, the dashpot
+    dNv = law.d_N if loaded else 0.0
+    for j in range(3):
+        dT1 = -dT[0, 2] * dNv * n[j]
+        dT2 = -dT[1, 2] * dNv * n[j]
+        for i in range(3):
+            Dl[i, j] = dT1 * G1[i] + dT2 * G2[i] - n[i] * dNv * n[j] - dTd * ((i == j) - n[i] * n[j])
+    # to the master frame: K = R Kl R^T with R = [ex ey ez] (columns)
+    R0, R1, R2 = sp.ex, sp.ey, sp.ez
+    for i in range(3):
+        Ri = (R0[i], R1[i], R2[i])
+        for j in range(3):
+            Rj = (R0[j], R1[j], R2[j])
+            k = 0.0
+            d = 0.0
+            for a in range(3):
+                for b in range(3):
+                    k += Ri[a] * Kl[a, b] * Rj[b]
+                    d += Ri[a] * Dl[a, b] * Rj[b]
+            Kx[i, j] = k
+            Dv[i, j] = d
+
+
+# inlined into the set kernels (numba IR level): a call per point cost ~0.1 us of reference counting of
+# its array arguments and stack set-up (K = 16 points, mode 0, 4.75 -> 3.41 us per call)
+@njit(cache=True, inline="always")
+def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
+    """Force f (3), df/dx Kx (3, 3), df/dv Dv (3, 3) (when tangent) on the slave point at x with
+    velocity v (master frame, relative to the master), and the history candidate hn (9) from the
+    converged history h (9): traction (2, frame at the anchor), anchor xi (2, unwrapped), active,
+    dissipated energy, slip distance, status, N. dt: time since h (predicts the branch of periodic
+    coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (0 open,
+    1 stick, 2 slip, 3 unresolved) and the normal gap xi3."""
+    dT = W[0, 0:2, :]
+    for i in range(N_HISTORY):
+        hn[i] = h[i]
+    for i in (0, 1, 2, 3, 4, 7, 8):
+        hn[i] = 0.0
+    for i in range(3):
+        f[i] = 0.0
+        if tangent:
+            for j in range(3):
+                Kx[i, j] = 0.0
+                Dv[i, j] = 0.0
+    active = h[4] > 0.5
+    hint1, hint2 = (h[2], h[3]) if active else (math.nan, math.nan)
+    xi1, xi2, xi3, pstat = _core.project(sp, (x[0], x[1], x[2]), hint1, hint2)
+    if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
+        if xi3 >= 0.0:
+            _release(sp, netB, h, hn)
+            return OPEN, xi3
+    if pstat == 2 and not active:
+        raise ValueError("slave point at a centre of curvature of the surface (on the cylinder axis, a cone's axis, "
+                         "a sphere's centre or a torus's centre circle): the closest point is not unique there")
+    if pstat == 1 or pstat == 2:
+        # Newton's projection did not converge, or a point in contact at the last step lies at a centre of
+        # curvature: a Newton iterate put it far off the surface. It gives no force in this iterate and
+        # keeps its history; if the converged state is still so, the engine rejects the step and repeats
+        # it with a smaller one (UNRESOLVED). A new point at a centre of curvature is an error (above).
+        for i in range(N_HISTORY):
+            hn[i] = h[i]
+        hn[7] = UNRESOLVED
+        return UNRESOLVED, xi3
+    if pstat == 3 or not xi3 < 0.0:
+        raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
+                         "the sphere's chart, the polar origin, a cone's apex): choose axis_direction so that the "
+                         "path avoids it")
+    y = _core.to_local(sp, (x[0], x[1], x[2]))
+    vl = _rot_to_local(sp, (v[0], v[1], v[2]))
+    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
+    a1, a2, nu = tangent_frame(r1, r2)
+    n = scale(sp.sign, nu)
+    M11, M12, M22, h11, h12, h22 = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    # d xi / dx = A^-1 rho^T (rows), local frame
+    X1 = add(scale(M11, r1), scale(M12, r2))
+    X2 = add(scale(M12, r1), scale(M22, r2))
+    # anchor and increment: periodic coordinates to the branch of the predicted increment
+    status = STICK
+    if active:
+        p1, p2 = dot(X1, vl) * dt, dot(X2, vl) * dt
+        d1, e1 = _core.unwrap(sp.period1, xi1 - h[2], p1)
+        d2, e2 = _core.unwrap(sp.period2, xi2 - h[3], p2)
+        if (sp.period1 > 0.0 and e1 > 0.25 * sp.period1) or (sp.period2 > 0.0 and e2 > 0.25 * sp.period2):
+            status = UNRESOLVED
+        xn1, xn2, Tn1, Tn2 = h[2], h[3], h[0], h[1]
+        xi1, xi2 = xn1 + d1, xn2 + d2
+    else:
+        xn1, xn2, Tn1, Tn2 = xi1, xi2, 0.0, 0.0
+    tn1, tn2 = anchor_contravariant(sp, xn1, xn2, Tn1, Tn2)
+    st = surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2)
+    vn = dot(n, vl)
+    N = law.eps_N * xi3 + law.d_N * vn
+    loaded = N < 0.0
+    if not loaded:
+        N = 0.0
+    Ttr1 = st[0] + st[4] * st[2] + st[5] * st[3]
+    Ttr2 = st[1] + st[5] * st[2] + st[6] * st[3]
+    B = (st[4], st[5], st[6])
+    F = (st[7], st[8], st[9])
+    T1, T2, sliding, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, tangent)[:5]
+    if sliding and status != UNRESOLVED:
+        status = SLIP
+    G1 = (st[13], st[14], st[15])
+    G2 = (st[16], st[17], st[18])
+    dTd = law.d_T if loaded else 0.0
+    fl = sub(add(scale(T1, G1), scale(T2, G2)), scale(N, n))
+    fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
+    if tangent:
+        _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, (M11, M12, M22), (h11, h12, h22), X1, X2,
+                       xi1, xi2, xi3, xn1, xn2, tn1, tn2, active, st, N, loaded, vn, T1, T2, G1, G2, dTd, Kx, Dv, W)
+    fg = _core.to_global(sp, fl)
+    for i in range(3):
+        f[i] = fg[i]
+    # energy removed by the return map in the step (trapezoidal, as contact.ContactLaw)
+    D = -0.5 * ((st[0] + T1) * sl1 + (st[1] + T2) * sl2)
+    hn[0], hn[1] = T1, T2
+    hn[2], hn[3] = xi1, xi2
+    hn[4] = 1.0
+    hn[5] = h[5] + D
+    hn[6] = h[6] + math.sqrt(sl1 * sl1 + sl2 * sl2)
+    hn[7] = status
+    hn[8] = N
+    return status, xi3
+
+
+# ----------------------------------------------------------------------------------------------
+# a contact set on one Exudyn node: the node kinematics of kernel.sets.evaluate_set with this kernel
+
+CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "law"))
+
+
+@overload(sets_point_law)
+def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+    if getattr(law, "instance_class", None) is CovariantLaw:
+        def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+            return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, tangent, f, Kx,
+                                 Dv, hn, S[0:3])[0]
+        return impl
+    return None
+
+
+# inlined into the force loops with tangent a constant: a small copy, since the derivative code is
+# _point_tangent's, called only by the tangent path
+@overload(sets_point_force, inline="always")
+def _point_force_covariant(law, x, v, h, dt, f, hn, S):
+    if getattr(law, "instance_class", None) is CovariantLaw:
+        def impl(law, x, v, h, dt, f, hn, S):
+            return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, False, f,
+                                 S[12, :3, :3], S[13, :3, :3], hn, S[0:3])[0]
+        return impl
+    return None
+
+
+@njit(cache=True)
+def _remember(mode, q, q_t, X):
+    """Mode 0 (a residual) keeps its state in X (2, n): the candidate in P[2] belongs to it."""
+    if mode == 0:
+        for i in range(q.shape[0]):
+            X[0, i] = q[i]
+            X[1, i] = q_t[i]
+
+
+@njit(cache=True)
+def evaluate_covariant(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, kind):
+    """kernel.sets.evaluate_set (modes 0 force, 1 Jacobian, 2 history candidate) with the covariant
+    kernel at every point. H (K, 9): the converged history (the Exudyn glue passes a view of
+    Exudyn's StartOfStep data coordinates: nothing is copied per step); P (3, K, 9): body-local
+    points, a history buffer for callers without one (CovariantSet.H), the candidate; X (2, n): the
+    state (q, q_t) of the last mode-0 call, whose candidate P[2] holds."""
+    nq = q.shape[0]
+    _remember(mode, q, q_t, X)
+    return evaluate_set(kind, q, q_t, ref, P[0, :, :3], H, law, mode, fq, fv, dt, S[17, 6, :nq],
+                        S[18, :nq, :nq], P[2], S)
+
+
+@njit(cache=True)
+def evaluate_covariant_group(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, kind, Q, Jb):
+    """kernel.sets.evaluate_group (the same points on nb rigid nodes) with the covariant kernel; P (3,
+    nb * Kb, 9) with the body-local points in the first Kb rows of P[0]; Jb (nb, nq, nq)."""
+    _remember(mode, q, q_t, X)
+    Kb = P.shape[1] // Jb.shape[0]
+    return evaluate_group(kind, q, q_t, ref, P[0, :Kb, :3], H, law, mode, fq, fv, dt, Q, Jb, P[2], S)
+
+
+@njit(cache=True)
+def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, idx, Sm, c, Q, J):
+    """kernel.sets.evaluate_linear (a linear slave: mass points, ANCF cables) with the covariant kernel."""
+    _remember(mode, q, q_t, X)
+    return evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2], S)
+
+
+@njit(cache=True)
+def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, T, kind, mkind, idx, Sm, c, cols, Q, J):
+    """kernel.sets.evaluate_pair (a moving master: the surface on a 3D rigid node) with the covariant kernel;
+    P, X as evaluate_covariant."""
+    _remember(mode, q, q_t, X)
+    return evaluate_pair(kind, mkind, q, q_t, ref, P[0, :, :3], idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2],
+                         S, T, cols)
+
+
+def _law_bundle(contact_law):
+    """The law of a ContactLaw packed for the compiled kernels (surface, nets, law parameters; named tuples)."""
+    nB, nF = contact_law._nets
+    return CovariantLaw(contact_law.surface.params, nB, nF,
+                        LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
+                                  MAP_CODES[contact_law.return_map]))
+
+
+class CovariantSet:
+    """A contact set on the covariant kernel packed for the compiled call: the law bundle (surface, nets, law parameters; named tuples), points,
+    history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
+
+    def __init__(self, contact_law, node_kind, ref, points):
+        from exu_aniso.kernel.sets import NODE_COORDINATES, NODE_KINDS
+        announce_compile(entry=evaluate_covariant_linear if isinstance(node_kind, LinearMap) else evaluate_covariant)
+        self.law = _law_bundle(contact_law)
+        self.linear = node_kind if isinstance(node_kind, LinearMap) else None
+        if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
+            self.kind, nq = -1, self.linear.n
+            b = np.zeros((self.linear.idx.shape[0], 3))
+        else:
+            self.kind = NODE_KINDS[node_kind]
+            nq = NODE_COORDINATES[self.kind]
+            b = np.asarray(points, dtype=float)
+        self.ref = np.asarray(ref, dtype=float)
+        self._buffers(b, nq)
+        if self.linear is not None:
+            self.Q, self.J = np.zeros(nq), np.zeros((nq, nq))
+        else:
+            self.Q = self.S[17, 6, :nq]
+            self.J = self.S[18, :nq, :nq]
+
+        if self.linear is not None:
+            lm = self.linear
+            self._fn, self.tail = evaluate_covariant_linear, (self.ref, self.law, self.P, self.S, self.X, lm.idx,
+                                                                lm.S, lm.c, self.Q, self.J)
+        else:
+            self._fn, self.tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.X, self.kind)
+        self._entry = None
+
+    def _buffers(self, b, n):
+        """The packed arrays of K points b (K, 3) over n coordinates: P (3, K, 9) (points, converged
+        history H, candidate Hn), the scratch S and X (2, n), the state (q, q_t) of the last residual
+        (mode 0), whose candidate Hn holds."""
+        from exu_aniso.kernel.sets import SCRATCH_SLOTS
+        self.P = np.zeros((3, b.shape[0], 9))
+        self.P[0, :, :3] = b
+        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
+        self.H, self.Hn = self.P[1], self.P[2]
+        self.X = np.full((2, n), np.nan)
+
+    def evaluate(self, mode, q, q_t, fq, fv, dt):
+        """One compiled call (mode: see evaluate_covariant); q, q_t: the set's coordinates. Returns
+        the number of points in contact, or -1 when a point's motion in the step is unresolved."""
+        q = np.ascontiguousarray(q, dtype=np.float64)
+        q_t = np.ascontiguousarray(q_t, dtype=np.float64)
+        return self.entry()(int(mode), q, q_t, float(fq), float(fv), float(dt), self.H, *self.tail)
+
+    def entry(self):
+        """The compiled function for this set's argument types (``_entry_point``): callers that
+        pass C-contiguous float64 q, q_t, an int mode, float fq, fv, dt and a C-contiguous (K, 9)
+        float64 history H may call ``entry()(mode, q, q_t, fq, fv, dt, H, *tail)`` directly (the
+        Exudyn glue does, with H a view of Exudyn's StartOfStep data coordinates)."""
+        if self._entry is None:
+            z = np.zeros(self.X.shape[1])
+            self._entry = _entry_point(self._fn, (0, z, z, 0.0, 0.0, 0.0, self.H) + self.tail)
+        return self._entry
+
+
+class CovariantPairSet(CovariantSet):
+    """A contact set with a moving master (the surface carried by a 3D rigid node) packed for
+    kernel.sets.evaluate_pair: the slave (node_kind: a rigid kind's name, or a LinearMap for mass
+    points and cables, with the slave's reference coordinates ref) and the master (master_kind
+    "RigidBodyRotVecLG" or "RigidBodyEP", reference coordinates master_ref); coordinates are the
+    slave's then the master's. The same interface as CovariantSet: H, Q (n,), J (n, n), Hn, X, tail,
+    evaluate, entry."""
+
+    def __init__(self, contact_law, node_kind, ref, points, master_kind, master_ref):
+        from exu_aniso.kernel.sets import NODE_COORDINATES, NODE_KINDS, PAIR_SLOTS
+        announce_compile(entry=evaluate_covariant_pair)
+        if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
+            raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
+        self.law = _law_bundle(contact_law)
+        self.mkind = NODE_KINDS[master_kind]
+        nm = NODE_COORDINATES[self.mkind]
+        self.linear = node_kind if isinstance(node_kind, LinearMap) else None
+        if self.linear is not None:
+            lm = self.linear
+            self.kind, ns, m = -1, lm.n, lm.idx.shape[1]
+            b = np.zeros((lm.idx.shape[0], 3))
+            idx, Sm, c = lm.idx, lm.S, lm.c
+        else:
+            self.kind = NODE_KINDS[node_kind]
+            ns = m = NODE_COORDINATES[self.kind]
+            b = np.asarray(points, dtype=float)
+            idx, Sm, c = np.zeros((b.shape[0], 0), dtype=np.int64), np.zeros((b.shape[0], 3, 0)), np.zeros((b.shape[0], 3))
+        n = ns + nm
+        self.ref = np.ascontiguousarray(np.concatenate([np.asarray(ref, dtype=float), np.asarray(master_ref, dtype=float)]))
+        if self.ref.shape != (n,):
+            raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {ns} slave and {nm} master coordinates")
+        self._buffers(b, n)
+        w = max(9, m + nm)
+        self.T = np.zeros((PAIR_SLOTS, w, w))
+        self.cols = np.zeros(m + nm, dtype=np.int64)
+        self.Q, self.J = np.zeros(n), np.zeros((n, n))
+        self._fn = evaluate_covariant_pair
+        self.tail = (self.ref, self.law, self.P, self.S, self.X, self.T, self.kind, self.mkind, idx, Sm, c, self.cols,
+                     self.Q, self.J)
+        self._entry = None
+
+
+class CovariantGroupSet(CovariantSet):
+    """A group: the same body-local points on nb rigid nodes of one kind (node_kind), packed for
+    kernel.sets.evaluate_group; ref: the nodes' reference coordinates one after the other. The same
+    interface as CovariantSet (H, Hn: nb * K rows, body by body; Q (nb * nq,)), but the Jacobian is
+    Jb (nb, nq, nq), its diagonal blocks, and J is a scipy CSR matrix over Jb's memory (what the
+    Exudyn glue returns: Exudyn adds its nb * nq^2 entries, not (nb nq)^2)."""
+
+    def __init__(self, contact_law, node_kind, ref, points, nb):
+        import scipy.sparse as sp
+
+        from exu_aniso.kernel.sets import NODE_COORDINATES, NODE_KINDS
+        announce_compile(entry=evaluate_covariant_group)
+        self.law = _law_bundle(contact_law)
+        self.linear = None
+        self.kind = NODE_KINDS[node_kind]
+        nq = NODE_COORDINATES[self.kind]
+        n = nb * nq
+        b = np.asarray(points, dtype=float)
+        self.ref = np.ascontiguousarray(ref, dtype=float)
+        if self.ref.shape != (n,):
+            raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {nb} nodes of {nq} coordinates")
+        self._buffers(np.tile(b, (nb, 1)), n)
+        self.Q = np.zeros(n)
+        self.Jb = np.zeros((nb, nq, nq))
+        rows = np.arange(n)
+        indices = (rows // nq * nq)[:, None] + np.arange(nq)[None, :]       # row i: its body's nq columns
+        self.J = sp.csr_matrix((self.Jb.reshape(-1), indices.reshape(-1), np.arange(0, n * nq + 1, nq)),
+                               shape=(n, n), copy=False)
+        if not np.shares_memory(self.J.data, self.Jb):                       # scipy copied: J would go stale
+            raise RuntimeError("scipy.sparse.csr_matrix copied the Jacobian blocks; the group needs a view")
+        self._fn, self.tail = evaluate_covariant_group, (self.ref, self.law, self.P, self.S, self.X, self.kind, self.Q,
+                                                         self.Jb)
+        self._entry = None
+
+
+_announced = False
+
+
+def kernels_cached(entry=None):
+    """True if numba's on-disk cache (exu_aniso.util.numba_cache) holds compiled code of the kernel
+    ``entry`` (a numba dispatcher; default: evaluate_covariant) for the current source;
+    False if the first call will compile (15-25 s per surface and node type on this
+    2-core machine). Reads numba's cache index, a private API: when
+    that fails, it answers True (say nothing rather than something wrong)."""
+    try:
+        return bool((entry or evaluate_covariant)._cache._cache_file._load_index())
+    except Exception:   # noqa: BLE001 - numba internals changed: no announcement
+        return True
+
+
+def announce_compile(stream=None, entry=None):
+    """Say once per process, before it happens, that the kernels are being compiled."""
+    global _announced
+    if _announced:
+        return
+    _announced = True
+    if not kernels_cached(entry):
+        where = getattr(getattr(entry or evaluate_covariant, "_cache", None), "_cache_path", "numba's cache directory")
+        print("exu_aniso: compiling the contact kernels with numba, once (15-25 s per surface and node type); "
+              f"later runs load them from the cache in {where}", file=stream or sys.stderr, flush=True)
+
+
+def _entry_point(fn, args):
+    """The compiled function of the numba dispatcher fn for the types of args, called directly.
+
+    numba's type dispatch of every call costs ~2 us here, most of it typing the nested named tuple
+    of the law bundle (measured: 2 us of dispatch against 0.4 us of the compiled call's entry); the types of a set's arguments never change (the caller
+    passes C-contiguous float64 arrays, floats and ints), so the dispatch is done once. Falls back to
+    the dispatcher if numba's API for it is not there."""
+    from numba import typeof
+    from numba.core.errors import NumbaIRAssumptionWarning
+    try:
+        sig = tuple(typeof(a) for a in args)
+        with warnings.catch_warnings():
+            # numba's internal SSA check complains about variables of branches it pruned in the force
+            # loop's inlined law (tangent a constant False there); the code is right, the notice is noise
+            warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
+            fn.compile(sig)
+        return fn.overloads[sig].entry_point
+    except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
+        return fn
+
+
+_PLAIN = None
+
+
+def plain_python():
+    """This module's kernel as plain Python, for a user surface or field numba cannot compile
+    (``ContactLaw.compiled`` False): every compiled function here runs its Python source, calling
+    the plain-Python twins of the surface protocol and of the nets (the built-in nets' principal
+    functions stay compiled: their arguments are numbers); the return maps stay compiled. Same
+    formulas, much slower."""
+    global _PLAIN
+    if _PLAIN is None:
+        import sys
+
+        from exu_aniso.fields import nets
+        from exu_aniso.geometry._base import _CORE_PYTHON, _plain_python
+        nets_python = _plain_python(nets, own_only=True)
+        _PLAIN = _plain_python(sys.modules[__name__], own_only=True,
+                               overrides={"_core": _CORE_PYTHON, "local_chart": _CORE_PYTHON.local_chart,
+                                          "physical": nets_python.physical, "tangent_frame": nets_python.tangent_frame})
+    return _PLAIN

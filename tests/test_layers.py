@@ -1,0 +1,96 @@
+"""The package's layers, read from its imports (AST, every import including those inside
+functions): each module imports only from its own layer or the layers below it, and no modules
+import each other in a loop. Layers from the ground up: util; geometry and the return maps (law);
+fields and nets; the contact kernel; the engines (the Exudyn adapter, the reference integrator, the
+energy ledger); the scenes; the Exudyn model scripts; calibration and plots; the catalog; the
+command line."""
+import ast
+import os
+
+import exu_aniso
+
+LAYERS = {"util": 0, "geometry": 1, "law": 1, "fields": 2, "kernel": 3, "engines": 4, "scenes": 5, "models": 6,
+          "calibration": 7, "plots": 7, "catalog": 8, "cli": 9}
+ROOT = os.path.dirname(exu_aniso.__file__)
+
+
+def _modules():
+    """{dotted name: path} of every module of the package but its face (exu_aniso/__init__.py)."""
+    out = {}
+    for folder, _, files in os.walk(ROOT):
+        for f in files:
+            if f.endswith(".py"):
+                rel = os.path.relpath(os.path.join(folder, f), ROOT)[:-3].replace(os.sep, ".")
+                name = "exu_aniso." + (rel[:-len(".__init__")] if rel.endswith(".__init__") else rel)
+                if name != "exu_aniso.__init__":
+                    out[name] = os.path.join(folder, f)
+    return out
+
+
+def _imports(name, path, modules):
+    """The package modules that module name imports (absolute and relative, at any depth); ``from P
+    import m`` of a submodule m counts as importing P.m, not the package face P."""
+    pkg = name if path.endswith("__init__.py") else name.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(open(path).read())):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = pkg.split(".")
+                base = ".".join(parts[:len(parts) - node.level + 1] + ([base] if base else []))
+            subs = {f"{base}.{a.name}" for a in node.names} & set(modules)
+            found |= subs if len(subs) == len(node.names) else subs | {base}
+    return found
+
+
+def _graph():
+    mods = _modules()
+    return {m: sorted(i for i in _imports(m, p, mods) if i in mods and i != m) for m, p in mods.items()}
+
+
+def _layer(module):
+    return LAYERS[module.split(".")[1]]
+
+
+def test_every_module_has_a_layer():
+    assert all(m.split(".")[1] in LAYERS for m in _modules()), sorted(_modules())
+
+
+def test_no_import_runs_up_a_layer():
+    up = [(a, b) for a, targets in _graph().items() for b in targets if _layer(b) > _layer(a)]
+    assert not up, up
+
+
+def _cycles(graph):
+    """The import loops of a graph {module: [modules it imports]} found by a depth-first search."""
+    state, cycles = {}, []
+
+    def visit(m, path):
+        state[m] = 1
+        for n in graph[m]:
+            if state.get(n) == 1:
+                cycles.append(path[path.index(n):] + [n])
+            elif n not in state:
+                visit(n, path + [n])
+        state[m] = 2
+
+    for m in graph:
+        if m not in state:
+            visit(m, [m])
+    return cycles
+
+
+def test_no_import_cycles():
+    cycles = _cycles(_graph())
+    assert not cycles, cycles
+
+
+def test_the_checks_can_fail():
+    """The cycle search and the layer rule see what they must (a guard against a vacuous pass)."""
+    assert _cycles({"a": ["b"], "b": ["c"], "c": ["a"]}) == [["a", "b", "c", "a"]]
+    assert _cycles({"a": ["b"], "b": []}) == []
+    g = _graph()
+    assert "exu_aniso.kernel.sets" in g["exu_aniso.kernel.point"]
+    assert _layer("exu_aniso.cli") > _layer("exu_aniso.scenes.base") > _layer("exu_aniso.kernel.point")
