@@ -127,7 +127,8 @@ def _wrap(a):
 
 
 class BodyModel:
-    """Interface: n, mass (n,), row_scale (n,), q0/v0, retract, evaluate, record, force_level."""
+    """Interface: n, mass (n,), row_scale (n,), q0/v0, retract, evaluate, record, force_level and
+    points0(q, v): the contact points' positions and velocities for the initial history."""
 
     def retract(self, q, d):
         return q + d, None
@@ -152,6 +153,10 @@ class RigidBody6(BodyModel):
         self.q0 = (np.asarray(r0, float), np.eye(3), 0.0)
         self.v0 = np.zeros(6)
         self.S = _skew_batch(self.s)                              # [s_k]x  (K, 3, 3)
+
+    def points0(self, q, v):
+        r, R, _ = q
+        return r + self.s @ R.T, np.zeros_like(self.s)
 
     def retract(self, q, d):
         r, R, yaw = q
@@ -256,18 +261,7 @@ class _Stepper:
                     fref=max(m.force_level(st), self.floor))
 
     def _points0(self, q, v):
-        m = self.m
-        if hasattr(m, "points0"):
-            return m.points0(q, v)
-        if isinstance(m, _BlockPlanar):
-            X, V, _ = m.points(q, v)
-            return X, V
-        if isinstance(m, _ScrewReduced):
-            c, s = math.cos(q[0]), math.sin(q[0])
-            P = m.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-            return P + np.array([0.0, 0.0, q[1]]), np.zeros_like(P)
-        r, R, _ = q
-        return r + m.s @ R.T, np.zeros_like(m.s)
+        return self.m.points0(q, v)
 
     def _residual(self, S, d, h, t1, tangent):
         m = self.m

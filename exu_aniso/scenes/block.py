@@ -47,6 +47,10 @@ class _BlockPlanar(BodyModel):
         V = np.column_stack([v[0] - v[2] * P[:, 1], v[1] + v[2] * P[:, 0], np.zeros(self.K)])
         return X, V, P
 
+    def points0(self, q, v):
+        X, V, _ = self.points(q, v)
+        return X, V
+
     def evaluate(self, q, v, t, H, tangent=True, dt=None):
         X, V, P = self.points(q, v)
         st = self.law.evaluate(X, V, H, tangent, dt)

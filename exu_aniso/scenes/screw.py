@@ -78,6 +78,11 @@ class _ScrewReduced(BodyModel):
         self.q0 = np.zeros(2)
         self.v0 = np.zeros(2)
 
+    def points0(self, q, v):
+        c, s = math.cos(q[0]), math.sin(q[0])
+        P = self.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+        return P + np.array([0.0, 0.0, q[1]]), np.zeros_like(P)
+
     def evaluate(self, q, v, t, H, tangent=True, dt=None):
         c, s = math.cos(q[0]), math.sin(q[0])
         P = self.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
