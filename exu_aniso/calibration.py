@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from exu_aniso.scenes.base import ScrewParams
+from exu_aniso.scenes.base import ScrewParams, pitch
 from exu_aniso.scenes.screw import (CALIBRATED_MAPS, SteadySliding, _adhesion_stiffnesses,  # noqa: F401
                                     _friction_coefficients, _helix_components, sliding_onset_angle, steady_sliding)
 from exu_aniso.util.validation import check_positive, check_real
