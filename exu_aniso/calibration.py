@@ -2,7 +2,7 @@
 
 Paper 001 (section 3) calibrates the adhesion and friction tensors of a screw "in order to prescribe
 the resulting kinematics exactly by keeping the necessary sliding force at a certain level". This
-module does that for the screw scene (``exu_aniso.scenes.base.ScrewParams``, rotation drive).
+module does that for the screw scene (``exu_aniso.scenes.screw.ScrewParams``, rotation drive).
 
 Steady sliding in closed form: ``exu_aniso.scenes.screw.steady_sliding`` (the theory is in its module's
 docstring).
@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from exu_aniso.scenes.base import ScrewParams, pitch
+from exu_aniso.scenes.screw import ScrewParams, pitch
 from exu_aniso.scenes.screw import (CALIBRATED_MAPS, SteadySliding, _adhesion_stiffnesses,  # noqa: F401
                                     _friction_coefficients, _helix_components, sliding_onset_angle, steady_sliding)
 from exu_aniso.util.validation import check_positive, check_real

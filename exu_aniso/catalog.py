@@ -62,7 +62,7 @@ def _plot_screw(traj, params, fig):
 
 def _block():
     from exu_aniso.scenes.block import simulate_block
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     return Scene("block", BlockParams,
                  {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
                   "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N",
@@ -73,7 +73,7 @@ def _block():
 
 def _screw():
     from exu_aniso.scenes.screw import simulate_screw
-    from exu_aniso.scenes.base import ScrewParams
+    from exu_aniso.scenes.screw import ScrewParams
     return Scene("screw", ScrewParams,
                  {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
                   "axial_force": "N", "dissipated_energy": "J",

@@ -217,7 +217,7 @@ def PlotScrewAdvance(traj, params, ax=None):
         xr = np.array([min(rev.min(), 0.0), max(rev.max(), 0.0)])
         if xr[1] - xr[0] <= 0.0:
             xr = np.array([rev[-1] - 0.5, rev[-1] + 0.5])
-        from exu_aniso.scenes.base import pitch
+        from exu_aniso.scenes.screw import pitch
         p_mm = pitch(params) * 1e3
         ax.plot(xr, z[-1] + p_mm * (xr - rev[-1]), ls=":", color="0.5", lw=1.0, gid="pitch",
                 label=f"thread pitch {p_mm:.4g} mm/rev")

@@ -89,12 +89,14 @@ EXUDYN_ONLY = ("implementation", "symmetry", "nodeType")
 
 
 def n_points(scene, p):
-    from exu_aniso.scenes.base import block_points, screw_points
+    from exu_aniso.scenes.block import block_points
+    from exu_aniso.scenes.screw import screw_points
     return len(block_points(p) if scene == "block" else screw_points(p))
 
 
 def make_params(scene, overrides):
-    from exu_aniso.scenes.base import BlockParams, ScrewParams
+    from exu_aniso.scenes.block import BlockParams
+    from exu_aniso.scenes.screw import ScrewParams
     return (BlockParams if scene == "block" else ScrewParams)(**overrides)
 
 

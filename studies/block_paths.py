@@ -48,7 +48,7 @@ XCHECK_TOL = {"exact": 1e-6 * R0, "radial": 1e-6 * R0, "seed": 1e-2 * R0}
 
 
 def params_for(ratio, return_map, drive, **over):
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     s = math.sqrt(ratio)
     return BlockParams(**{**SCENE, "eps_1": GEOMETRIC_MEAN * s, "eps_2": GEOMETRIC_MEAN / s,
                           "return_map": return_map, "drive": drive, **over})

@@ -20,7 +20,7 @@ if HERE not in sys.path:
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.calibration import DEFAULT_BASE, calibrate_screw  # noqa: E402
-from exu_aniso.scenes.base import pitch  # noqa: E402
+from exu_aniso.scenes.screw import pitch  # noqa: E402
 
 TOL = 1e-4     # relative tolerance of the optimizer on both targets
 

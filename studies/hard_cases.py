@@ -8,7 +8,7 @@ failure), Newton iterations per step, the error against the same case at a finer
 in --quick), the energy balance residual relative to the work in, and a verdict against the case's
 own tolerance ("ok" or "FAIL: why"). ``tests/test_hard_cases.py`` runs every case in quick mode.
 
-Energy balance: the scene's energy ledger (``exu_aniso.scenes.base.block_energy`` / ``screw_energy``,
+Energy balance: the scene's energy ledger (``exu_aniso.scenes.block.block_energy`` / ``screw_energy``,
 see ``exu_aniso.engines.energy``; the lift pulse's work added), max over the run of |residual| relative
 to the largest side. Exact with constant B and the trapezoidal rule (friction dissipation is the
 kernel's trapezoid); hypo-elastic (no potential) with polar B; generalized-alpha damps numerically.
@@ -33,7 +33,8 @@ from _lib import studylib  # noqa: E402
 
 from exu_aniso.engines import energy  # noqa: E402
 from exu_aniso.engines.failure import SimulationFailure  # noqa: E402
-from exu_aniso.scenes.base import BlockParams, ScrewParams, block_energy, screw_energy  # noqa: E402
+from exu_aniso.scenes.block import BlockParams, block_energy  # noqa: E402
+from exu_aniso.scenes.screw import ScrewParams, screw_energy
 
 NAME = "hard_cases"
 SEED_KNOWN = ("seed map: its sliding direction depends on the step (power iteration towards the dominant "
@@ -450,7 +451,7 @@ trapezoidal rule does not resolve the 3.6 kHz mode (omega dt = 22) and shows no 
 0.3 s, yet the undamped 2 s run still ends in a whirl (torque_mean of order 100 N m instead of 0.10; the whirl is chaotic, so the figure changes with any perturbation); a
 damping found stable at a coarse step can flutter at a fine one. The same holds for a stiffer
 contact (eps_n 1e8: omega dt = 7 at 1e-4). The default (300 N s/m,
-exu_aniso.scenes.base.SCREW_NORMAL_DAMPING) is stable at the resolved step (dt 2.5e-5 to 1e-3)."""
+exu_aniso.scenes.screw.SCREW_NORMAL_DAMPING) is stable at the resolved step (dt 2.5e-5 to 1e-3)."""
 
 STABILITY_DT = 1e-4       # base step: resolves the lateral mode (omega dt = 2.2)
 STABILITY = ([dict(normal_damping=d) for d in (0.0, 30.0, 100.0, 200.0, 300.0)]

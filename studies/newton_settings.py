@@ -58,7 +58,8 @@ def run_case(case):
     """One scene at every setting, interleaved repeats; rows of COLUMNS."""
     from exu_aniso.models.block import BuildBlock, SolveTimed
     from exu_aniso.models.screw import BuildScrew
-    from exu_aniso.scenes.base import BlockParams, ScrewParams
+    from exu_aniso.scenes.block import BlockParams
+    from exu_aniso.scenes.screw import ScrewParams
     P, build = (BlockParams, BuildBlock) if case["scene"] == "block" else (ScrewParams, BuildScrew)
     p = P(**case["params"])
     warm = p.with_overrides(t_end=5 * p.dt)

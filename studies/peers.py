@@ -96,7 +96,7 @@ EPS_T = 1e5                 # N/m, our (isotropic) sticking stiffness of the sli
 
 
 def _ours_block_params(dt, points="center", eps=EPS_T):
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     return BlockParams(mass=MASS, normal_load=MASS * GRAVITY, points=points, adhesion="cartesian", eps_1=eps,
                        eps_2=eps, friction="cartesian", mu_1=MU_X, mu_2=MU_Y, friction_angle=0.0,
                        return_map="exact", drive="force", drive_angle=PULL_ANGLE, force=PULL, t_end=SLIDE_T, dt=dt,
@@ -202,7 +202,7 @@ def thread_ours(case):
     """Our screw (reduced model, rotation drive at 1 rev/s): advance per revolution, median wall
     time of the solve per simulated second, trajectory of the first run."""
     from exu_aniso.models.screw import BuildScrew, RunScrew
-    from exu_aniso.scenes.base import ScrewParams, pitch
+    from exu_aniso.scenes.screw import ScrewParams, pitch
     p = ScrewParams(t_end=case["t_end"], rotation_speed=SPIN, drive="rotation", model="reduced", **case["params"])
     r = RunScrew(p, contactOutputs=False)        # trajectory and warm-up, not timed
     tr = r.trajectory

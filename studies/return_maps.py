@@ -52,7 +52,7 @@ def run_refinement(case):
     rm, dt = case["return_map"], case["dt"]
     if case["scene"] == "block":
         from exu_aniso.models.block import BlockTrajectory, BuildBlock, SolveTimed
-        from exu_aniso.scenes.base import BlockParams
+        from exu_aniso.scenes.block import BlockParams
         p = BlockParams(**{**BLOCK, "return_map": rm, "dt": dt})
         model = BuildBlock(p)
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
@@ -61,7 +61,7 @@ def run_refinement(case):
     else:
         from exu_aniso.models.block import SolveTimed
         from exu_aniso.models.screw import BuildScrew, ScrewTrajectory
-        from exu_aniso.scenes.base import ScrewParams
+        from exu_aniso.scenes.screw import ScrewParams
         p = ScrewParams(**{**SCREW, "return_map": rm, "dt": dt})
         model = BuildScrew(p)
         wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])

@@ -23,7 +23,8 @@ from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table,
 
 from exu_aniso.calibration import steady_sliding  # noqa: E402
 from exu_aniso.engines.failure import SimulationFailure  # noqa: E402
-from exu_aniso.scenes.base import ScrewParams, pitch, summary_float  # noqa: E402
+from exu_aniso.scenes.screw import ScrewParams, pitch  # noqa: E402
+from exu_aniso.scenes.base import summary_float
 
 MAPS = ("radial", "exact", "seed")
 EPS_1 = 1e4          # N/m, along the helix, fixed; eps_2 = eps_1 / r

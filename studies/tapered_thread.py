@@ -18,7 +18,7 @@ if HERE not in sys.path:
     sys.path.insert(0, HERE)
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.scenes.base import ScrewParams, pitch  # noqa: E402
+from exu_aniso.scenes.screw import ScrewParams, pitch  # noqa: E402
 
 TAPER_1_16 = math.degrees(math.atan(1.0 / 32.0))     # 1:16 on the diameter: tan(half angle) = 1/32
 MU_BACKOUT = 0.2

@@ -95,7 +95,7 @@ def test_target_yardstick_is_a_cube_on_springs():
     tilts: measured mean 1.14 P/eps_1 in x), proportional to P up to the geometric stiffness of the
     preload (twice P: twice the sway to 5 %)."""
     from _lib import targets
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     p = BlockParams(model="full")
     for K in (4, 24, 64):
         pts = targets.cube_points(K, p.size)
@@ -172,7 +172,7 @@ def test_baseline_block_equals_contact_in_stick(model):
     gives the same trajectory to Newton tolerance (same solver, same steps)."""
     from _lib import baseline
     from exu_aniso.models.block import RunBlock
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     p = BlockParams(model=model, t_end=0.1, dt=1e-3, drive="force", force=1.0, drive_angle=30.0, points="corners",
                     **STICK)
     ours = RunBlock(p)
@@ -202,7 +202,7 @@ def test_baseline_reduced_screw_equals_contact_in_stick(symmetry):
     with one representative point (lumped spring pair) or all 24 points (a pair per point)."""
     from _lib import baseline
     from exu_aniso.models.screw import RunScrew
-    from exu_aniso.scenes.base import ScrewParams
+    from exu_aniso.scenes.screw import ScrewParams
     p = ScrewParams(model="reduced", t_end=0.1, dt=1e-3, drive="rotation", **STICK)
     ours = RunScrew(p, contactOutputs=False, symmetry=symmetry)
     m, _, steps, _ = baseline.RunBaseline("screw", p, symmetry=symmetry)
@@ -219,7 +219,8 @@ def test_baseline_reduced_screw_equals_contact_in_stick(symmetry):
 
 def test_baseline_argument_errors():
     from _lib import baseline
-    from exu_aniso.scenes.base import BlockParams, ScrewParams
+    from exu_aniso.scenes.block import BlockParams
+    from exu_aniso.scenes.screw import ScrewParams
     with pytest.raises(ValueError, match="nodeType"):
         baseline.BuildBlockBaseline(BlockParams(), nodeType="bad")
     with pytest.raises(ValueError, match="drive 'rotation'"):

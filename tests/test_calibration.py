@@ -13,7 +13,7 @@ import pytest
 import exu_aniso.calibration as cal
 from exu_aniso.calibration import DEFAULT_BASE, calibrate_screw, steady_sliding
 from exu_aniso.scenes.screw import simulate_screw
-from exu_aniso.scenes.base import ScrewParams, pitch
+from exu_aniso.scenes.screw import ScrewParams, pitch
 
 SMALL = dict(rings=2, points_per_ring=4, t_end=0.3)       # K = 8: N and the closed form do not depend on K
 

@@ -9,7 +9,8 @@ import sys
 import pytest
 
 from exu_aniso.cli import main
-from exu_aniso.scenes.base import BLOCK_SUMMARY_KEYS, SCREW_SUMMARY_KEYS
+from exu_aniso.scenes.block import BLOCK_SUMMARY_KEYS
+from exu_aniso.scenes.screw import SCREW_SUMMARY_KEYS
 
 QUICK = {"block": ["t_end=0.1", "dt=2e-3"], "screw": ["t_end=0.1", "dt=2e-3"]}
 

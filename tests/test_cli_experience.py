@@ -17,7 +17,8 @@ from exu_aniso import cli  # noqa: E402
 from exu_aniso.calibration import steady_sliding  # noqa: E402
 from exu_aniso.plots import PlotBlockPath, PlotScrewAdvance, PlotScrewTorque  # noqa: E402
 from exu_aniso.util.progress import AFTER_ENV  # noqa: E402
-from exu_aniso.scenes.base import BlockParams, ScrewParams  # noqa: E402
+from exu_aniso.scenes.block import BlockParams  # noqa: E402
+from exu_aniso.scenes.screw import ScrewParams
 
 SHORT = {scene: ["--set", "t_end=0.05", "--set", "dt=1e-3"] for scene in ("block", "screw")}
 VIEW_MESSAGE = "--view needs a display (DISPLAY is not set); use --snapshot, or run under xvfb-run -a"

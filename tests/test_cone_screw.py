@@ -12,7 +12,7 @@ pytest.importorskip("exudyn")
 
 from exu_aniso.models.screw import RunScrew  # noqa: E402
 from exu_aniso.scenes.screw import simulate_screw  # noqa: E402
-from exu_aniso.scenes.base import ScrewParams  # noqa: E402
+from exu_aniso.scenes.screw import ScrewParams  # noqa: E402
 
 
 def test_zero_half_angle_is_the_cylinder():

@@ -276,7 +276,7 @@ def test_block_path_is_the_same_in_cartesian_and_polar_coordinates():
     3.3e-7 and 8.4e-8 of the travel) and stays far below the integrator's own error (the path at dt
     against dt/2: 1.9e-4 of the travel)."""
     from exu_aniso.scenes.block import simulate_block
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     K = 4
     diff, paths = [], {}
     for dt in (2e-3, 1e-3):

@@ -12,8 +12,8 @@ from exu_aniso import Adhesion, Friction, Plane  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
 from exu_aniso.models.block import RunBlock  # noqa: E402
 from exu_aniso.models.screw import RunScrew  # noqa: E402
-from exu_aniso.scenes.base import (SCREW_NORMAL_DAMPING, BlockParams, ScrewParams, block_contact_law,  # noqa: E402
-                              screw_contact_law)
+from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, ScrewParams, screw_contact_law
+from exu_aniso.scenes.block import BlockParams, block_contact_law
 
 
 @pytest.mark.parametrize("cls", [BlockParams, ScrewParams])

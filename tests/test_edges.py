@@ -22,8 +22,10 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.block import simulate_block
 from exu_aniso.catalog import SCENES
-from exu_aniso.scenes.base import (MAGNITUDE_LIMITS, MAX_STEPS, BlockParams, ScrewParams, _energy, block_inertia,
-                              screw_inertia, step_count, time_grid)
+from exu_aniso.scenes.base import MAGNITUDE_LIMITS, MAX_STEPS, _energy
+from exu_aniso.scenes.block import BlockParams, block_inertia
+from exu_aniso.scenes.screw import ScrewParams, screw_inertia
+from exu_aniso.engines.timing import step_count, time_grid
 
 exudyn = pytest.importorskip("exudyn")
 

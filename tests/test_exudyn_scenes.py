@@ -44,7 +44,8 @@ from exu_aniso.models.screw import RunScrew  # noqa: E402
 from exu_aniso.law.oracles import orthotropic_heading  # noqa: E402
 from exu_aniso.scenes.block import simulate_block  # noqa: E402
 from exu_aniso.scenes.screw import simulate_screw
-from exu_aniso.scenes.base import BlockParams, ScrewParams, pitch  # noqa: E402
+from exu_aniso.scenes.block import BlockParams  # noqa: E402
+from exu_aniso.scenes.screw import ScrewParams, pitch
 
 PARITY_RTOL = 1e-7
 LG_RTOL = 2e-4

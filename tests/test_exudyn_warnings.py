@@ -45,7 +45,7 @@ from exu_aniso.models.particle import RunParticle
 from exu_aniso.models.screw import RunScrew
 from exu_aniso.scenes.capstan import CapstanParams
 from exu_aniso.scenes.feeder import FeederParams
-from exu_aniso.scenes.base import BlockParams
+from exu_aniso.scenes.block import BlockParams
 
 WARNING = "memory allocations"
 PER_NEWTON = 0.1           # allocations per Newton iteration allowed beyond Exudyn's own count

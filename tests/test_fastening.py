@@ -24,7 +24,7 @@ from exu_aniso.models.fastening import RunFastening
 from exu_aniso.scenes.fastening import (MIN_TIGHTENING_SAMPLES, FasteningParams, calibrate_net, calibration_force,
                                        fastening_summary, lead, theory, tightening)
 from exu_aniso.util.validation import ParameterError
-from exu_aniso.scenes.base import ScrewParams
+from exu_aniso.scenes.screw import ScrewParams
 
 
 @pytest.fixture(scope="module")

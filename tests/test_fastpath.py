@@ -231,7 +231,8 @@ RUNS = [
 def test_exudyn_run_compiled_equals_numpy(scene, over, opts):
     """Whole Exudyn runs: the compiled route reproduces the numpy route to round-off (same steps,
     same Newton iterations)."""
-    from exu_aniso.scenes.base import BlockParams, ScrewParams
+    from exu_aniso.scenes.block import BlockParams
+    from exu_aniso.scenes.screw import ScrewParams
     if scene == "block":
         from exu_aniso.models.block import RunBlock as run
         p = BlockParams(**over)
@@ -259,7 +260,7 @@ def test_reduced_screw_symmetry_equals_all_points(over):
     """The reduced screw with one representative point (symmetry=True, default) reproduces the
     run that evaluates every point of the layout."""
     from exu_aniso.models.screw import RunScrew
-    from exu_aniso.scenes.base import ScrewParams
+    from exu_aniso.scenes.screw import ScrewParams
     p = ScrewParams(**over)
     a = RunScrew(p, symmetry=False)
     b = RunScrew(p)

@@ -30,7 +30,7 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso import Adhesion, Friction, Plane
 from exu_aniso.engines.exudyn_adapter.glue import _SETS_KEY
 from exu_aniso.models.block import BuildBlock
-from exu_aniso.scenes.base import BlockParams, block_contact_law
+from exu_aniso.scenes.block import BlockParams, block_contact_law
 
 from test_group import _cubes
 

@@ -243,7 +243,8 @@ NEWTON_RUNS = [
                          ids=[f"{r[0]}-{r[1].get('model', 'default')}-{r[2].get('nodeType', 'default')}"
                               for r in NEWTON_RUNS])
 def test_analytic_needs_no_more_newton_iterations_than_numerical(scene, over, opts):
-    from exu_aniso.scenes.base import BlockParams, ScrewParams
+    from exu_aniso.scenes.block import BlockParams
+    from exu_aniso.scenes.screw import ScrewParams
     if scene == "block":
         from exu_aniso.models.block import RunBlock as run
         p = BlockParams(**over)

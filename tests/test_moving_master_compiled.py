@@ -398,7 +398,7 @@ def _block_on_plate(node_type, implementation, jacobian):
     rest carrying the plane (no load on it: the block's weight moves it by ~1e-9 m), built through
     BuildBlock's contactBuilder so that nothing else of the scene changes."""
     from exu_aniso.models.block import BuildBlock, SolveTimed, block_contact_law
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     p = BlockParams(model="full", t_end=0.2)
 
     def builder(mbs, oBlock, localPoints):

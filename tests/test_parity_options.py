@@ -43,7 +43,8 @@ from exu_aniso.models.block import RunBlock  # noqa: E402
 from exu_aniso.models.screw import RunScrew  # noqa: E402
 from exu_aniso.scenes.block import simulate_block  # noqa: E402
 from exu_aniso.scenes.screw import simulate_screw
-from exu_aniso.scenes.base import BlockParams, ScrewParams  # noqa: E402
+from exu_aniso.scenes.block import BlockParams  # noqa: E402
+from exu_aniso.scenes.screw import ScrewParams
 from test_exudyn_scenes import (BLOCK_FIELDS, FULL_PATH_FIELDS, FULL_PATH_RTOL, FULL_TURN_FIELDS,  # noqa: E402
                                 FULL_TURN_RTOL, SCREW_FIELDS, assert_parity)
 

@@ -122,7 +122,7 @@ def test_exudyn_hook_chains_counts_and_is_removed():
     restored afterwards; the lines carry the solver's step and Newton counts (full Newton: 2 iterations
     in every step of this sliding block)."""
     from exu_aniso.models.block import BuildBlock, SolveTimed
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     model = BuildBlock(BlockParams(t_end=0.05, dt=1e-3), newton="full")
     mbs = model["mbs"]
     calls = []
@@ -147,7 +147,7 @@ def test_exudyn_hook_chains_counts_and_is_removed():
 def test_exudyn_hook_is_off_by_default_and_leaves_no_function(capsys, monkeypatch):
     monkeypatch.delenv(AFTER_ENV, raising=False)
     from exu_aniso.models.block import BuildBlock, RunBlock, SolveTimed
-    from exu_aniso.scenes.base import BlockParams
+    from exu_aniso.scenes.block import BlockParams
     model = BuildBlock(BlockParams(t_end=0.01))
     SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"], progress=True)
     assert model["mbs"].GetPreStepUserFunction() == 0

@@ -18,7 +18,8 @@ from exu_aniso.scenes import block as block_scene
 from exu_aniso.scenes import screw as screw_scene
 from exu_aniso.scenes.block import simulate_block
 from exu_aniso.scenes.screw import simulate_screw
-from exu_aniso.scenes.base import BlockParams, ScrewParams, block_points, pitch, screw_points
+from exu_aniso.scenes.block import BlockParams, block_points
+from exu_aniso.scenes.screw import ScrewParams, pitch, screw_points
 
 # ----------------------------------------------------------------------------------------------
 # convergence order on smooth (stick-only, constant B) cases against the analytic solution

@@ -9,7 +9,9 @@ import exu_aniso
 from exu_aniso.engines.exudyn_adapter import solver_settings
 from exu_aniso.models import block
 from exu_aniso.models.block import SimulationSettingsFor
-from exu_aniso.scenes.base import BlockParams, ScrewParams, step_count
+from exu_aniso.scenes.block import BlockParams
+from exu_aniso.scenes.screw import ScrewParams
+from exu_aniso.engines.timing import step_count
 from exu_aniso.engines.exudyn_adapter.solver_settings import RecommendedSimulationSettings
 
 

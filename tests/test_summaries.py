@@ -14,7 +14,8 @@ import pytest
 from exu_aniso.cli import main
 from exu_aniso.scenes.block import simulate_block
 from exu_aniso.scenes.screw import simulate_screw
-from exu_aniso.scenes.base import BlockParams, ScrewParams
+from exu_aniso.scenes.block import BlockParams
+from exu_aniso.scenes.screw import ScrewParams
 
 
 def _strict(text):

@@ -52,7 +52,7 @@ from exu_aniso.engines.exudyn_adapter.runner import exudyn_pre_step
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.result import Result
 from exu_aniso.engines.energy import RigidMotion, motion_about_z
-from exu_aniso.scenes.base import BlockParams, block_contact_law, block_energy, block_points, block_summary
+from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
 from exu_aniso.engines.exudyn_adapter.solver_settings import (MIN_STEP_FRACTION, NEWTON_CONTRACTIVITY, NEWTON_MODES,  # noqa: F401
                                       SOLVER_TYPES)
 from exu_aniso.util.validation import check_in_range, check_instance, check_positive

@@ -31,7 +31,7 @@ from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary,
                                     finish_trajectory, part_inertia, part_points, part_positions, throw_direction)
-from exu_aniso.scenes.base import time_step
+from exu_aniso.engines.timing import time_step
 from exu_aniso.util.validation import check_instance
 
 PLATE_SIZE = (0.4, 0.4, 0.02)          # drawn plate [m]; its mass is the scene's plate_mass

@@ -39,7 +39,7 @@ from exu_aniso.models.block import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive
                                    HistoryOutputs, SimulationSettingsFor, SolveTimed, StoreSolution, Unwrap,
                                    WriteSnapshot)
 from exu_aniso.engines.result import Result
-from exu_aniso.scenes.base import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
+from exu_aniso.scenes.screw import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.util.validation import check_bool, check_instance
 
 

@@ -1,11 +1,18 @@
-"""The block scene's body models for the reference engine (``exu_aniso.engines.reference``) and its run
-there: a planar rigid body (x, y, theta) held at the penetration that carries the normal load, or a
-6-DOF rigid cube on the plane (see the reference engine's docstring for the models' equations). The
-scene's parameters, law, points, summary and ledger are in ``exu_aniso.scenes.base``.
+"""The block scene: a rigid cube on the plane z = 0 with (polar) orthotropic adhesion and friction
+about the origin, pressed down by ``normal_load`` and driven in the xy-plane (conventions: the
+module docstring of ``exu_aniso.scenes.base``).
+
+Its parameters (``BLOCK_PARAMS``, ``BlockParams``), contact law, points, inertia, summary and energy
+ledger, and its body models for the reference engine (``exu_aniso.engines.reference``) with its run
+there (``simulate_block``): a planar rigid body (x, y, theta) held at the penetration that carries the
+normal load, or a 6-DOF rigid cube on the plane (the reference engine's docstring has the models'
+equations). The Exudyn model script is ``exu_aniso.models.block``.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -14,7 +21,234 @@ from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.util.validation import check_instance, check_keywords
-from exu_aniso.scenes.base import BlockParams, block_contact_law, block_energy, block_inertia, block_points, block_summary
+from exu_aniso.fields.tensor_fields import Adhesion, Friction
+from exu_aniso.geometry import Plane
+from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.scenes.base import (_POINTS_RULE, HEADING_V_ABS, SOLVERS, _defaults, _energy, _ParamsMixin,
+                                   solver_advice)
+
+
+POSITION_LIMIT = 1e6     # block: |x0|, |y0| <= POSITION_LIMIT * size
+
+
+
+
+BLOCK_PARAMS = {
+    "mass": (1.0, "kg", "mass of the block", "> 0"),
+    "size": (0.1, "m", "edge length of the cube", "> 0"),
+    "x0": (0.5, "m", "initial x of the centre (polar origin at x = y = 0); |x0| <= 1e6 size", "real"),
+    "y0": (0.0, "m", "initial y of the centre; |y0| <= 1e6 size", "real"),
+    "points": ("corners", "-", "contact points on the bottom face: one centre point, 4 corners or an "
+               "N x N grid including the edges", _POINTS_RULE),
+    "normal_load": (9.81, "N", "total downward load (planar: carried by the held penetration; full: "
+                    "vertical force at the COM, no separate gravity)", ">= 0"),
+    "eps_n": (1e6, "N/m", "total normal penalty stiffness, split equally over the K points", "> 0"),
+    "adhesion": ("polar", "-", "adhesion (sticking stiffness) field B", ("isotropic", "cartesian", "polar")),
+    "eps_1": (1e5, "N/m", "total tangential stiffness along e1 (polar: radial; isotropic: both)", "> 0"),
+    "eps_2": (1e3, "N/m", "total tangential stiffness along e2 (polar: circumferential)", "> 0"),
+    "adhesion_angle": (0.0, "deg", "angle of e1 from e_x for cartesian adhesion", "real"),
+    "friction": ("polar", "-", "friction field F", ("isotropic", "cartesian", "polar")),
+    "mu_1": (0.3, "-", "friction coefficient along e1 (polar: radial; isotropic: both)", "> 0"),
+    "mu_2": (0.3, "-", "friction coefficient along e2 (polar: circumferential)", "> 0"),
+    "friction_angle": (0.0, "deg", "angle of e1 from e_x for cartesian friction", "real"),
+    "return_map": ("radial", "-", "sliding return map", RETURN_MAPS),
+    "drive": ("displacement", "-", "constant force at the COM, or a spring along the drive direction "
+              "from a driver moving at drive_speed", ("force", "displacement")),
+    "drive_angle": (90.0, "deg", "drive direction in the xy-plane, from e_x", "real"),
+    "force": (5.0, "N", "magnitude of the constant drive force (drive = 'force')", ">= 0"),
+    "drive_speed": (0.1, "m/s", "speed of the driver point (drive = 'displacement')", "real"),
+    "drive_stiffness": (1e3, "N/m", "stiffness of the drive spring, acting along the drive direction only",
+                        "> 0"),
+    "t_end": (2.0, "s", "simulated time", "> 0"),
+    "dt": (1e-3, "s", "time step", "> 0"),
+    "model": ("planar", "-", "planar (x, y, theta; held normal load) or full 6-DOF rigid body",
+              ("planar", "full")),
+    "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
+    "core_radius": (1e-3, "m", "regularisation radius of polar fields at the origin", ">= 0"),
+    "normal_damping": (0.0, "N s/m", "total normal contact damping (dashpot on the gap rate), split equally over "
+                       "the K points", ">= 0"),
+    "tangential_damping": (0.0, "N s/m", "total tangential dashpot parallel to friction while loaded, split equally "
+                           "over the K points", ">= 0"),
+}
+
+
+_BD = _defaults(BLOCK_PARAMS)
+
+
+@dataclass(frozen=True)
+class BlockParams(_ParamsMixin):
+    """Block on a (polar-)orthotropic plane; see BLOCK_PARAMS for units and meaning."""
+
+    TABLE = BLOCK_PARAMS
+
+    mass: float = _BD["mass"]
+    size: float = _BD["size"]
+    x0: float = _BD["x0"]
+    y0: float = _BD["y0"]
+    points: str = _BD["points"]
+    normal_load: float = _BD["normal_load"]
+    eps_n: float = _BD["eps_n"]
+    adhesion: str = _BD["adhesion"]
+    eps_1: float = _BD["eps_1"]
+    eps_2: float = _BD["eps_2"]
+    adhesion_angle: float = _BD["adhesion_angle"]
+    friction: str = _BD["friction"]
+    mu_1: float = _BD["mu_1"]
+    mu_2: float = _BD["mu_2"]
+    friction_angle: float = _BD["friction_angle"]
+    return_map: str = _BD["return_map"]
+    drive: str = _BD["drive"]
+    drive_angle: float = _BD["drive_angle"]
+    force: float = _BD["force"]
+    drive_speed: float = _BD["drive_speed"]
+    drive_stiffness: float = _BD["drive_stiffness"]
+    t_end: float = _BD["t_end"]
+    dt: float = _BD["dt"]
+    model: str = _BD["model"]
+    solver: str = _BD["solver"]
+    core_radius: float = _BD["core_radius"]
+    normal_damping: float = _BD["normal_damping"]
+    tangential_damping: float = _BD["tangential_damping"]
+
+    def contact_points(self):
+        return _n_block_points(self)
+
+    def _layout_text(self):
+        return f"points={self.points}"
+
+    def _check_scene(self):
+        # positions far beyond the block: a double at |x0| resolves only |x0| * 2.2e-16, and at
+        # 1e6 size that is 2.2e-10 size -- the limit where contact slips (~1e-5 m) still resolve;
+        # beyond ~1e154 m the polar field's x^2 + y^2 overflows. One clear rule instead.
+        for name in ("x0", "y0"):
+            v = getattr(self, name)
+            if not abs(v) <= POSITION_LIMIT * self.size:
+                raise ValueError(f"{name} must satisfy |{name}| <= {POSITION_LIMIT:g} * size = "
+                                 f"{POSITION_LIMIT * self.size:g} m (double precision must resolve the contact "
+                                 f"slip at that distance from the origin); got {name}={v!r}")
+
+
+assert [f.name for f in dataclasses.fields(BlockParams)] == list(BLOCK_PARAMS)
+
+
+def block_points(p):
+    """Body-local contact points (K, 3) on the bottom face z = -size/2 of the cube [m].
+
+    "center": the face centre; "corners": the four corners; "grid:N": N x N points including the
+    edges (row-major in x, then y)."""
+    a = 0.5 * p.size
+    if p.points == "center":
+        xy = np.zeros((1, 2))
+    elif p.points == "corners":
+        xy = np.array([[-a, -a], [a, -a], [a, a], [-a, a]])
+    else:
+        n = int(p.points.split(":")[1])
+        s = np.linspace(-a, a, n)
+        X, Y = np.meshgrid(s, s, indexing="xy")
+        xy = np.stack([X.ravel(), Y.ravel()], axis=-1)
+    return np.column_stack([xy, np.full(len(xy), -a)])
+
+
+def _n_block_points(p):
+    return {"center": 1, "corners": 4}.get(p.points) or int(p.points.split(":")[1]) ** 2
+
+
+def block_contact_law(p):
+    """ContactLaw of the block scene: plane z = 0 (polar chart when a field is polar), per-point
+    stiffnesses = total / K, friction coefficients as given."""
+    K = _n_block_points(p)
+    rad = math.radians
+    if p.adhesion == "isotropic":
+        B = Adhesion.isotropic(p.eps_1 / K)
+    elif p.adhesion == "cartesian":
+        B = Adhesion.orthotropic(p.eps_1 / K, p.eps_2 / K, angle=rad(p.adhesion_angle))
+    else:
+        B = Adhesion.polar(p.eps_1 / K, p.eps_2 / K, core_radius=p.core_radius)
+    if p.friction == "isotropic":
+        Fr = Friction.isotropic(p.mu_1)
+    elif p.friction == "cartesian":
+        Fr = Friction.orthotropic(p.mu_1, p.mu_2, angle=rad(p.friction_angle))
+    else:
+        Fr = Friction.polar(p.mu_1, p.mu_2, core_radius=p.core_radius)
+    # the Cartesian chart for every field: its coordinate basis is parallel, so the transport of the
+    # sticking traction is exact; a polar net is defined on it (nets.PolarNet)
+    return ContactLaw(Plane(), B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map,
+                      normal_damping=p.normal_damping / K, tangential_damping=p.tangential_damping / K)
+
+
+def block_inertia(p):
+    """Mass [kg] and body-frame inertia tensor (3, 3) [kg m^2] of the cube (about its COM)."""
+    return p.mass, np.eye(3) * (p.mass * p.size ** 2 / 6.0)
+
+
+BLOCK_SUMMARY_KEYS = ("x_end", "y_end", "theta_end", "vx_end", "vy_end", "heading_deg", "r_min", "r_max", "r_mean",
+                      "slip_distance", "dissipated_energy", "wall_s", "steps", "newton_iterations", "undefined")
+
+
+HEADING_V_REL = 1e-6     # a final velocity below this fraction of the largest speed of the run (a block come to rest)
+
+
+
+
+def _undefined_heading(vx, vy):
+    """Reason why the heading of the final velocity is undefined, or None. Undefined when
+    |v_end| <= max(HEADING_V_ABS, HEADING_V_REL * max_t |v|): the direction of a velocity at round-off
+    level is noise (atan2 of 1e-14 values)."""
+    speed = np.hypot(vx, vy)
+    limit = max(HEADING_V_ABS, HEADING_V_REL * float(speed.max()))
+    if speed[-1] <= limit:
+        return (f"block at rest at the end: |v_end| = {speed[-1]:.3g} m/s <= {limit:.3g} m/s "
+                f"(max({HEADING_V_ABS:g} m/s, {HEADING_V_REL:g} x the largest speed of the run, "
+                f"{speed.max():.3g} m/s)); its direction is round-off")
+    return None
+
+
+def block_energy(p, traj, motion, law, H, extra_work=None):
+    """Energy ledger of a block run (any engine): adds the ENERGY_COLUMNS to traj and returns the
+    summary entries (energy, energy_ok, energy_tolerance; see exu_aniso.engines.energy.ledger).
+
+    motion: energy.RigidMotion of the cube's COM (world = master frame); law: the contact law as
+    evaluated at block_points(p); H (n, K, 9): converged history per sample. Work in: the drive
+    force along the drive direction; potential: normal_load (z - z0) (the load stands in for the
+    weight; constant in the planar model); extra_work: cumulative work [J] of loads the scene does
+    not know (e.g. a lift pulse of a study), added to the work in. The full model's trajectory gains
+    omega_x, omega_y (world), so its kinetic energy can be recomputed from trajectory.csv."""
+    if p.model == "full":        # what the kinetic energy needs, in the file too (J of the cube is isotropic)
+        traj.update(omega_x=motion.omega[:, 0], omega_y=motion.omega[:, 1])
+    d = np.array([math.cos(math.radians(p.drive_angle)), math.sin(math.radians(p.drive_angle))])
+    s = d[0] * traj["x"] + d[1] * traj["y"]
+    mass, J = block_inertia(p)
+    X, V = energy.point_motion(motion, block_points(p))
+    stored, diss = energy.contact_energy(law, X, V, H)
+    work = energy.work_trapezoid(traj["drive_force"], s)
+    return _energy(dict(work_in=work if extra_work is None else work + extra_work,
+                        kinetic=energy.rigid_kinetic(motion, mass, J),
+                        potential=p.normal_load * (traj["z"] - traj["z"][0]), stored=stored, dissipated=diss),
+                   traj, "block run", solver_advice(p))
+
+
+def block_summary(traj, wall_s, steps, newton_iterations):
+    """Summary of a block trajectory (dict of arrays with t, x, y, theta, vx, vy, slip_distance,
+    dissipated_energy): end state, heading of the final velocity [deg], distance of the centre
+    from the origin along the path (min, max, mean) [m], cost figures. ``heading_deg`` is None
+    when the block is at rest at the end (see ``_undefined_heading``); ``undefined`` maps every
+    None value to its reason."""
+    x, y = traj["x"], traj["y"]
+    r = np.hypot(x, y)
+    vx, vy = np.asarray(traj["vx"], float), np.asarray(traj["vy"], float)
+    undefined = {}
+    why = _undefined_heading(vx, vy)
+    if why is None:
+        heading = float(math.degrees(math.atan2(vy[-1], vx[-1])))
+    else:
+        heading, undefined["heading_deg"] = None, why
+    return dict(x_end=float(x[-1]), y_end=float(y[-1]), theta_end=float(traj["theta"][-1]),
+                vx_end=float(vx[-1]), vy_end=float(vy[-1]), heading_deg=heading,
+                r_min=float(r.min()), r_max=float(r.max()), r_mean=float(r.mean()),
+                slip_distance=float(traj["slip_distance"][-1]),
+                dissipated_energy=float(traj["dissipated_energy"][-1]),
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
+                undefined=undefined)
 
 
 class _BlockPlanar(BodyModel):

@@ -288,7 +288,7 @@ def calibrate_net(p):
     from scipy.optimize import brentq
 
     from exu_aniso.scenes.screw import steady_sliding
-    from exu_aniso.scenes.base import ScrewParams
+    from exu_aniso.scenes.screw import ScrewParams
     Fa = calibration_force(p)
     target = oracles.thread_torque_per_force(p.d2, p.pitch, math.radians(p.flank_angle), p.mu_thread) * Fa
     base = ScrewParams(radius=0.5 * p.d2, helix_angle=math.degrees(oracles.lead_angle(p.d2, p.pitch)),

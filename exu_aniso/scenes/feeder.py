@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from exu_aniso.engines import energy
-from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
+from exu_aniso.engines.reference import RUN_OPTIONS, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.engines.timing import time_grid
 from exu_aniso.law import oracles
@@ -43,7 +43,7 @@ from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.util.validation import check_instance, check_keywords
+from exu_aniso.util.validation import check_keywords
 from exu_aniso.scenes.base import ENERGY_COLUMNS, HEADING_V_ABS, SOLVERS, _energy, _ParamsMixin, solver_advice
 
 FEEDER_PARAMS = {

@@ -70,7 +70,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from exu_aniso.engines import energy
-from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
+from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, run
 from exu_aniso.engines.result import Result
 from exu_aniso.law import oracles
 from exu_aniso.kernel.contact_law import HISTORY_FIELDS, SLIP, ContactLaw

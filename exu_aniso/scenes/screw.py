@@ -1,7 +1,12 @@
-"""The screw scene's body models for the reference engine (``exu_aniso.engines.reference``) and its run
-there: the reduced model (psi, z) on the hole's axis or a 6-DOF rigid cylinder in the hole. The
-scene's parameters, law, points, summary and ledger are in ``exu_aniso.scenes.base``; its closed-form
-steady sliding (``steady_sliding``, what ``exu_aniso.calibration`` fits to) is here.
+"""The screw scene: a rigid cylindrical screw in a hole (cylinder of radius ``radius``, axis z, contact
+on its inside) with a spiral (thread-like) net, pressed by an interference fit (conventions: the
+module docstring of ``exu_aniso.scenes.base``).
+
+Its parameters (``SCREW_PARAMS``, ``ScrewParams``), contact law, points, inertia, pitch, summary and
+energy ledger; its body models for the reference engine (``exu_aniso.engines.reference``) with its
+run there (``simulate_screw``): the reduced model (psi, z) on the hole's axis or a 6-DOF rigid
+cylinder in the hole; and its closed-form steady sliding (``steady_sliding``, what
+``exu_aniso.calibration`` fits to). The Exudyn model script is ``exu_aniso.models.screw``.
 
 Steady sliding in closed form (``steady_sliding``)
 --------------------------------------------------
@@ -30,6 +35,7 @@ The advance per revolution is ``2 pi R v_z / v_phi`` (R the hole radius, where t
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -40,7 +46,234 @@ from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.util.validation import check_instance, check_keywords
-from exu_aniso.scenes.base import ScrewParams, pitch, screw_contact_law, screw_energy, screw_inertia, screw_points, screw_summary
+from exu_aniso.fields.tensor_fields import Adhesion, Friction
+from exu_aniso.geometry import Cone, Cylinder
+from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.scenes.base import SOLVERS, _defaults, _energy, _ParamsMixin, solver_advice
+
+
+TURN_ANGLE_MIN = 1e-6    # rad: a net rotation over the last half at or below this is no turning
+
+
+# Default normal damping of the screw [N s/m, total]. The full screw's lateral contact mode (k_lat
+# = eps_n / 2 = 5e6 N/m for a ring of points, m = 0.01 kg, 3.6 kHz; critical 2 sqrt(k_lat m) = 447
+# N s/m, the dashpots act laterally with d / 2) flutters under friction. Resolved in time (dt <=
+# 1e-4) it grows at 95 1/s with 100 N s/m and not at all with 200; at the default dt = 1e-3 the
+# trapezoidal rule under-resolves it and growth is slower but still ruins a 2 s run without
+# damping (studies/hard_cases.py, stability table). 300 N s/m is 34 % of critical. The reduced
+# screw's points move along the hole wall (n . v = 0), so the damping does not act there, and the
+# centred full screw then equals the reduced one.
+SCREW_NORMAL_DAMPING = 300.0
+
+
+SCREW_PARAMS = {
+    "radius": (0.005, "m", "radius of the hole (the screw is radius + interference)", "> 0"),
+    "length": (0.02, "m", "length of the contact zone of the screw", "> 0"),
+    "mass": (0.01, "kg", "mass of the screw (solid cylinder inertia)", "> 0"),
+    "interference": (1e-5, "m", "interference fit: screw radius minus hole radius (normal penetration)",
+                     ">= 0"),
+    "helix_angle": (10.0, "deg", "helix angle alpha of the spiral net (pitch 2 pi R tan(alpha))",
+                    "(-90, 90)"),
+    "eps_n": (1e7, "N/m", "total normal penalty stiffness, split equally over the K points", "> 0"),
+    "adhesion": ("spiral", "-", "adhesion (sticking stiffness) field B", ("isotropic", "spiral")),
+    "eps_1": (1e4, "N/m", "total tangential stiffness along the helix (isotropic: both)", "> 0"),
+    "eps_2": (1e6, "N/m", "total tangential stiffness across the helix", "> 0"),
+    "friction": ("spiral", "-", "friction field F", ("isotropic", "spiral")),
+    "mu_1": (0.2, "-", "friction coefficient along the helix (isotropic: both)", "> 0"),
+    "mu_2": (0.6, "-", "friction coefficient across the helix", "> 0"),
+    "return_map": ("radial", "-", "sliding return map", RETURN_MAPS),
+    "drive": ("rotation", "-", "constant torque, torsional spring to a rotating driver, or axial spring "
+              "to a translating driver", ("torque", "rotation", "axial")),
+    "torque": (0.05, "N m", "constant drive torque about +z (drive = 'torque')", "real"),
+    "rotation_speed": (2.0 * math.pi, "rad/s", "angular speed of the driver (drive = 'rotation')", "real"),
+    "axial_speed": (0.01, "m/s", "speed of the axial driver (drive = 'axial')", "real"),
+    "drive_stiffness": (1.0, "N m/rad | N/m", "drive spring stiffness (rotation: N m/rad; axial: N/m)", "> 0"),
+    "axial_load": (0.0, "N", "constant axial force along +z (all drives)", "real"),
+    "rings": (3, "-", "rings of contact points along the length (the reduced model on the cylinder evaluates "
+              "one point carrying the totals: by symmetry every layout gives the same result)", "int >= 1"),
+    "points_per_ring": (8, "-", "contact points per ring, equally spaced in angle (reduced model: one per ring, "
+                        "exact by symmetry)", "int >= 1"),
+    "t_end": (1.0, "s", "simulated time", "> 0"),
+    "dt": (1e-3, "s", "time step", "> 0"),
+    "model": ("reduced", "-", "reduced (rotation angle, axial position) or full 6-DOF rigid body",
+              ("reduced", "full")),
+    "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
+    "normal_damping": (SCREW_NORMAL_DAMPING, "N s/m", "total normal contact damping (dashpot on the gap rate), split "
+                       "equally over the K points; the default damps the full screw's lateral mode (README)", ">= 0"),
+    "tangential_damping": (0.0, "N s/m", "total tangential dashpot parallel to friction while loaded, split equally "
+                           "over the K points", ">= 0"),
+    "surface": ("cylinder", "-", "thread surface: cylinder (the papers' hole) or cone (a tapered thread: the hole "
+                "r(z) = radius + z tan(half_angle), the screw's points on the parallel cone)", ("cylinder", "cone")),
+    "half_angle": (0.0, "deg", "half angle of the cone (surface = cone); 0 is the cylinder exactly; a 1:16 taper "
+                   "on the diameter is 1.79 deg", "(-45, 45)"),
+}
+
+
+_SD = _defaults(SCREW_PARAMS)
+
+
+@dataclass(frozen=True)
+class ScrewParams(_ParamsMixin):
+    """Screw in a threaded hole with a spiral net; see SCREW_PARAMS for units and meaning."""
+
+    TABLE = SCREW_PARAMS
+
+    radius: float = _SD["radius"]
+    length: float = _SD["length"]
+    mass: float = _SD["mass"]
+    interference: float = _SD["interference"]
+    helix_angle: float = _SD["helix_angle"]
+    eps_n: float = _SD["eps_n"]
+    adhesion: str = _SD["adhesion"]
+    eps_1: float = _SD["eps_1"]
+    eps_2: float = _SD["eps_2"]
+    friction: str = _SD["friction"]
+    mu_1: float = _SD["mu_1"]
+    mu_2: float = _SD["mu_2"]
+    return_map: str = _SD["return_map"]
+    drive: str = _SD["drive"]
+    torque: float = _SD["torque"]
+    rotation_speed: float = _SD["rotation_speed"]
+    axial_speed: float = _SD["axial_speed"]
+    drive_stiffness: float = _SD["drive_stiffness"]
+    axial_load: float = _SD["axial_load"]
+    rings: int = _SD["rings"]
+    points_per_ring: int = _SD["points_per_ring"]
+    t_end: float = _SD["t_end"]
+    dt: float = _SD["dt"]
+    model: str = _SD["model"]
+    solver: str = _SD["solver"]
+    normal_damping: float = _SD["normal_damping"]
+    tangential_damping: float = _SD["tangential_damping"]
+    surface: str = _SD["surface"]
+    half_angle: float = _SD["half_angle"]
+
+    def contact_points(self):
+        return self.rings * self.points_per_ring
+
+    def _layout_text(self):
+        return f"rings={self.rings} x points_per_ring={self.points_per_ring}"
+
+
+assert [f.name for f in dataclasses.fields(ScrewParams)] == list(SCREW_PARAMS)
+
+
+def screw_points(p):
+    """Body-local contact points (K, 3) on the cylinder of radius radius + interference [m] (on a
+    cone: at radius + interference / cos(half_angle) + z tan(half_angle), the cone parallel to the
+    hole at the normal distance interference).
+
+    ``rings`` rings equally spaced over the length, centred on the COM (z from -length/2 to
+    +length/2 including the ends; one ring sits at z = 0); ``points_per_ring`` points per ring at
+    angles 2 pi j / points_per_ring. Ring-major order."""
+    z = np.zeros(1) if p.rings == 1 else np.linspace(-0.5 * p.length, 0.5 * p.length, p.rings)
+    phi = 2.0 * np.pi * np.arange(p.points_per_ring) / p.points_per_ring
+    Z, PHI = np.meshgrid(z, phi, indexing="ij")
+    if p.surface == "cone":
+        beta = math.radians(p.half_angle)
+        rho = p.radius + p.interference / math.cos(beta) + Z.ravel() * math.tan(beta)
+    else:
+        rho = p.radius + p.interference
+    return np.column_stack([rho * np.cos(PHI.ravel()), rho * np.sin(PHI.ravel()), Z.ravel()])
+
+
+def screw_contact_law(p):
+    """ContactLaw of the screw scene: hole = Cylinder(radius, side="inside") about the z axis (or
+    the Cone of half_angle through it at z = 0), per-point stiffnesses = total / K, spiral fields
+    with the helix angle (on the cone: the same lead, the pitch 2 pi radius tan(helix_angle))."""
+    K = p.rings * p.points_per_ring
+    alpha = math.radians(p.helix_angle)
+    if p.adhesion == "isotropic":
+        B = Adhesion.isotropic(p.eps_1 / K)
+    else:
+        B = Adhesion.spiral(p.eps_1 / K, p.eps_2 / K, alpha)
+    if p.friction == "isotropic":
+        Fr = Friction.isotropic(p.mu_1)
+    else:
+        Fr = Friction.spiral(p.mu_1, p.mu_2, alpha)
+    if p.surface == "cone":
+        hole = Cone(math.radians(p.half_angle), p.radius, side="inside")
+    else:
+        hole = Cylinder(p.radius, side="inside")
+    return ContactLaw(hole, B, Fr, normal_stiffness=p.eps_n / K, return_map=p.return_map,
+                      normal_damping=p.normal_damping / K, tangential_damping=p.tangential_damping / K)
+
+
+def screw_inertia(p):
+    """Mass [kg] and body-frame inertia tensor (3, 3) [kg m^2] of the screw: a solid cylinder of
+    radius ``radius`` and length ``length`` about its COM, axis z."""
+    m, r, L = p.mass, p.radius, p.length
+    Jt = m * (3.0 * r * r + L * L) / 12.0
+    return m, np.diag([Jt, Jt, 0.5 * m * r * r])
+
+
+def pitch(p):
+    """Thread pitch 2 pi R tan(alpha) of the spiral net [m per revolution]."""
+    return 2.0 * math.pi * p.radius * math.tan(math.radians(p.helix_angle))
+
+
+SCREW_SUMMARY_KEYS = ("angle_end", "z_end", "advance_per_rev", "torque_mean", "axial_force_mean",
+                      "dissipated_energy", "wall_s", "steps", "newton_iterations", "undefined")
+
+
+def screw_energy(p, traj, motion, points, law, H):
+    """Energy ledger of a screw run (any engine), as block_energy; points: the body-local points
+    the engine evaluates with law (one representative point carrying the totals under symmetry).
+    Work in: drive torque over the angle plus axial force (drive and axial_load) over z. The full
+    model's trajectory gains vx, vy, omega_x, omega_y and the axis (axis_x, axis_y, axis_z: the body's
+    z axis in the world), so its kinetic energy can be recomputed from trajectory.csv."""
+    if p.model == "full":        # what the kinetic energy needs, in the file too: lateral velocity, spin, axis
+        traj.update(vx=motion.velocity[:, 0], vy=motion.velocity[:, 1], omega_x=motion.omega[:, 0],
+                    omega_y=motion.omega[:, 1], axis_x=motion.rotation[:, 0, 2], axis_y=motion.rotation[:, 1, 2],
+                    axis_z=motion.rotation[:, 2, 2])
+    mass, J = screw_inertia(p)
+    X, V = energy.point_motion(motion, points)
+    stored, diss = energy.contact_energy(law, X, V, H)
+    work = energy.work_trapezoid(traj["torque"], traj["angle"]) + energy.work_trapezoid(traj["axial_force"], traj["z"])
+    return _energy(dict(work_in=work, kinetic=energy.rigid_kinetic(motion, mass, J),
+                        potential=np.zeros(len(traj["t"])), stored=stored, dissipated=diss), traj, "screw run",
+                   solver_advice(p))
+
+
+def _undefined_advance(t, ang):
+    """Reason why the advance per revolution over the samples (t, ang) of the last half is
+    undefined, or None. The screw turns there when its net rotation exceeds TURN_ANGLE_MIN and
+    the peak-to-peak oscillation of the angle about its mean rate (a linear fit in t): a stuck
+    screw that only vibrates elastically has a z(angle) slope from the elastic coupling of the
+    net, which is no advance."""
+    if len(t) < 2:
+        return f"fewer than two samples in the last half of the run ({len(t)})"
+    net = abs(float(ang[-1] - ang[0]))
+    if net <= TURN_ANGLE_MIN:
+        return (f"screw did not turn over the last half of the run (|d angle| = {net:.3g} rad "
+                f"<= {TURN_ANGLE_MIN:g} rad)")
+    wobble = float(np.ptp(ang - np.polyval(np.polyfit(t, ang, 1), t)))
+    if net <= wobble:
+        return (f"screw sticks and only oscillates over the last half of the run: net rotation "
+                f"{net:.3g} rad <= its oscillation {wobble:.3g} rad (peak to peak about the mean rate)")
+    return None
+
+
+def screw_summary(traj, wall_s, steps, newton_iterations):
+    """Summary of a screw trajectory (t, angle, z, torque, axial_force, dissipated_energy):
+    advance per revolution = 2 pi dz/dangle fitted over the last half of the run (signed; None
+    when the screw does not turn there, see ``_undefined_advance``), mean drive torque and axial
+    force over the last half; ``undefined`` maps every None value to its reason."""
+    t = np.asarray(traj["t"], float)
+    late = t >= 0.5 * t[-1]
+    ang, z = np.asarray(traj["angle"], float)[late], np.asarray(traj["z"], float)[late]
+    undefined = {}
+    why = _undefined_advance(t[late], ang)
+    if why is None:
+        adv = float(np.polyfit(ang, z, 1)[0] * 2.0 * math.pi)
+    else:
+        adv, undefined["advance_per_rev"] = None, why
+    return dict(angle_end=float(traj["angle"][-1]), z_end=float(traj["z"][-1]), advance_per_rev=adv,
+                torque_mean=float(traj["torque"][late].mean()),
+                axial_force_mean=float(traj["axial_force"][late].mean()),
+                dissipated_energy=float(traj["dissipated_energy"][-1]),
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
+                undefined=undefined)
 
 
 def reference_model(p, law=None):

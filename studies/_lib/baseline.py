@@ -71,7 +71,8 @@ from exudyn.itemInterface import (
     ObjectGround,
 )
 
-from exu_aniso.scenes.base import BlockParams, ScrewParams
+from exu_aniso.scenes.block import BlockParams
+from exu_aniso.scenes.screw import ScrewParams
 
 
 def _cartesian_springs(mbs, bodyNumber, localPoints, anchors, stiffness):

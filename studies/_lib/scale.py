@@ -30,7 +30,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.models.block import SimulationSettingsFor, SolveTimed
-from exu_aniso.scenes.base import BlockParams, block_contact_law, block_points
+from exu_aniso.scenes.block import BlockParams, block_contact_law, block_points
 
 from .baseline import _cartesian_springs
 from .studylib import markdown_table

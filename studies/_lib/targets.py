@@ -70,7 +70,8 @@ from exudyn.utilities import InertiaCuboid
 
 from exu_aniso.models.block import BuildBlock, SolveTimed
 from exu_aniso.models.screw import BuildScrew
-from exu_aniso.scenes.base import BlockParams, ScrewParams
+from exu_aniso.scenes.block import BlockParams
+from exu_aniso.scenes.screw import ScrewParams
 
 from .baseline import _cartesian_springs
 from .studylib import markdown_table
