@@ -81,14 +81,14 @@ def simulate(scene, params, engine, progress=False, snapshot=None, solution_file
 def view_problem():
     """Why --view cannot open a render window here (message for exit code 2), or None. Checked
     before simulating: without a display Exudyn's renderer.Start() aborts the whole process."""
-    from exu_aniso.models.block import DisplayProblem
+    from exu_aniso.engines.exudyn_adapter.runner import DisplayProblem
     problem = DisplayProblem()
     return VIEW_NO_DISPLAY.format(problem) if problem else None
 
 
 def view_solution(scene, params, solution_file):
     """Exudyn's SolutionViewer on the solution a run wrote (the model is rebuilt from params)."""
-    from exu_aniso.models.block import ViewSolution
+    from exu_aniso.engines.exudyn_adapter.runner import ViewSolution
     ViewSolution(SCENES[scene].build_exudyn(params), solution_file, title=f"exu-aniso {scene}")
 
 

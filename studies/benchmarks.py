@@ -107,7 +107,7 @@ def run_setting(scene, engine, p, options):
     cpu_s: process CPU time of the solve (Exudyn: SolveDynamic only; reference: the whole
     simulate_* call, whose setup is negligible); wall_s: the solver's own wall time."""
     if engine == "exudyn":
-        from exu_aniso.models.block import SolveTimed
+        from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
         if scene == "block":
             from exu_aniso.models.block import BuildBlock as build
         else:

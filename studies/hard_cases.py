@@ -149,7 +149,8 @@ def _guard(mbs, seconds):
 
 def run_block(p, newton_tol=1e-10, lift=None, budget=120.0):
     """Exudyn block scene; lift = (force [N], t0, t1): an upward force pulse at the COM (full model)."""
-    from exu_aniso.models.block import BlockTrajectory, BodyMotion, BuildBlock, HistoryOutputs, SolveTimed
+    from exu_aniso.models.block import BlockTrajectory, BuildBlock
+    from exu_aniso.engines.exudyn_adapter.runner import BodyMotion, HistoryOutputs, SolveTimed
     model = BuildBlock(p, newtonTolerance=newton_tol)
     mbs = model["mbs"]
     if lift is not None:
@@ -179,7 +180,7 @@ def _balance(ledger):
 
 def run_screw(p, newton_tol=1e-10, budget=120.0):
     from exu_aniso.models.screw import BuildScrew, ScrewTrajectory
-    from exu_aniso.models.block import BodyMotion, HistoryOutputs, SolveTimed
+    from exu_aniso.engines.exudyn_adapter.runner import BodyMotion, HistoryOutputs, SolveTimed
     model = BuildScrew(p, newtonTolerance=newton_tol)
     mbs = model["mbs"]
     _guard(mbs, budget)
@@ -201,7 +202,7 @@ def run_master(t_end, dt):
     from exudyn.utilities import InertiaCuboid
     from exu_aniso import Adhesion, Friction, Plane
     from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact
-    from exu_aniso.models.block import HistoryOutputs, SolveTimed
+    from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, SolveTimed
 
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()

@@ -7,7 +7,7 @@ Every scene (block planar and full on 4 corners, full block on an 8 x 8 grid, sc
 full; their default drives) is solved at six Newton settings (``studies/_lib/baseline.py``
 ``apply_settings``): full Newton at tolerance 1e-10 (the reference of the errors), the package's
 (Exudyn's modified Newton with a fresh Jacobian when an iteration contracts by less than 0.01,
-tolerance 1e-10: ``models.block.SimulationSettingsFor``), Exudyn's defaults (modified Newton,
+tolerance 1e-10: ``exu_aniso.engines.exudyn_adapter.runner.SimulationSettingsFor``), Exudyn's defaults (modified Newton,
 contractivity 0.5, relative tolerance 1e-8), the package's contractivity at Exudyn's tolerances, Exudyn's defaults with a fresh Jacobian at every step
 (``modifiedNewtonJacUpdatePerStep``) and full Newton at Exudyn's tolerances. Cost: median process
 CPU time of the solve per step over interleaved repeats (serial). Error: the largest difference of
@@ -56,7 +56,8 @@ def _coordinates(model):
 
 def run_case(case):
     """One scene at every setting, interleaved repeats; rows of COLUMNS."""
-    from exu_aniso.models.block import BuildBlock, SolveTimed
+    from exu_aniso.models.block import BuildBlock
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
     from exu_aniso.models.screw import BuildScrew
     from exu_aniso.scenes.block import BlockParams
     from exu_aniso.scenes.screw import ScrewParams

@@ -116,7 +116,7 @@ def _time_runs(run, repeats, min_time=0.0):
 
 def _solve_ours(build, p):
     """Build one of our models (not timed) and solve it: (wall, CPU) time of the solve [s]."""
-    from exu_aniso.models.block import SolveTimed
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
     model = build(p)
     c0 = time.process_time()
     wall = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])[0]

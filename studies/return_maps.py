@@ -48,10 +48,11 @@ DISS_TOL = 1e-12              # per-step, per-point dissipation counted negative
 
 def run_refinement(case):
     """One Exudyn run of the block or the screw with map and dt; final state, dissipation checks, cost."""
-    from exu_aniso.models.block import HistoryOutputs
+    from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs
     rm, dt = case["return_map"], case["dt"]
     if case["scene"] == "block":
-        from exu_aniso.models.block import BlockTrajectory, BuildBlock, SolveTimed
+        from exu_aniso.models.block import BlockTrajectory, BuildBlock
+        from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
         from exu_aniso.scenes.block import BlockParams
         p = BlockParams(**{**BLOCK, "return_map": rm, "dt": dt})
         model = BuildBlock(p)
@@ -59,7 +60,7 @@ def run_refinement(case):
         tr = BlockTrajectory(model)
         final = (float(tr["x"][-1]), float(tr["y"][-1]))
     else:
-        from exu_aniso.models.block import SolveTimed
+        from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
         from exu_aniso.models.screw import BuildScrew, ScrewTrajectory
         from exu_aniso.scenes.screw import ScrewParams
         p = ScrewParams(**{**SCREW, "return_map": rm, "dt": dt})

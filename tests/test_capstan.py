@@ -118,7 +118,7 @@ def test_analytic_jacobian_needs_no_more_newton_iterations():
     Exudyn's numerical one; both runs take the same steps (measured 318 steps, 1161 against 1165
     iterations, 0.16 s against 1.25 s; the default rope over 0.3 s: 1324 against 1341, 0.33 s
     against 3.9 s)."""
-    from exu_aniso.models.block import SolveTimed
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
     out = {}
     for jac in ("analytic", "numerical"):
         m = BuildCapstan(CapstanParams(t_end=0.2, elements=6, tail_elements=1), jacobian=jac)

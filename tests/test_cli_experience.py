@@ -99,7 +99,7 @@ def test_snapshot_writes_a_png_that_is_not_blank(tmp_path, capsys, scene, sets):
 def test_snapshot_shows_the_final_state(tmp_path):
     """The screw turns about 100 degrees in 0.3 s: the picture of the final state differs from the
     initial one (its alternating colours turn with it)."""
-    from exu_aniso.models.block import SnapshotImage
+    from exu_aniso.engines.exudyn_adapter.runner import SnapshotImage
     from exu_aniso.models.screw import BuildScrew, RunScrew
     p = ScrewParams(t_end=0.3)
     initial = SnapshotImage(BuildScrew(p)).astype(float)
@@ -131,7 +131,8 @@ def test_view_without_display_exits_2_before_simulating(tmp_path, capsys, monkey
 
 
 def test_view_solution_refuses_without_display(monkeypatch, no_windows):
-    from exu_aniso.models.block import BuildBlock, ViewSolution
+    from exu_aniso.models.block import BuildBlock
+    from exu_aniso.engines.exudyn_adapter.runner import ViewSolution
     monkeypatch.delenv("DISPLAY", raising=False)
     with pytest.raises(RuntimeError, match="needs a display"):
         ViewSolution(BuildBlock(BlockParams(t_end=0.01)), "nothing.sol")
@@ -140,11 +141,11 @@ def test_view_solution_refuses_without_display(monkeypatch, no_windows):
 def test_view_with_suppressed_windows_plays_the_stored_solution(tmp_path, capsys, monkeypatch, no_windows):
     """With a (fake) display and Exudyn's windows suppressed, --view runs its whole path: the run
     stores Exudyn's solution, all results are written, then the viewer gets the stored solution."""
-    from exu_aniso.models import block as block_model
+    from exu_aniso.engines.exudyn_adapter import runner
     monkeypatch.setenv("DISPLAY", ":99")
     monkeypatch.setattr(no_windows, "suppressRenderer", True)
     seen = []
-    original = block_model.ViewSolution
+    original = runner.ViewSolution
 
     def spy(model, fileName, title=""):
         from exudyn.utilities import LoadSolutionFile
@@ -153,7 +154,7 @@ def test_view_with_suppressed_windows_plays_the_stored_solution(tmp_path, capsys
         seen.append((title, sol["nRows"], float(sol["data"][-1][0]), written))
         return original(model, fileName, title)
 
-    monkeypatch.setattr(block_model, "ViewSolution", spy)
+    monkeypatch.setattr(runner, "ViewSolution", spy)
     args = ["run", "screw", "--view", "--quiet", "--out", str(tmp_path / "run")] + SHORT["screw"]
     assert cli.main(args) == 0
     assert len(seen) == 1

@@ -39,7 +39,8 @@ import pytest
 
 exudyn = pytest.importorskip("exudyn")
 
-from exu_aniso.models.block import BuildBlock, RunBlock, SolveTimed  # noqa: E402
+from exu_aniso.models.block import BuildBlock, RunBlock  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.models.screw import RunScrew  # noqa: E402
 from exu_aniso.law.oracles import orthotropic_heading  # noqa: E402
 from exu_aniso.scenes.block import simulate_block  # noqa: E402

@@ -35,7 +35,7 @@ from exudyn.itemInterface import MassPoint, NodePoint, ObjectGenericODE2
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 import exu_aniso.engines.exudyn_adapter.glue as glue
-import exu_aniso.models.block as block_model
+from exu_aniso.engines.exudyn_adapter import runner
 from exu_aniso import Adhesion, Friction, Plane
 from exu_aniso.models.block import RunBlock
 from exu_aniso.models.capstan import BuildCapstan, CapstanTrajectory, RopeKineticEnergy, RunCapstan
@@ -83,7 +83,7 @@ def solves(monkeypatch):
         return ObjectGenericODE2(*args, **kw)
 
     monkeypatch.setattr(exudyn.solver, "CheckSolverInfoStatistics", recorder)
-    for module in (glue, block_model):
+    for module in (glue, runner):
         monkeypatch.setattr(module, "ObjectGenericODE2", counting)
     return record
 
@@ -194,13 +194,13 @@ def test_feeder_default_run_prints_no_allocation_warning(capfd):
 
 
 def test_allocation_check_still_warns_for_the_models_own_allocations(capfd):
-    """block_model.CheckAllocations: Exudyn's 2 vectors per contact force call are not counted;
+    """runner.CheckAllocations: Exudyn's 2 vectors per contact force call are not counted;
     anything else above the threshold and at least one per Newton iteration still warns."""
     now = np.array(exu.special.InfoStat(False))
     extra = np.zeros_like(now)
     extra[2] = 300000                  # new vectors (InfoStat: arrays, vectors, matrices: new and deleted)
     before = now - extra
-    assert block_model.CheckAllocations(before, 150000, 1000, 100000) < 100000
+    assert runner.CheckAllocations(before, 150000, 1000, 100000) < 100000
     assert WARNING not in capfd.readouterr().out
-    assert block_model.CheckAllocations(before, 0, 1000, 100000) >= 300000
+    assert runner.CheckAllocations(before, 0, 1000, 100000) >= 300000
     assert WARNING in capfd.readouterr().out

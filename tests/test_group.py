@@ -15,7 +15,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.glue import _SETS_KEY
-from exu_aniso.models.block import SolveTimed
+from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_points
 
 NODE_TYPES = {"EP": exu.NodeType.RotationEulerParameters, "RotVecLG": exu.NodeType.RotationRotationVector}

@@ -73,7 +73,8 @@ def test_failure_through_python_api_carries_time_step_contact_state_and_partial_
 def test_failure_from_a_user_function_names_the_original_error():
     """A ValueError raised inside the solver (here: a pre-step function) arrives as a
     SimulationFailure that quotes it, with the trajectory up to that time."""
-    from exu_aniso.models.block import BuildBlock, SolveTimed
+    from exu_aniso.models.block import BuildBlock
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
     model = BuildBlock(BlockParams(t_end=0.1, dt=1e-3))
     mbs = model["mbs"]
 

@@ -397,7 +397,9 @@ def _block_on_plate(node_type, implementation, jacobian):
     """exu_aniso/models/block.py's full block (4 points, displacement drive, 0.2 s) on a free plate of 1e9 kg at
     rest carrying the plane (no load on it: the block's weight moves it by ~1e-9 m), built through
     BuildBlock's contactBuilder so that nothing else of the scene changes."""
-    from exu_aniso.models.block import BuildBlock, SolveTimed, block_contact_law
+    from exu_aniso.models.block import BuildBlock
+    from exu_aniso.scenes.block import block_contact_law
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
     from exu_aniso.scenes.block import BlockParams
     p = BlockParams(model="full", t_end=0.2)
 

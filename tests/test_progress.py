@@ -121,7 +121,8 @@ def test_exudyn_hook_chains_counts_and_is_removed():
     """SolveTimed with progress: the system's own pre-step function still runs every step and is
     restored afterwards; the lines carry the solver's step and Newton counts (full Newton: 2 iterations
     in every step of this sliding block)."""
-    from exu_aniso.models.block import BuildBlock, SolveTimed
+    from exu_aniso.models.block import BuildBlock
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
     from exu_aniso.scenes.block import BlockParams
     model = BuildBlock(BlockParams(t_end=0.05, dt=1e-3), newton="full")
     mbs = model["mbs"]
@@ -146,7 +147,8 @@ def test_exudyn_hook_chains_counts_and_is_removed():
 
 def test_exudyn_hook_is_off_by_default_and_leaves_no_function(capsys, monkeypatch):
     monkeypatch.delenv(AFTER_ENV, raising=False)
-    from exu_aniso.models.block import BuildBlock, RunBlock, SolveTimed
+    from exu_aniso.models.block import BuildBlock, RunBlock
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
     from exu_aniso.scenes.block import BlockParams
     model = BuildBlock(BlockParams(t_end=0.01))
     SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"], progress=True)

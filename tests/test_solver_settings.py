@@ -6,9 +6,7 @@ import exudyn as exu
 import pytest
 
 import exu_aniso
-from exu_aniso.engines.exudyn_adapter import solver_settings
-from exu_aniso.models import block
-from exu_aniso.models.block import SimulationSettingsFor
+from exu_aniso.engines.exudyn_adapter.runner import SimulationSettingsFor
 from exu_aniso.scenes.block import BlockParams
 from exu_aniso.scenes.screw import ScrewParams
 from exu_aniso.engines.timing import step_count
@@ -99,11 +97,6 @@ def test_recommended_options():
 def test_one_definition():
     assert exu_aniso.RecommendedSimulationSettings is RecommendedSimulationSettings
     assert "RecommendedSimulationSettings" in exu_aniso.__all__
-    # the scenes' constants (models.block) are the recommendation's
-    assert block.NEWTON_CONTRACTIVITY == solver_settings.NEWTON_CONTRACTIVITY
-    assert block.MIN_STEP_FRACTION == solver_settings.MIN_STEP_FRACTION
-    assert block.NEWTON_MODES == solver_settings.NEWTON_MODES
-    assert block.SOLVER_TYPES == solver_settings.SOLVER_TYPES
 
 
 @pytest.mark.parametrize("kwargs, error, words", [

@@ -275,7 +275,7 @@ def _moving_master_run(p, velocity, omega, master_mass=1e9, implementation="auto
         exu.OutputVariableType, o))) for k, n, o in (("P", nP, "Position"), ("C", nM, "Position"),
                                                      ("A", nM, "RotationMatrix"))}
     mbs.Assemble()
-    from exu_aniso.models.block import SimulationSettingsFor
+    from exu_aniso.engines.exudyn_adapter.runner import SimulationSettingsFor
     # Newton tolerance 1e-8 instead of the scene's 1e-10: away from the origin the round-off of the
     # absolute coordinates (x - c at |x| ~ 0.5 m: 1e-16 m) times eps_n is ~1e-10 of the contact force,
     # and at 1e-10 Exudyn's Newton then fails now and then and cuts the step (246 steps for 200 with

@@ -1,6 +1,6 @@
 """SimulationFailure: a time integration that stopped before its end time, with the context to act on it.
 
-No Exudyn here. ``exu_aniso.models.block.SolveTimed`` raises it when ``mbs.SolveDynamic`` fails
+No Exudyn here. ``exu_aniso.engines.exudyn_adapter.runner.SolveTimed`` raises it when ``mbs.SolveDynamic`` fails
 (Exudyn 1.13.6 raises ``exudyn.SolverError("SolveDynamic terminated")`` when Newton fails at the
 minimum step size or step reduction is off, and ``exudyn.ModelError`` when a user function raises,
 e.g. a ``ValueError`` of the contact law; the sensors with ``storeInternal`` keep every accepted step

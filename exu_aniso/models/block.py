@@ -21,43 +21,25 @@ Run ``python -m exu_aniso.models.block`` (or this file) for a plot of the defaul
 """
 from __future__ import annotations
 
-import contextlib
-import io
 import math
-import os
-import re
-import sys
-import time
 
 import exudyn as exu
 import exudyn.solver
 import numpy as np
 from exudyn import graphics
-from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, MarkerNodeCoordinates, NodeGenericODE2,
-                                  NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinate,
-                                  ObjectConnectorCoordinateSpringDamper, ObjectConnectorCoordinateVector,
-                                  ObjectGenericODE2, ObjectRigidBody2D, SensorNode, VNodePointGround,
-                                  VObjectConnectorCoordinate, VObjectConnectorCoordinateSpringDamper,
-                                  VObjectRigidBody2D)
-from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RotationMatrixX,
-                                       RotationMatrixZ, RotationVector2RotationMatrix)
+from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigidBody2D, ObjectRigidBody2D,
+                                  SensorNode, VObjectRigidBody2D)
 from exudyn.utilities import InertiaCuboid
 
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, N_HISTORY
-from exu_aniso.engines.exudyn_adapter.glue import contact_force_calls
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, failure_message
-from exu_aniso.util.output import atomic_write
-from exu_aniso.engines.exudyn_adapter.runner import exudyn_pre_step
+from exu_aniso.engines.failure import SimulationFailure
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.result import Result
-from exu_aniso.engines.energy import RigidMotion, motion_about_z
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
-from exu_aniso.engines.exudyn_adapter.solver_settings import (MIN_STEP_FRACTION, NEWTON_CONTRACTIVITY, NEWTON_MODES,  # noqa: F401
-                                      SOLVER_TYPES)
-from exu_aniso.util.validation import check_in_range, check_instance, check_positive
-
-NODE_TYPES = {"RotVecLG": exu.NodeType.RotationRotationVector, "EP": exu.NodeType.RotationEulerParameters}
+from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, AddSpringDrive, BodyMotion, HistoryOutputs,
+                                                     IMPLICIT_SOLVERS, SimulationSettingsFor, SolveTimed, StoreSolution,
+                                                     Unwrap, WriteSnapshot)
+from exu_aniso.util.validation import check_instance
 
 
 # ----------------------------------------------------------------------------------------------
@@ -67,295 +49,8 @@ NODE_TYPES = {"RotVecLG": exu.NodeType.RotationRotationVector, "EP": exu.NodeTyp
 # explained there; studies/newton_settings.py measures every choice)
 
 
-def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None, newton="modified"):
-    """SimulationSettings and DynamicSolverType of a scene parameter set p (BlockParams or ScrewParams).
-
-    newton: "modified" (Exudyn's modified Newton with a Jacobian update when an iteration contracts
-    by less than NEWTON_CONTRACTIVITY) or "full" (useModifiedNewton False); relative/absolute Newton
-    tolerance ``newtonTolerance``; numberOfSteps = scenes.step_count(p) (round(t_end / dt)), the step's
-    floor MIN_STEP_FRACTION of the nominal step, sensors every step, no solution
-    file, silent. p.solver "trapezoidal" -> TrapezoidalIndex2 (Newmark beta 1/4, gamma 1/2, as the
-    reference); "generalized_alpha" -> GeneralizedAlpha with spectralRadius = rhoInf (reference
-    rho_inf). solverType: an exu.DynamicSolverType overriding p.solver (e.g. RK44 for an explicit check).
-    Built by exu_aniso.engines.exudyn_adapter.solver_settings.RecommendedSimulationSettings (the one definition)."""
-    rhoInf = check_in_range("rhoInf", rhoInf, 0.0, 1.0)
-    newtonTolerance = check_positive("newtonTolerance", newtonTolerance)
-    if newton not in NEWTON_MODES:
-        raise ValueError(f"newton must be one of {NEWTON_MODES}; got {newton!r}")
-    if solverType is not None:
-        check_instance("solverType", solverType, exu.DynamicSolverType, "exudyn.DynamicSolverType")
-    # one definition: the package's recommended settings for any model (exu_aniso.engines.exudyn_adapter.solver_settings)
-    from exu_aniso.engines.exudyn_adapter.solver_settings import RecommendedSimulationSettings
-    return RecommendedSimulationSettings(p.t_end, p.dt, newton=newton, newtonTolerance=newtonTolerance,
-                                         spectralRadius=rhoInf,
-                                         solver=p.solver if solverType is None else solverType)
-
-
-def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
-    """Add an ObjectGenericODE2 on one node applying the generalized force ``force(t, q) -> (n,)``
-    (q: node coordinates without reference values) with the exact LHS Jacobian built from
-    ``jacobian(t, q) -> (n, n)`` = -dQ/dq (velocity-independent drives). Returns the object number."""
-    n = int(nCoordinates)
-
-    def UFforce(mbs, t, itemNumber, q, q_t):
-        return force(t, np.asarray(q))
-
-    def UFjacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
-        return fODE2 * jacobian(t, np.asarray(q))
-
-    return mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nodeNumber], massMatrix=np.zeros((n, n)),
-                                           forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
-
-
-def _skew(a):
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-
-
-def _wrap(a):
-    return math.pi - (math.pi - a) % (2.0 * math.pi)
-
-
-def AddYawDrive(mbs, nodeNumber, nodeType, torque):
-    """A torque tau about the world z axis on a 3D rigid body's node (``nodeType`` "RotVecLG" or
-    "EP"), ``torque(yaw, t) -> (tau, dtau/dyaw)``, with yaw the unwrapped angle atan2(A_10, A_00) of
-    the body's rotation (a torsional spring to a driver: tau = k (omega t - yaw), dtau/dyaw = -k).
-    An ``AddNodeDrive`` (Python ObjectGenericODE2) with its exact Jacobian with respect to the local
-    rotation increment. Returns the object number."""
-    ep = nodeType == "EP"
-    nq = 7 if ep else 6
-    yaw_last = [0.0]   # last evaluated yaw: only used to unwrap (per-step change << pi)
-
-    def Kinematics(q):
-        if ep:
-            e = q[3:7] + np.array([1.0, 0.0, 0.0, 0.0])
-            return np.asarray(EulerParameters2RotationMatrix(e)), np.asarray(EulerParameters2GLocal(e))
-        return np.asarray(RotationVector2RotationMatrix(q[3:6])), np.eye(3)
-
-    def Yaw(A):
-        yaw = yaw_last[0] + _wrap(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])
-        yaw_last[0] = yaw
-        return yaw
-
-    def DriveForce(t, q):
-        A, G = Kinematics(q)
-        tau, _ = torque(Yaw(A), t)
-        Q = np.zeros(nq)
-        Q[3:] = G.T @ (A[2, :] * tau)       # local torque A^T (0, 0, tau)
-        return Q
-
-    def DriveJacobian(t, q):                # -dQ/dq, with respect to the local rotation increment
-        A, G = Kinematics(q)
-        tau, dtau = torque(Yaw(A), t)
-        Kq = np.zeros((nq, nq))
-        Kq[3:, 3:] = -G.T @ (_skew(A[2, :] * tau) + dtau * np.outer(A[2, :], A[2, :])) @ G
-        return Kq
-
-    return AddNodeDrive(mbs, nodeNumber, nq, DriveForce, DriveJacobian)
-
-
-# Exudyn's implicit solvers (the scenes' own); the explicit ones cannot solve constraints
-IMPLICIT_SOLVERS = tuple(SOLVER_TYPES.values())
-
-
-def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False):
-    """A drive spring on a node: the generalized force k (speed t - d.q) d on the node's coordinates
-    q (displacements), d = ``direction`` over them (a unit coordinate vector, or e.g. (d_x, d_y, 0)
-    for a spring along an in-plane direction), k = ``stiffness``. Returns the spring's object number.
-
-    Built from Exudyn C++ items, so no Python runs in it: a driver coordinate (a one-coordinate
-    ``NodeGenericODE2`` starting at 0 with velocity ``speed``) held at that velocity by an
-    ``ObjectConnectorCoordinate`` on velocity level (a constant velocity is integrated exactly, so
-    the driver sits at speed t), and an ``ObjectConnectorCoordinateSpringDamper`` from the driven
-    coordinate to it. The driven coordinate is q_i itself for a unit vector d = e_i, else a massless
-    slider w held at d.q by an ``ObjectConnectorCoordinateVector`` on velocity level from consistent
-    initial values (the position-level form drifts under generalized-alpha), which passes the
-    spring force to the node. python=True (explicit solvers, which cannot solve constraints): the
-    same spring as a Python ``ObjectGenericODE2`` with its exact Jacobian (``AddNodeDrive``)."""
-    d = np.asarray(direction, dtype=float)
-    k, speed = float(stiffness), float(speed)
-    if python:
-        K = k * np.outer(d, d)
-        return AddNodeDrive(mbs, nodeNumber, d.size, lambda t, q: k * (speed * t - d @ q) * d, lambda t, q: K)
-
-    def generic_node(q0, q0_t):
-        return mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0], initialCoordinates=[q0],
-                                           initialCoordinates_t=[q0_t], numberOfODE2Coordinates=1))
-
-    if np.count_nonzero(d) == 1 and d.max() == 1.0:          # d = e_i: the spring acts on q_i
-        mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodeNumber, coordinate=int(np.argmax(d))))
-    else:
-        node = mbs.GetNode(nodeNumber)
-        nSlider = generic_node(*(float(d @ np.asarray(node[name], dtype=float))
-                                 for name in ("initialCoordinates", "initialVelocities")))
-        mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nSlider], massMatrix=np.zeros((1, 1))))
-        mbs.AddObject(ObjectConnectorCoordinateVector(
-            markerNumbers=[mbs.AddMarker(MarkerNodeCoordinates(nodeNumber=nodeNumber)),
-                           mbs.AddMarker(MarkerNodeCoordinates(nodeNumber=nSlider))],
-            scalingMarker0=d.reshape(1, -1), scalingMarker1=np.ones((1, 1)), offset=[0.0], velocityLevel=True))
-        mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nSlider, coordinate=0))
-    nDriver = generic_node(0.0, speed)
-    mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nDriver], massMatrix=np.zeros((1, 1))))
-    mDriver = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nDriver, coordinate=0))
-    nGround = mbs.AddNode(NodePointGround(visualization=VNodePointGround(show=False)))
-    mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
-    mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mGround, mDriver], offset=speed, velocityLevel=True,
-                                            visualization=VObjectConnectorCoordinate(show=False)))
-    return mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
-        markerNumbers=[mDriven, mDriver], stiffness=k, damping=0.0,
-        visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
-
-
-def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
-    """mbs.SolveDynamic with wall time; returns (wall_s, steps, newton_iterations, info dict).
-
-    progress: None/False (silent), True or an ``exu_aniso.util.progress.Progress``: a run longer than
-    about 2 s shows its progress on stderr (simulated time in %, ETA, steps/s, Newton iterations),
-    through a pre-step user function chained with any existing Python one and removed afterwards
-    (it reads a clock and returns until an update is due: +0.2 to +0.7 % on the default scenes, within
-    the timing noise).
-
-    If the solver fails (Exudyn raises SolverError when Newton fails at the minimum step size or
-    with step reduction off, ModelError when a user function raises) this raises
-    ``exu_aniso.engines.failure.SimulationFailure`` instead: its message gives the simulated time reached,
-    the step size, the cause and the contact state of the last accepted step of every contact set
-    in ``contacts`` (dicts of CreateAnisotropicContact), read from their history nodes. Exudyn's own
-    failure printout (to stdout) is captured into ``SimulationFailure.solver_output`` when the
-    solver is silent (verboseMode 0); on success it is passed on unchanged."""
-    ti = simulationSettings.timeIntegration
-    capture = io.StringIO() if int(ti.verboseMode) == 0 else None
-    prog, previous = _AttachProgress(mbs, make_progress(progress), ti)
-    allocations = exu.special.InfoStat(False)
-    calls = contact_force_calls(mbs)
-    threshold = exudyn.solver.solverCheckMemoryAllocationsThreshold
-    exudyn.solver.solverCheckMemoryAllocationsThreshold = math.inf   # checked below, without Exudyn's own
-    t0 = time.perf_counter()
-    try:
-        with contextlib.redirect_stdout(capture) if capture is not None else contextlib.nullcontext():
-            ok = mbs.SolveDynamic(simulationSettings, solverType=solverType, storeSolver=True)
-        error = None if ok else "SolveDynamic returned False"
-    except Exception as e:                      # exudyn.SolverError, exudyn.ModelError, ...
-        error = e
-    finally:
-        exudyn.solver.solverCheckMemoryAllocationsThreshold = threshold
-        if prog is not None:                    # leave the system as it was given
-            mbs.SetPreStepUserFunction(previous if previous is not None else 0)
-    wall = time.perf_counter() - t0
-    it = mbs.sys["dynamicSolver"].it
-    steps = int(it.currentStepIndex) - 1 if solverType in SOLVER_TYPES.values() else int(it.currentStepIndex)
-    if prog is not None:                        # end the progress line before anything else is printed
-        prog.finish(t=float(mbs.systemData.GetTime(exu.ConfigurationType.StartOfStep)), steps=steps,
-                    newton_iterations=int(it.newtonStepsCount), ok=error is None)
-    if capture is not None and error is None and capture.getvalue():
-        sys.stdout.write(capture.getvalue())
-    if error is None:
-        CheckAllocations(allocations, contact_force_calls(mbs) - calls, int(it.newtonStepsCount), threshold)
-    if error is not None:
-        raise _Failure(mbs, simulationSettings, it, steps, error, contacts,
-                       capture.getvalue() if capture is not None else "") from (error if isinstance(error, Exception)
-                                                                                 else None)
-    # accepted steps beyond the nominal number mean Newton failed somewhere and Exudyn reduced the step
-    # (the solver keeps no count of rejected attempts; count PreStep calls for that)
-    info = dict(solverType=str(solverType), nominal_steps=int(simulationSettings.timeIntegration.numberOfSteps),
-                accepted_steps=steps, newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
-    return wall, steps, int(it.newtonStepsCount), info
-
-
-def CheckAllocations(before, contact_calls, newton_iterations, threshold):
-    """Exudyn's check of a solve's memory allocations (``exudyn.solver.CheckSolverInfoStatistics``:
-    a warning when the most new Exudyn arrays, vectors or matrices exceed ``threshold`` and at
-    least one per Newton iteration), without the allocations Exudyn makes itself for every call of
-    a contact set's force function: 2 vectors, its copies of the returned force (tests/
-    test_exudyn_warnings.py), which are no sign of a slow model and about which a user can do
-    nothing. Anything else that allocates every iteration (a sensor, a user function of the
-    model) still gives the warning. before: ``exu.special.InfoStat(False)`` at the solve's start;
-    contact_calls: the force calls in the solve (glue.contact_force_calls). Returns the
-    count checked."""
-    new = np.array(exu.special.InfoStat(False)) - np.array(before)
-    count = max(new[0], new[2] - 2 * contact_calls, new[4])
-    if count > threshold and count >= newton_iterations:
-        print(f"WARNING: the solve made {count} memory allocations beyond the 2 vectors Exudyn makes for "
-              "every call of a contact's force function; something allocates in every time step (a sensor "
-              "or a user function of the model): the solver may be slow", flush=True)
-    return int(count)
-
-
-def _AttachProgress(mbs, prog, ti):
-    """Start ``prog`` (Progress or None) and install its pre-step function, chained with the system's
-    own Python pre-step function; returns (prog or None, previous function or None). A symbolic
-    pre-step function cannot be chained from Python: then no progress is shown."""
-    if prog is None:
-        return None, None
-    previous = mbs.GetPreStepUserFunction()
-    if isinstance(previous, dict):              # {'function': f, 'type': 'Python' | symbolic}
-        if previous.get("type") != "Python":
-            return None, None
-        previous = previous["function"]
-    if not callable(previous):                  # 0: none set
-        previous = None
-    prog.start(float(ti.endTime), float(ti.startTime))
-    mbs.SetPreStepUserFunction(exudyn_pre_step(prog, previous))
-    return prog, previous
-
-
-def _cause(error):
-    """Short text of what stopped the solver (the user function's own error line if there is one)."""
-    if isinstance(error, str):
-        return error
-    text = str(error)
-    if type(error).__name__ == "SolverError":
-        return ("Newton did not converge and the step size could not be reduced further "
-                "(exudyn.SolverError: " + text + ")")
-    m = re.search(r"^\s*(\w+(?:Error|Exception|Failure)): (.*?)(?:\n\s*\n|\nAt:|$)", text, re.M | re.S)
-    if "USER FUNCTION" in text and m:
-        return f"a user function raised {m.group(1)}: {m.group(2).strip()}"
-    return f"{type(error).__name__}: {text.strip()}"
-
-
-def _Failure(mbs, simulationSettings, it, steps, error, contacts, output):
-    """Build the SimulationFailure of a failed SolveDynamic (see SolveTimed)."""
-    ti = simulationSettings.timeIntegration
-    t_reached = float(mbs.systemData.GetTime(exu.ConfigurationType.StartOfStep))
-    states = []
-    for c in contacts:
-        h = mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates,
-                              configuration=exu.ConfigurationType.StartOfStep)
-        law = c.get("law")
-        states.append(contact_state_from_history(h, getattr(law, "eps_N", None), getattr(law, "d_N", 0.0)))
-    hint = ""
-    if type(error).__name__ == "SolverError":
-        h = float(ti.endTime) / max(1.0, float(ti.numberOfSteps))
-        hint = (f"(the step fell to its floor, minimumStepSize {ti.minimumStepSize:.3g} s = "
-                f"{ti.minimumStepSize / h:.3g} of the nominal step {h:.3g} s; Newton maxIterations "
-                f"{ti.newton.maxIterations}; try a smaller dt, softer penalties or another return map)")
-    cause = _cause(error)
-    msg = failure_message(t_reached, float(ti.endTime), float(it.currentStepSize), cause, states, steps=steps,
-                          newton_iterations=int(it.newtonStepsCount), hint=hint)
-    return SimulationFailure(msg, time_reached=t_reached, end_time=float(ti.endTime),
-                             step_size=float(it.currentStepSize), cause=cause, contact_states=states, steps=steps,
-                             newton_iterations=int(it.newtonStepsCount), solver_output=output)
-
-
-def HistoryOutputs(mbs, contact):
-    """Per-step total dissipated energy [J] and mean accumulated slip distance [m] from the
-    contact's history sensor, and the history array (steps + 1, K, N_HISTORY)."""
-    D = mbs.GetSensorStoredData(contact["sHistory"])
-    H = D[:, 1:].reshape(D.shape[0], -1, N_HISTORY)
-    return (H[:, :, HISTORY_FIELDS.index("dissipated_energy")].sum(axis=1),
-            H[:, :, HISTORY_FIELDS.index("slip_distance")].mean(axis=1), H)
-
-
-def Unwrap(angle):
-    """Continuous angle from a sequence of wrapped ones (per-step change below pi)."""
-    return np.unwrap(np.asarray(angle, dtype=float))
-
-
 # ----------------------------------------------------------------------------------------------
 # pictures: body graphics, raytraced snapshot, solution viewer
-
-SNAPSHOT_SIZE = (800, 600)                      # [width, height] of snapshot.png in pixels
-# view of the snapshot (openGL.advanced.initialModelRotation): oblique from above, z up the image, from
-# 35 deg above the xy-plane, from the side the default light falls on (applied at the first render of an SC)
-SNAPSHOT_ROTATION = (RotationMatrixX(-math.radians(55.0)) @ RotationMatrixZ(math.radians(150.0))).T
 
 
 def BlockGraphics(p, center=(0.0, 0.0, 0.0)):
@@ -363,71 +58,6 @@ def BlockGraphics(p, center=(0.0, 0.0, 0.0)):
     a = p.size
     return [graphics.Brick(centerPoint=list(center), size=[a, a, a], color=graphics.color.steelblue,
                            addEdges=True, edgeColor=graphics.color.black)]
-
-
-def SnapshotImage(model, size=SNAPSHOT_SIZE, modelRotation=None):
-    """The model's Current state (after a solve: the final one) as an RGB image (height, width, 3),
-    uint8, rendered by Exudyn's software raytracer without a window (exudyn.interactive.ShowImage;
-    no display needed). modelRotation: 3x3 view rotation (None: SNAPSHOT_ROTATION, oblique from
-    above). The solver's status line is left out of the picture; the time is kept."""
-    from exudyn.interactive import ShowImage
-    SC = model["SC"]
-    sd = model["mbs"].systemData                # draw the Current state, whatever the renderer last showed
-    sd.SetSystemState(sd.GetSystemState(exu.ConfigurationType.Current), exu.ConfigurationType.Visualization)
-    sd.SetTime(sd.GetTime(exu.ConfigurationType.Current), exu.ConfigurationType.Visualization)
-    general = SC.visualizationSettings.general
-    before = general.showSolverInformation, general.minSceneSize
-    general.showSolverInformation = False
-    general.minSceneSize = 1e-3                  # zoom onto a small body too (the screw is 2 cm long)
-    try:
-        return ShowImage(SC, size=list(size), show=False,
-                         modelRotation=SNAPSHOT_ROTATION if modelRotation is None else modelRotation)
-    finally:
-        general.showSolverInformation, general.minSceneSize = before
-
-
-def WriteSnapshot(model, fileName, size=SNAPSHOT_SIZE, modelRotation=None):
-    """Write ``SnapshotImage`` as PNG to fileName, atomically (temporary name, then moved into place)."""
-    from matplotlib.image import imsave
-    image = SnapshotImage(model, size=size, modelRotation=modelRotation)
-    atomic_write(fileName, lambda f: imsave(f, image, format="png"))
-    return fileName
-
-
-def StoreSolution(simulationSettings, fileName, frames=500):
-    """Let the solver write its solution (coordinates, binary) to fileName, about ``frames`` rows over
-    the run, for ``ViewSolution``."""
-    ss = simulationSettings
-    ss.solution.file.write = True
-    ss.solution.file.binary = True
-    ss.solution.file.name = str(fileName)
-    span = float(ss.timeIntegration.endTime - ss.timeIntegration.startTime)
-    ss.solution.file.writePeriod = span / max(int(frames), 1)
-
-
-def DisplayProblem():
-    """Why no render window can open here ("DISPLAY is not set"), or None. Exudyn's renderer.Start()
-    aborts the whole process on Linux without a display, so check this before calling it."""
-    if bool(exu.special.userInterface.suppressRenderer):   # Start() returns at once: harmless
-        return None
-    if sys.platform.startswith(("win", "cygwin", "darwin")):
-        return None
-    if not os.environ.get("DISPLAY"):
-        return "DISPLAY is not set"
-    return None
-
-
-def ViewSolution(model, fileName, title=""):
-    """Open Exudyn's SolutionViewer (render window and dialog) on the solution file written by a run
-    of the same model (RunBlock/RunScrew solutionFile=..., or ``StoreSolution``); returns when the
-    window is closed. Raises RuntimeError instead of opening it when there is no display."""
-    problem = DisplayProblem()
-    if problem:
-        raise RuntimeError(f"ViewSolution needs a display ({problem}); "
-                           "use WriteSnapshot, or run under xvfb-run -a")
-    from exudyn.utilities import LoadSolutionFile
-    solution = LoadSolutionFile(str(fileName), verbose=False)
-    model["mbs"].SolutionViewer(solution, title=title)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -540,19 +170,6 @@ def BlockTrajectory(model):
     traj["dissipated_energy"] = diss
     traj["slip_distance"] = slip
     return traj
-
-
-def BodyMotion(model, traj):
-    """energy.RigidMotion of the model's body from its stored sensors (full: position, rotation
-    matrix, velocity, angular velocity; planar or reduced: from the trajectory's coordinates)."""
-    mbs, p, S = model["mbs"], model["params"], model["sensors"]
-    if p.model == "full":
-        P, A, V, W = (mbs.GetSensorStoredData(S[k])[:, 1:] for k in ("sPosition", "sRotation", "sVelocity", "sOmega"))
-        return RigidMotion(P, A.reshape(-1, 3, 3), V, W)
-    if "theta" in traj:
-        return motion_about_z(traj["x"], traj["y"], traj["z"], traj["theta"], traj["vx"], traj["vy"], 0.0,
-                              traj["omega"])
-    return motion_about_z(0.0, 0.0, traj["z"], traj["angle"], 0.0, 0.0, traj["vz"], traj["omega"])
 
 
 def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=None, **options):

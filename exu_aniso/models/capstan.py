@@ -35,7 +35,8 @@ from exu_aniso.kernel.contact_law import HISTORY_FIELDS
 from exu_aniso.engines.energy import work_trapezoid
 from exu_aniso.engines.exudyn_adapter.glue import hermite_shape_functions
 from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.models.block import HistoryOutputs, SimulationSettingsFor, SolveTimed, StoreSolution, WriteSnapshot
+from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, SimulationSettingsFor, SolveTimed,
+                                                     StoreSolution, WriteSnapshot)
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.capstan import (CapstanParams, capstan_contact_law, capstan_energy, capstan_summary,
@@ -103,7 +104,7 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
     residual has a round-off floor near 1e-9 with fine elements, where a tighter tolerance makes
     Newton fail and Exudyn cut the step again and again: 48 elements, 1e-10, measured); rhoInf: spectral
     radius of generalized-alpha (solver="generalized_alpha"); newton: "modified" | "full"
-    (models.block.SimulationSettingsFor); stop: stop the run at
+    (exu_aniso.engines.exudyn_adapter.runner.SimulationSettingsFor); stop: stop the run at
     stop_displacement (pre-step function); show: renderer graphics of the drum and the contact points
     (mbs.CreateAnisotropicContact(show=...); drawn only when a scene is rendered)."""
     check_instance("p", p, CapstanParams)

@@ -26,8 +26,9 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.law import oracles
 from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.models.block import (NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, SimulationSettingsFor, SolveTimed, StoreSolution, Unwrap,
-                                    WriteSnapshot)
+from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive,
+                                                     SimulationSettingsFor, SolveTimed, StoreSolution,
+                                                     Unwrap, WriteSnapshot)
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.fastening import (FasteningParams, bolt_inertia, contact_torques, fastening_energy,

@@ -26,7 +26,8 @@ from exudyn.utilities import InertiaCuboid
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.models.block import SimulationSettingsFor, SolveTimed, StoreSolution, WriteSnapshot
+from exu_aniso.engines.exudyn_adapter.runner import (SimulationSettingsFor, SolveTimed, StoreSolution,
+                                                     WriteSnapshot)
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary,

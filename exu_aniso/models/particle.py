@@ -19,7 +19,8 @@ from exudyn.itemInterface import SensorNode
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.models.block import HistoryOutputs, SimulationSettingsFor, SolveTimed, StoreSolution, WriteSnapshot
+from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, SimulationSettingsFor, SolveTimed,
+                                                     StoreSolution, WriteSnapshot)
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.particle import (ParticleParams, finish_trajectory, gravity_vector, initial_state,
@@ -35,7 +36,7 @@ def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoIn
     jacobian: "analytic" | "numerical" (contact Jacobian); implementation: contact kernel "auto" |
     "compiled" | "numpy"; solverType: an exu.DynamicSolverType overriding p.solver; rhoInf:
     spectral radius of generalized-alpha; newtonTolerance: Newton relative and absolute tolerance;
-    newton: "modified" | "full" (models.block.SimulationSettingsFor);
+    newton: "modified" | "full" (exu_aniso.engines.exudyn_adapter.runner.SimulationSettingsFor);
     contactLaw: a ContactLaw replacing the scene's (e.g. on a surface of one's own); show: draw the
     surface and the contact point in the renderer."""
     check_instance("p", p, ParticleParams)

@@ -35,9 +35,10 @@ from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.failure import SimulationFailure
 from exu_aniso.util.progress import make_progress
-from exu_aniso.models.block import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive, AddYawDrive, BodyMotion,
-                                   HistoryOutputs, SimulationSettingsFor, SolveTimed, StoreSolution, Unwrap,
-                                   WriteSnapshot)
+from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
+                                                     AddYawDrive, BodyMotion, HistoryOutputs,
+                                                     SimulationSettingsFor, SolveTimed, StoreSolution,
+                                                     Unwrap, WriteSnapshot)
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.screw import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.util.validation import check_bool, check_instance

@@ -57,7 +57,7 @@ import sys
 import time
 
 import numpy as np
-from exu_aniso.models.block import SolveTimed
+from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 import exudyn as exu
 from exudyn.itemInterface import (
     MarkerBodyPosition,
@@ -226,7 +226,7 @@ def BaselineTrajectory(model):
 # the ratio table (ours / baseline, measured in the same run)
 
 # scenes of the ratio table: (scene, model, overrides, drive label, Build* options). With C++ loads and the
-# default spring drives (Exudyn C++ items too: models.block.AddSpringDrive) the contact is the only Python
+# default spring drives (Exudyn C++ items too: exu_aniso.engines.exudyn_adapter.runner.AddSpringDrive) the contact is the only Python
 # user function in ours. The screw's torque is 0.02 N m: it sticks (the step load overshoots to 0.04 N m
 # against a sliding torque of 0.101 N m), where our law is the linear spring of the baseline. At the
 # scene's default torque, 0.05 N m, the overshoot grazes the sliding torque and the run is not converged in

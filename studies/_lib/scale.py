@@ -10,7 +10,7 @@ Contact variants (``BuildCubes``):
 * ``empty``: the group's Exudyn items with user functions that return zeros (the floor).
 
 Every variant runs Exudyn's sparse linear solver. Ours run at the package's Newton settings
-(``models.block.SimulationSettingsFor``: modified Newton, contractivity 0.01, tolerance 1e-10),
+(``exu_aniso.engines.exudyn_adapter.runner.SimulationSettingsFor``: modified Newton, contractivity 0.01, tolerance 1e-10),
 the springs and the floor at Exudyn's defaults. Figures are process CPU time of the whole solve per
 nominal step and per body, medians of interleaved repeats. Callbacks per Newton iteration are
 counted in a separate, untimed run. Peak memory (``memory_rows``) is the peak resident set size of
@@ -29,7 +29,7 @@ from exudyn.itemInterface import ObjectGenericODE2
 from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.models.block import SimulationSettingsFor, SolveTimed
+from exu_aniso.engines.exudyn_adapter.runner import SimulationSettingsFor, SolveTimed
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_points
 
 from .baseline import _cartesian_springs

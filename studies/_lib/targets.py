@@ -68,7 +68,8 @@ from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
 from exudyn.rigidBodyUtilities import RotationMatrixY
 from exudyn.utilities import InertiaCuboid
 
-from exu_aniso.models.block import BuildBlock, SolveTimed
+from exu_aniso.models.block import BuildBlock
+from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.models.screw import BuildScrew
 from exu_aniso.scenes.block import BlockParams
 from exu_aniso.scenes.screw import ScrewParams
@@ -177,7 +178,7 @@ def plate_builder(p, speed=0.0, nodeType=exu.NodeType.RotationEulerParameters, i
     without load, moving uniformly at (speed, -speed/2, 0)) instead of the fixed plane: a
     moving-master set over the block's and the plate's coordinates."""
     def build(mbs, oBlock, localPoints):
-        from exu_aniso.models.block import block_contact_law
+        from exu_aniso.scenes.block import block_contact_law
         oPlate = _plate(mbs, speed, nodeType)
         return mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
                                             contactLaw=block_contact_law(p), masterBodyNumber=oPlate,

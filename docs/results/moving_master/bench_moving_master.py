@@ -22,7 +22,8 @@ import sys
 import exudyn as exu
 import numpy as np
 
-from exu_aniso.models.block import BuildBlock, SolveTimed
+from exu_aniso.models.block import BuildBlock
+from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.scenes import BlockParams
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "studies"))

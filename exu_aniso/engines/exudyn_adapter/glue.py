@@ -845,7 +845,7 @@ UNRESOLVED_STEP_FACTOR = 0.25
 def contact_force_calls(mbs):
     """How many times Exudyn called the force user functions of this system's contact sets so far.
     Exudyn allocates 2 vectors per call of an ObjectGenericODE2 force function (its own copies of the
-    returned force), which its solver's allocation check counts (models.block.SolveTimed)."""
+    returned force), which its solver's allocation check counts (exu_aniso.engines.exudyn_adapter.runner.SolveTimed)."""
     return sum(cs.force_calls for cs in mbs.variables.get(_SETS_KEY, ()))
 
 

@@ -2,7 +2,7 @@
 
 ``RecommendedSimulationSettings(endTime, stepSize)`` returns the ``exu.SimulationSettings`` and the
 ``exu.DynamicSolverType`` for ``mbs.SolveDynamic``. The package's scenes get theirs from it too
-(``exu_aniso.models.block.SimulationSettingsFor`` delegates here), so a user's own model runs at
+(``exu_aniso.engines.exudyn_adapter.runner.SimulationSettingsFor`` delegates here), so a user's own model runs at
 exactly the settings every figure of the README was measured with::
 
     import exudyn as exu
