@@ -7,7 +7,8 @@ and ``exu_aniso.engines.exudyn_adapter.graphics`` are the places that talk to Ex
 package still imports, and the reference engine runs.
 """
 from exu_aniso.util.numba_cache import CACHE_DIR as NUMBA_CACHE_DIR   # first: before any compiled kernel is defined
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, OPEN, SLIP, STICK, ContactLaw, ContactState
+from exu_aniso.law.history import HISTORY_FIELDS, OPEN, SLIP, STICK
+from exu_aniso.kernel.contact_law import ContactLaw, ContactState
 from exu_aniso.fields.tensor_fields import Adhesion, Friction, TensorField
 from exu_aniso.law.return_maps import RETURN_MAPS, return_map_batch, return_map_point
 from exu_aniso.geometry import Cone, Cylinder, Helicoid, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus

@@ -1,6 +1,6 @@
 """The scenes the command line knows, one record each: ``exu-aniso run NAME`` and ``exu-aniso params NAME``.
 
-A scene is a parameter class (a frozen dataclass with ``scenes._ParamsMixin``), the columns of its
+A scene is a parameter class (a frozen dataclass with ``scenes.SceneParams``), the columns of its
 trajectory.csv with their SI units, the two summary values in the plot title, a function that
 draws trajectory.png on a matplotlib Figure, its Exudyn model script (``exu_aniso.models.<model>``
 with ``Build<Model>(p)`` and ``Run<Model>(p, progress=, snapshot=, solutionFile=)``) and, where one
@@ -38,7 +38,7 @@ class Scene:
 
     def _model_function(self, prefix):
         module = importlib.import_module(f"exu_aniso.models.{self.model}")
-        return getattr(module, prefix + self.model.capitalize())
+        return getattr(module, prefix + self.model[:1].upper() + self.model[1:])   # block: BuildBlock, RunBlock
 
     def run_exudyn(self, params, **kw):
         """Run<Model>(params, progress=, snapshot=, solutionFile=) -> Result."""

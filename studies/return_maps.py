@@ -69,7 +69,7 @@ def run_refinement(case):
         tr = ScrewTrajectory(model, contactOutputs=False)
         final = (float(tr["z"][-1]), float(tr["angle"][-1]))
     _, _, H = HistoryOutputs(model["mbs"], model["contact"])
-    from exu_aniso.kernel.contact_law import HISTORY_FIELDS
+    from exu_aniso.law.history import HISTORY_FIELDS
     Dp = H[:, :, HISTORY_FIELDS.index("dissipated_energy")]        # (steps + 1, K) accumulated per point
     inc = np.diff(Dp, axis=0)
     total = float(Dp[-1].sum())

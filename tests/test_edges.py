@@ -22,7 +22,7 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.result import Result
 from exu_aniso.scenes.block import simulate_block
 from exu_aniso.catalog import SCENES
-from exu_aniso.scenes.base import MAGNITUDE_LIMITS, MAX_STEPS, _energy
+from exu_aniso.scenes.base import MAGNITUDE_LIMITS, MAX_STEPS, energy_ledger
 from exu_aniso.scenes.block import BlockParams, block_inertia
 from exu_aniso.scenes.screw import ScrewParams, screw_inertia
 from exu_aniso.engines.timing import step_count, time_grid
@@ -65,7 +65,7 @@ def test_non_finite_state_opens_the_ledger():
     traj = dict(t=np.linspace(0.0, 0.4, n), x=np.array([0.0, 1.0, np.nan, 3.0, 4.0]))
     zero = np.zeros(n)
     with pytest.warns(energy.EnergyWarning, match="x is not finite at t = 0.2 s"):
-        s = _energy(dict(work_in=zero, kinetic=zero, potential=zero, stored=zero, dissipated=zero), traj, "test")
+        s = energy_ledger(dict(work_in=zero, kinetic=zero, potential=zero, stored=zero, dissipated=zero), traj, "test")
     assert s["energy_ok"] is False
     assert s["state_nonfinite"] == dict(column="x", index=2, t=pytest.approx(0.2))
 

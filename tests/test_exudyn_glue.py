@@ -7,7 +7,7 @@ from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.geometry import Plane
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS  # noqa: E402
+from exu_aniso.law.history import HISTORY_FIELDS  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact, HistoryComponent  # noqa: E402
 
 

@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from exu_aniso import Adhesion, ContactLaw, Friction
-from exu_aniso.kernel.contact_law import N_HISTORY
+from exu_aniso.law.history import N_HISTORY
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.law.return_maps import RETURN_MAPS, SLIP, STICK, return_map_batch, return_map_point
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from exu_aniso import Adhesion, ContactLaw, Friction
-from exu_aniso.kernel.contact_law import SLIP, UNRESOLVED
+from exu_aniso.law.history import SLIP, UNRESOLVED
 from exu_aniso.geometry import Cone, Cylinder, Plane, Sphere, _core
 
 SURFACES = [Plane("cartesian"), Plane("polar"), Plane(side="back"),

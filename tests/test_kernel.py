@@ -274,7 +274,7 @@ def test_a_point_in_contact_thrown_to_a_centre_of_curvature_is_an_unresolved_ste
     curvature) is no user error: it gives no force, keeps its history, and has the status UNRESOLVED,
     which makes the engines reject the step and repeat it smaller. A new point there stays an error
     (test_contact_on_a_pole_or_axis_is_a_clear_error)."""
-    from exu_aniso.kernel.contact_law import UNRESOLVED
+    from exu_aniso.law.history import UNRESOLVED
     law = ContactLaw(geo.Cylinder(0.5, side="outside"), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)
     H = law.initial_history(1)
     H[0, 2:5] = [0.3, 0.2, 1.0]                     # active, anchored at (phi, z) = (0.3, 0.2)

@@ -344,7 +344,7 @@ def test_reference_runs_without_exudyn():
     """The standalone reference needs numpy and scipy only: with Exudyn unavailable (import exudyn
     raises ImportError) it still simulates a scene."""
     code = ("import sys\nsys.modules['exudyn'] = None\n"
-            "from exu_aniso.scenes.block import simulate_block\nfrom exu_aniso.scenes.base import BlockParams\n"
+            "from exu_aniso.scenes.block import simulate_block\nfrom exu_aniso.scenes.block import BlockParams\n"
             "r = simulate_block(BlockParams(t_end=0.01))\nprint(r.summary['steps'], 'exudyn' in sys.modules "
             "and sys.modules['exudyn'] is not None)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

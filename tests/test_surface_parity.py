@@ -29,7 +29,7 @@ import pytest
 
 exu = pytest.importorskip("exudyn")
 
-from exu_aniso.kernel.contact_law import SLIP, STICK  # noqa: E402
+from exu_aniso.law.history import SLIP, STICK  # noqa: E402
 from exu_aniso.models.particle import RunParticle  # noqa: E402
 from exu_aniso.scenes.particle import simulate_particle  # noqa: E402
 from exu_aniso.scenes.particle import (ParticleParams, gravity_vector, initial_state,  # noqa: E402

@@ -42,7 +42,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, N_HISTORY
+from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY
 
 ENERGY_TOLERANCE = 1e-2
 """Relative residual above which a run's ledger does not close (``energy_ok`` false, warning)."""

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK
+from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK
 
 STATUS_NAMES = {OPEN: "open", STICK: "stick", SLIP: "slip"}
 MAX_POINTS_SHOWN = 8

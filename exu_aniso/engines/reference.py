@@ -78,7 +78,8 @@ import time
 
 import numpy as np
 
-from exu_aniso.kernel.contact_law import UNRESOLVED, ContactLaw
+from exu_aniso.law.history import UNRESOLVED
+from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.engines import energy
 from exu_aniso.engines.result import Result  # noqa: F401  (the result of run's callers)
 from exu_aniso.engines.timing import time_grid, time_step
@@ -127,8 +128,22 @@ def _wrap(a):
 
 
 class BodyModel:
-    """Interface: n, mass (n,), row_scale (n,), q0/v0, retract, evaluate, record, force_level and
-    points0(q, v): the contact points' positions and velocities for the initial history."""
+    """A body model of the reference engine (a scene's module defines its own; see
+    docs/adding_a_scene.md). What ``run`` uses:
+
+    * ``n`` coordinates, ``K`` contact points, ``law`` (its ContactLaw);
+    * ``mass`` (n,): the diagonal mass matrix; ``row_scale`` (n,): the residual rows' scale for the
+      convergence test (a moment row: a length); ``dof_scale`` (n,): the coordinates' size for the
+      numerical Jacobian;
+    * ``q0``, ``v0``: the initial state;
+    * ``points0(q, v)``: the contact points' positions and velocities (K, 3) for the initial history;
+    * ``evaluate(q, v, t, H, tangent=True, dt=None)`` -> (g, dg/dq, dg/dv, ContactState): the
+      generalized force and, with tangent, its derivatives (None without);
+    * ``motion(q, v)`` -> (position, rotation matrix, velocity, angular velocity) for the energy ledger;
+    * ``record(q, v, t, st)`` -> dict of the trajectory's row;
+    * ``retract(q, d)`` -> (q + d, its tangent or None): the update (a Lie group's for rotations;
+      this class: vector addition) and ``force_level(st)`` (the convergence test's force scale)
+      have defaults here."""
 
     def retract(self, q, d):
         return q + d, None
@@ -405,6 +420,12 @@ RUN_OPTIONS = ("jacobian", "rho_inf", "newton_tol", "max_newton", "max_halvings"
 
 def run(model, p, *, jacobian="analytic", rho_inf=0.8, newton_tol=1e-10, max_newton=25, max_halvings=6,
          nonsmooth_accept=True, line_search=True, reject_steps=(), split_steps=(), floor):
+    """Integrate a body model (``BodyModel``) over the time grid of the parameter set p (``t_end``,
+    ``dt``, ``solver``: "trapezoidal" or "generalized_alpha"); floor [N]: the smallest force scale of
+    the convergence test (a scene takes 1e-6 x its normal stiffness x its size). Options as listed in
+    the module docstring (``RUN_OPTIONS``). Returns (trajectory dict of arrays, wall time [s], Newton
+    iterations, accepted steps, info dict, energy.RigidMotion of the model's motion, contact history
+    (steps + 1, K, N_HISTORY)); a scene turns them into its Result (e.g. scenes.block.simulate_block)."""
     stepper = _Stepper(model, p.solver, rho_inf, jacobian, newton_tol, max_newton, max_halvings, floor)
     stepper.line_search = check_bool("line_search", line_search)
     nonsmooth_accept = check_bool("nonsmooth_accept", nonsmooth_accept)

@@ -9,12 +9,7 @@ Every point goes through the covariant kernel (``exu_aniso.kernel.point.contact_
 definition the compiled Exudyn route calls: compiled when the surface is (every built-in surface,
 a user surface numba can compile), plain Python otherwise.
 
-History layout, one row per point (``HISTORY_FIELDS``): traction T in the orthonormal tangent
-frame of the anchor (2), surface coordinates xi of the anchor, the contact point at the last
-accepted step (2; periodic coordinates unwrapped, so they count revolutions), active flag
-(1 = was in contact), accumulated dissipated energy [J],
-accumulated slip distance [m], status of the step (OPEN 0 / STICK 1 / SLIP 2) and the normal
-traction N [N] (the last two are outputs for sensors; the law does not read them back).
+History layout, one row per point, and the status codes: ``exu_aniso.law.history``.
 
 Decisions (documented in README):
 * rate form, papers' eq. (5): ``T_tr = T_n (transported to the new contact point) + B(C_new) du``
@@ -33,15 +28,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from exu_aniso import geometry as _geometry
+from exu_aniso.law.history import N_HISTORY, OPEN
 from exu_aniso.law.return_maps import check_return_map, elastic_energy_batch
 from exu_aniso.fields.nets import net_of
 from exu_aniso.util.validation import check_array, check_nonnegative, check_points, check_positive
 
-HISTORY_FIELDS = ("traction_1", "traction_2", "anchor_1", "anchor_2", "active",
-                  "dissipated_energy", "slip_distance", "status", "normal")
-N_HISTORY = len(HISTORY_FIELDS)
-OPEN, STICK, SLIP, UNRESOLVED = 0, 1, 2, 3
-STATUS_NAMES = ("open", "stick", "slip", "unresolved")
 
 
 @dataclass

@@ -48,12 +48,12 @@ from exu_aniso.kernel.sets import point_force as sets_point_force
 from exu_aniso.kernel.sets import point_law as sets_point_law
 from exu_aniso.geometry import _core
 from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
+from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
+                                      H_XI2, N_HISTORY, OPEN, SLIP, STICK, UNRESOLVED)
 from exu_aniso.law.return_maps import MAP_CODES, return_map
 from exu_aniso.fields.nets import physical, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
-OPEN, STICK, SLIP, UNRESOLVED = 0, 1, 2, 3
-N_HISTORY = 9
 # central difference step of the surface quantities in xi, relative to the local length scale
 # (angles: in radians); the central stencil's error is ~ step^2 (truncation) + eps / step
 # (round-off), ~1e-10 relative: Newton needs no more (a fourth-order stencil, ~1e-12, cost twice the
@@ -133,6 +133,10 @@ def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
             G1[0], G1[1], G1[2], G2[0], G2[1], G2[2])
 
 
+# the surface terms (surface_terms) by position: transported traction (2), slip (2), B (11, 12, 22),
+# F (11, 12, 22), n (3), G's first and second row (3 each)
+(ST_T1, ST_T2, ST_S1, ST_S2, ST_B11, ST_B12, ST_B22, ST_F11, ST_F12, ST_F22,
+ ST_N, _, _, ST_G1, _, _, ST_G2, _, _) = range(19)
 _NT = 19            # number of surface terms
 
 
@@ -156,13 +160,14 @@ def net_at_batch(sp, net, anchors, out):
 @njit(cache=True)
 def _release(sp, netB, h, hn):
     """Contact lost: T . C^-1 T / 2 at the anchor of an active row h is booked as dissipated."""
-    if not h[4] > 0.5:
+    if not h[H_ACTIVE] > 0.5:
         return
-    r, r1, r2, _, _, _ = local_chart(sp, h[2], h[3])
+    r, r1, r2, _, _, _ = local_chart(sp, h[H_XI1], h[H_XI2])
     a1, a2, _ = tangent_frame(r1, r2)
-    c11, c12, c22 = physical(netB, h[2], h[3], r, r1, r2, a1, a2)
+    c11, c12, c22 = physical(netB, h[H_XI1], h[H_XI2], r, r1, r2, a1, a2)
     det = c11 * c22 - c12 * c12
-    hn[5] += 0.5 * (c22 * h[0] * h[0] - 2.0 * c12 * h[0] * h[1] + c11 * h[1] * h[1]) / det
+    T1, T2 = h[H_T1], h[H_T2]
+    hn[H_DISSIPATED] += 0.5 * (c22 * T1 * T1 - 2.0 * c12 * T1 * T2 + c11 * T2 * T2) / det
 
 
 @njit(cache=True)
@@ -217,21 +222,23 @@ def _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, Minv, hc, X1, 
         X1j, X2j, nj = X1[j], X2[j], n[j]
         for k in range(_NT):
             dq[k] = dS[0, k] * X1j + dS[1, k] * X2j
-        dn = (dq[10], dq[11], dq[12])
+        dn = (dq[ST_N], dq[ST_N + 1], dq[ST_N + 2])
         dNj = 0.0
         if loaded:
             dNj = law.eps_N * nj + law.d_N * dot(dn, vl)
         # p = (Ttr1, Ttr2, |N|, b11, b12, b22, f11, f12, f22)
-        dTtr1 = dq[0] + dq[4] * st[2] + dq[5] * st[3] + st[4] * dq[2] + st[5] * dq[3]
-        dTtr2 = dq[1] + dq[5] * st[2] + dq[6] * st[3] + st[5] * dq[2] + st[6] * dq[3]
-        dp = (dTtr1, dTtr2, -dNj, dq[4], dq[5], dq[6], dq[7], dq[8], dq[9])
+        dTtr1 = (dq[ST_T1] + dq[ST_B11] * st[ST_S1] + dq[ST_B12] * st[ST_S2] + st[ST_B11] * dq[ST_S1]
+                 + st[ST_B12] * dq[ST_S2])
+        dTtr2 = (dq[ST_T2] + dq[ST_B12] * st[ST_S1] + dq[ST_B22] * st[ST_S2] + st[ST_B12] * dq[ST_S1]
+                 + st[ST_B22] * dq[ST_S2])
+        dp = (dTtr1, dTtr2, -dNj, dq[ST_B11], dq[ST_B12], dq[ST_B22], dq[ST_F11], dq[ST_F12], dq[ST_F22])
         dT1 = 0.0
         dT2 = 0.0
         for k in range(9):
             dT1 += dT[0, k] * dp[k]
             dT2 += dT[1, k] * dp[k]
-        dG1 = add((dq[13], dq[14], dq[15]), scale(nj, dG3_1))
-        dG2 = add((dq[16], dq[17], dq[18]), scale(nj, dG3_2))
+        dG1 = add((dq[ST_G1], dq[ST_G1 + 1], dq[ST_G1 + 2]), scale(nj, dG3_1))
+        dG2 = add((dq[ST_G2], dq[ST_G2 + 1], dq[ST_G2 + 2]), scale(nj, dG3_2))
         col = add(add(scale(T1, dG1), scale(T2, dG2)), add(scale(dT1, G1), scale(dT2, G2)))
         col = sub(col, add(scale(dNj, n), scale(N, dn)))
         if dTd > 0.0:
@@ -269,12 +276,12 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     velocity v (master frame, relative to the master), and the history candidate hn (9) from the
     converged history h (9): traction (2, frame at the anchor), anchor xi (2, unwrapped), active,
     dissipated energy, slip distance, status, N. dt: time since h (predicts the branch of periodic
-    coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (0 open,
-    1 stick, 2 slip, 3 unresolved) and the normal gap xi3."""
+    coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (OPEN,
+    STICK, SLIP, UNRESOLVED: kernel.history) and the normal gap xi3."""
     dT = W[0, 0:2, :]
     for i in range(N_HISTORY):
         hn[i] = h[i]
-    for i in (0, 1, 2, 3, 4, 7, 8):
+    for i in (H_T1, H_T2, H_XI1, H_XI2, H_ACTIVE, H_STATUS, H_NORMAL):     # kept: the accumulated columns
         hn[i] = 0.0
     for i in range(3):
         f[i] = 0.0
@@ -282,8 +289,8 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
             for j in range(3):
                 Kx[i, j] = 0.0
                 Dv[i, j] = 0.0
-    active = h[4] > 0.5
-    hint1, hint2 = (h[2], h[3]) if active else (math.nan, math.nan)
+    active = h[H_ACTIVE] > 0.5
+    hint1, hint2 = (h[H_XI1], h[H_XI2]) if active else (math.nan, math.nan)
     xi1, xi2, xi3, pstat = _core.project(sp, (x[0], x[1], x[2]), hint1, hint2)
     if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
         if xi3 >= 0.0:
@@ -299,7 +306,7 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
         # it with a smaller one (UNRESOLVED). A new point at a centre of curvature is an error (above).
         for i in range(N_HISTORY):
             hn[i] = h[i]
-        hn[7] = UNRESOLVED
+        hn[H_STATUS] = UNRESOLVED
         return UNRESOLVED, xi3
     if pstat == 3 or not xi3 < 0.0:
         raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
@@ -318,11 +325,11 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     status = STICK
     if active:
         p1, p2 = dot(X1, vl) * dt, dot(X2, vl) * dt
-        d1, e1 = _core.unwrap(sp.period1, xi1 - h[2], p1)
-        d2, e2 = _core.unwrap(sp.period2, xi2 - h[3], p2)
+        d1, e1 = _core.unwrap(sp.period1, xi1 - h[H_XI1], p1)
+        d2, e2 = _core.unwrap(sp.period2, xi2 - h[H_XI2], p2)
         if (sp.period1 > 0.0 and e1 > 0.25 * sp.period1) or (sp.period2 > 0.0 and e2 > 0.25 * sp.period2):
             status = UNRESOLVED
-        xn1, xn2, Tn1, Tn2 = h[2], h[3], h[0], h[1]
+        xn1, xn2, Tn1, Tn2 = h[H_XI1], h[H_XI2], h[H_T1], h[H_T2]
         xi1, xi2 = xn1 + d1, xn2 + d2
     else:
         xn1, xn2, Tn1, Tn2 = xi1, xi2, 0.0, 0.0
@@ -333,15 +340,15 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     loaded = N < 0.0
     if not loaded:
         N = 0.0
-    Ttr1 = st[0] + st[4] * st[2] + st[5] * st[3]
-    Ttr2 = st[1] + st[5] * st[2] + st[6] * st[3]
-    B = (st[4], st[5], st[6])
-    F = (st[7], st[8], st[9])
-    T1, T2, sliding, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, tangent)[:5]
-    if sliding and status != UNRESOLVED:
+    Ttr1 = st[ST_T1] + st[ST_B11] * st[ST_S1] + st[ST_B12] * st[ST_S2]
+    Ttr2 = st[ST_T2] + st[ST_B12] * st[ST_S1] + st[ST_B22] * st[ST_S2]
+    B = (st[ST_B11], st[ST_B12], st[ST_B22])
+    F = (st[ST_F11], st[ST_F12], st[ST_F22])
+    T1, T2, state, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, tangent)[:5]
+    if state == SLIP and status != UNRESOLVED:
         status = SLIP
-    G1 = (st[13], st[14], st[15])
-    G2 = (st[16], st[17], st[18])
+    G1 = (st[ST_G1], st[ST_G1 + 1], st[ST_G1 + 2])
+    G2 = (st[ST_G2], st[ST_G2 + 1], st[ST_G2 + 2])
     dTd = law.d_T if loaded else 0.0
     fl = sub(add(scale(T1, G1), scale(T2, G2)), scale(N, n))
     fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
@@ -352,14 +359,14 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     for i in range(3):
         f[i] = fg[i]
     # energy removed by the return map in the step (trapezoidal, as contact.ContactLaw)
-    D = -0.5 * ((st[0] + T1) * sl1 + (st[1] + T2) * sl2)
-    hn[0], hn[1] = T1, T2
-    hn[2], hn[3] = xi1, xi2
-    hn[4] = 1.0
-    hn[5] = h[5] + D
-    hn[6] = h[6] + math.sqrt(sl1 * sl1 + sl2 * sl2)
-    hn[7] = status
-    hn[8] = N
+    D = -0.5 * ((st[ST_T1] + T1) * sl1 + (st[ST_T2] + T2) * sl2)
+    hn[H_T1], hn[H_T2] = T1, T2
+    hn[H_XI1], hn[H_XI2] = xi1, xi2
+    hn[H_ACTIVE] = 1.0
+    hn[H_DISSIPATED] = h[H_DISSIPATED] + D
+    hn[H_SLIP] = h[H_SLIP] + math.sqrt(sl1 * sl1 + sl2 * sl2)
+    hn[H_STATUS] = status
+    hn[H_NORMAL] = N
     return status, xi3
 
 

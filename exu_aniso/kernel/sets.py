@@ -31,6 +31,8 @@ import math
 import numpy as np
 from numba import njit
 
+from exu_aniso.law.history import H_DISSIPATED, H_STATUS, N_HISTORY, UNRESOLVED
+
 NODE_KINDS = {"RigidBody2D": 0, "GenericODE2": 1, "RigidBodyRotVecLG": 2, "RigidBodyEP": 3}
 NODE_COORDINATES = (3, 2, 6, 7)
 SCRATCH_SLOTS = 19   # (slots, 9, 9) scratch: 0-8 point kernel, 9-17 set kernel, 18 Jacobian
@@ -242,9 +244,9 @@ def _keep_candidate(st, mode, hn, Hn, k):
     """After the law at point k (status st): the candidate hn goes to Hn[k] (modes 0 and 2);
     returns (in contact, unresolved) for the set's return value."""
     if mode != 1:
-        for i in range(9):
+        for i in range(N_HISTORY):
             Hn[k, i] = hn[i]
-    return st > 0, st == 3
+    return st > 0, st == UNRESOLVED
 
 
 @njit(cache=True, inline="always")
@@ -303,7 +305,7 @@ def _force_at(law, x, v, H, dt, f, hn, S, Hn, k):
     """The force paths' law at point k (point_force, f filled), its history candidate into Hn[k];
     returns the status."""
     st = point_force(law, x, v, H[k], dt, f, hn, S)
-    for i in range(9):
+    for i in range(N_HISTORY):
         Hn[k, i] = hn[i]
     return st
 
@@ -338,7 +340,7 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
     nq = q.shape[0]
     K = b.shape[0]
     A, G = S[9, :3, :3], S[10, :3, :4]
-    qt, x, v, f, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
+    qt, x, v, f, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :N_HISTORY]
     _node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
     motion = _rigid_motion(kind, qt, q_t, G, nq)
     F0 = F1 = F2 = M0 = M1 = M2 = 0.0
@@ -349,7 +351,7 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
         ax, ay = _rigid_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v)
         st = _force_at(law, x, v, H, dt, f, hn, S, Hn, k)
         ncontact += st > 0
-        unresolved |= st == 3
+        unresolved |= st == UNRESOLVED
         if mode == 2 or st == 0:
             continue
         F0 += f[0]
@@ -385,7 +387,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     # scratch views of S (slots 0-8 belong to contact_point)
     A, G, Jp, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq], S[12, :3, :3], S[13, :3, :3]
     Kq, Dq = S[15, :nq, :nq], S[16, :nq, :nq]
-    qt, x, v, f, wl, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :9]
+    qt, x, v, f, wl, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :N_HISTORY]
     tangent = mode == 1
     if tangent:
         for i in range(nq):
@@ -405,7 +407,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
         _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
         st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
         ncontact += st > 0
-        unresolved |= st == 3
+        unresolved |= st == UNRESOLVED
         if st == 0:
             continue
         # Kq += Jp^T Kx Jx, Dq += Jp^T Dv Jp
@@ -482,7 +484,7 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
     -1 when a point's motion in the step is unresolved."""
     K, m = idx.shape[0], idx.shape[1]
     n = q.shape[0]
-    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
+    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :N_HISTORY]
     Kx, Dv = S[12, :3, :3], S[13, :3, :3]
     tangent = mode == 1
     if mode == 0:
@@ -527,22 +529,22 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
 def stage_candidate(X, q, q_t, Hn, data, ltg, ltg_total):
     """Post-Newton commit of one contact set, compiled (numpy calls on arrays of a few numbers cost
     more than the work): if the state (q, q_t) of the last residual, X (2, n), is the converged
-    state q, q_t, and no point's step is unresolved (status 3 in column 7), copy the candidate Hn
-    (K, 9) into the data coordinates at ltg (K * 9 indices; data: Exudyn's Current data vector,
-    a view) and its total dissipation [J] (column 5) into data[ltg_total]. Returns 0 (written), 1 (the last residual was at another
+    state q, q_t, and no point's step is unresolved (status UNRESOLVED), copy the candidate Hn
+    (K, N_HISTORY) into the data coordinates at ltg (K * N_HISTORY indices; data: Exudyn's Current data vector,
+    a view) and its total dissipation [J] into data[ltg_total]. Returns 0 (written), 1 (the last residual was at another
     state: evaluate the candidate afresh, nothing written) or -1 (unresolved, nothing written)."""
     for i in range(q.shape[0]):
         if X[0, i] != q[i] or X[1, i] != q_t[i]:
             return 1
     K = Hn.shape[0]
     for k in range(K):
-        if Hn[k, 7] == 3.0:
+        if Hn[k, H_STATUS] == UNRESOLVED:
             return -1
     total = 0.0
     for k in range(K):
-        for j in range(9):
-            data[ltg[9 * k + j]] = Hn[k, j]
-        total += Hn[k, 5]
+        for j in range(N_HISTORY):
+            data[ltg[N_HISTORY * k + j]] = Hn[k, j]
+        total += Hn[k, H_DISSIPATED]
     data[ltg_total] = total
     return 0
 
@@ -594,7 +596,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     ns = n - nm
     linear = kind < 0
     As, Gs = S[9, :3, :3], S[10, :3, :4]
-    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :9]
+    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :N_HISTORY]
     xr, vr = S[17, 6, :3], S[17, 7, :3]
     qts = S[15, 0, :(0 if linear else ns)]
     qtm, wlm, w = S[15, 1, :nm], S[15, 2, :3], S[15, 3, :3]
@@ -634,7 +636,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
             vr[j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
         st = _force_at(law, xr, vr, H, dt, f, hn, S, Hn, k)
         ncontact += st > 0
-        unresolved |= st == 3
+        unresolved |= st == UNRESOLVED
         if mode == 2 or st == 0:
             continue
         F0 = Am[0, 0] * f[0] + Am[0, 1] * f[1] + Am[0, 2] * f[2]            # F = A f
@@ -706,7 +708,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     # the slave's views (evaluate_set's slots) and the law's outputs
     As, Gs, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[12, :3, :3], S[13, :3, :3]
     dAs, Gts = S[14, 3:7, :9], S[10, 3:6, :4]
-    x, v, f, wls, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :9]
+    x, v, f, wls, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :N_HISTORY]
     qts = S[15, 0, :(0 if linear else ns)]
     qs, qs_t, refs = q[:ns], q_t[:ns], ref[:ns]
     # the pair's views: slave point Jacobians (compact columns), derivatives, tangent blocks, master
@@ -769,7 +771,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
             vr[j] = Am[0, j] * u[0] + Am[1, j] * u[1] + Am[2, j] * u[2]
         st = point_law(law, xr, vr, H[k], tangent, dt, f, Kx, Dv, hn, S)
         ncontact += st > 0
-        unresolved |= st == 3
+        unresolved |= st == UNRESOLVED
         if st == 0:
             continue
         # F = A f (global), g = A^T F, y = b x g at the master's material point b = x_rel

@@ -58,11 +58,11 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from exu_aniso.law.history import SLIP, STICK  # noqa: F401  (the states the maps return)
 from exu_aniso.util.validation import check_array, check_definite_components, check_nonnegative, check_vector
 
 RETURN_MAPS = ("seed", "exact", "radial")
 MAP_CODES = {"seed": 0, "exact": 1, "radial": 2}
-STICK, SLIP = 0, 1
 N_PARAMS = 9  # T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22
 
 _KAPPA_RTOL = 2e-16 * 4  # target |sqrt(T.F T) - |N|| <= 8.9e-16 |N|; forming T = (I + kappa C F)^-1 T_tr

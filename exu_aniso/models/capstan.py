@@ -31,7 +31,7 @@ from exudyn.itemInterface import (LoadForceVector, MarkerBodyPosition, MarkerNod
                                   SensorBody, SensorNode, VObjectConnectorCartesianSpringDamper)
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS
+from exu_aniso.law.history import HISTORY_FIELDS
 from exu_aniso.engines.energy import work_trapezoid
 from exu_aniso.engines.exudyn_adapter.glue import hermite_shape_functions
 from exu_aniso.engines.failure import SimulationFailure

@@ -1,4 +1,4 @@
-"""What every scene shares: the parameter sets' parsing, rules and validation (``_ParamsMixin``), the
+"""What every scene shares: the parameter sets' parsing, rules and validation (``SceneParams``), the
 summaries' conventions and the energy ledger's columns (numpy reference, Exudyn glue, CLI).
 
 The two scenes of the papers are ``exu_aniso.scenes.block`` (``BlockParams``: a rigid cube on the
@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+from dataclasses import dataclass
 import math
 import operator
 import os
@@ -119,7 +120,7 @@ MAGNITUDE_LIMITS = {
 }
 MAX_COUNT = 1_000_000        # largest value of any integer count parameter (before the cost checks below)
 
-# What a run may cost, checked from the parameters before anything is built (``_ParamsMixin.check_cost``):
+# What a run may cost, checked from the parameters before anything is built (``SceneParams.check_cost``):
 MAX_STEPS = 1_000_000        # time steps N = round(t_end / dt)
 MAX_CONTACT_POINTS = 10_000  # contact points of the whole scene
 MAX_POINT_STEPS = 1e9        # contact points x steps (~25 min at the block's 1.4 us per point and step)
@@ -194,8 +195,12 @@ def _check(name, value, rule, unit=None):
     return v
 
 
-class _ParamsMixin:
-    """Shared parsing, validation and description for the scene parameter dataclasses."""
+class SceneParams:
+    """The base of every scene's parameter set (made with ``scene_parameters``): parsing
+    (``from_strings``), validated copies (``with_overrides``), ``as_dict``, ``describe`` (what
+    ``exu-aniso params`` prints) and the checks of every value against its rule and its unit's range,
+    ``dt <= t_end`` and the run's cost. A scene adds the rules that tie parameters together in
+    ``_check_scene`` and its number of contact points in ``contact_points``."""
 
     TABLE: dict = {}
 
@@ -285,8 +290,18 @@ class _ParamsMixin:
         return "\n".join(rows)
 
 
-def _defaults(table):
-    return {k: v[0] for k, v in table.items()}
+def scene_parameters(table):
+    """Class decorator: a scene's parameter set as a frozen dataclass with one field per row of its
+    table (name -> (default, unit, description, rule)), in the table's order, the row's default as
+    the field's default, and ``TABLE = table``. The table is the one definition of every parameter:
+    the dataclass, ``exu-aniso params``, the parsing and the validation (``SceneParams``) read it."""
+    def make(cls):
+        cls.__annotations__ = {name: type(row[0]).__name__ for name, row in table.items()}
+        for name, row in table.items():
+            setattr(cls, name, row[0])
+        cls.TABLE = table
+        return dataclass(frozen=True)(cls)
+    return make
 
 
 # ----------------------------------------------------------------------------------------------
@@ -318,7 +333,7 @@ def solver_advice(p):
     return "reduce dt"
 
 
-def _energy(terms, traj, what, advice=energy.DEFAULT_ADVICE):
+def energy_ledger(terms, traj, what, advice=energy.DEFAULT_ADVICE):
     """Energy ledger of a run: adds the ENERGY_COLUMNS to traj and returns the summary entries.
 
     The trajectory's own columns (the state) are checked too: a non-finite value there makes

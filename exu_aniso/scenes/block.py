@@ -10,9 +10,7 @@ equations). The Exudyn model script is ``exu_aniso.models.block``.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -24,13 +22,11 @@ from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import (_POINTS_RULE, HEADING_V_ABS, SOLVERS, _defaults, _energy, _ParamsMixin,
-                                   solver_advice)
+from exu_aniso.scenes.base import (HEADING_V_ABS, _POINTS_RULE, SOLVERS, energy_ledger, SceneParams,
+                                   scene_parameters, solver_advice)
 
 
 POSITION_LIMIT = 1e6     # block: |x0|, |y0| <= POSITION_LIMIT * size
-
-
 
 
 BLOCK_PARAMS = {
@@ -72,43 +68,9 @@ BLOCK_PARAMS = {
 }
 
 
-_BD = _defaults(BLOCK_PARAMS)
-
-
-@dataclass(frozen=True)
-class BlockParams(_ParamsMixin):
+@scene_parameters(BLOCK_PARAMS)
+class BlockParams(SceneParams):
     """Block on a (polar-)orthotropic plane; see BLOCK_PARAMS for units and meaning."""
-
-    TABLE = BLOCK_PARAMS
-
-    mass: float = _BD["mass"]
-    size: float = _BD["size"]
-    x0: float = _BD["x0"]
-    y0: float = _BD["y0"]
-    points: str = _BD["points"]
-    normal_load: float = _BD["normal_load"]
-    eps_n: float = _BD["eps_n"]
-    adhesion: str = _BD["adhesion"]
-    eps_1: float = _BD["eps_1"]
-    eps_2: float = _BD["eps_2"]
-    adhesion_angle: float = _BD["adhesion_angle"]
-    friction: str = _BD["friction"]
-    mu_1: float = _BD["mu_1"]
-    mu_2: float = _BD["mu_2"]
-    friction_angle: float = _BD["friction_angle"]
-    return_map: str = _BD["return_map"]
-    drive: str = _BD["drive"]
-    drive_angle: float = _BD["drive_angle"]
-    force: float = _BD["force"]
-    drive_speed: float = _BD["drive_speed"]
-    drive_stiffness: float = _BD["drive_stiffness"]
-    t_end: float = _BD["t_end"]
-    dt: float = _BD["dt"]
-    model: str = _BD["model"]
-    solver: str = _BD["solver"]
-    core_radius: float = _BD["core_radius"]
-    normal_damping: float = _BD["normal_damping"]
-    tangential_damping: float = _BD["tangential_damping"]
 
     def contact_points(self):
         return _n_block_points(self)
@@ -126,9 +88,6 @@ class BlockParams(_ParamsMixin):
                 raise ValueError(f"{name} must satisfy |{name}| <= {POSITION_LIMIT:g} * size = "
                                  f"{POSITION_LIMIT * self.size:g} m (double precision must resolve the contact "
                                  f"slip at that distance from the origin); got {name}={v!r}")
-
-
-assert [f.name for f in dataclasses.fields(BlockParams)] == list(BLOCK_PARAMS)
 
 
 def block_points(p):
@@ -188,8 +147,6 @@ BLOCK_SUMMARY_KEYS = ("x_end", "y_end", "theta_end", "vx_end", "vy_end", "headin
 HEADING_V_REL = 1e-6     # a final velocity below this fraction of the largest speed of the run (a block come to rest)
 
 
-
-
 def _undefined_heading(vx, vy):
     """Reason why the heading of the final velocity is undefined, or None. Undefined when
     |v_end| <= max(HEADING_V_ABS, HEADING_V_REL * max_t |v|): the direction of a velocity at round-off
@@ -221,7 +178,7 @@ def block_energy(p, traj, motion, law, H, extra_work=None):
     X, V = energy.point_motion(motion, block_points(p))
     stored, diss = energy.contact_energy(law, X, V, H)
     work = energy.work_trapezoid(traj["drive_force"], s)
-    return _energy(dict(work_in=work if extra_work is None else work + extra_work,
+    return energy_ledger(dict(work_in=work if extra_work is None else work + extra_work,
                         kinetic=energy.rigid_kinetic(motion, mass, J),
                         potential=p.normal_load * (traj["z"] - traj["z"][0]), stored=stored, dissipated=diss),
                    traj, "block run", solver_advice(p))

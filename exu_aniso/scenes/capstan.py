@@ -23,7 +23,7 @@ above 180 deg: this is a planar model without rope-rope contact.
 
 Friction ``isotropic`` (mu_1) or ``orthotropic``: ``Friction.orthotropic(mu_1, mu_2, angle=0)`` on
 the Cylinder, whose xi1 is the angle about the axis, so e1 is circumferential (along the rope) and
-e2 axial (across it). Adhesion likewise with eps_1 (circumferential) and eps_2 (axial).
+e2 axial (across it). Adhesion likewise with eps_1_per_length (circumferential) and eps_2_per_length (axial).
 The rope slides along e1 only, so the theory is exp(mu_1 phi) whatever mu_2 (tests/test_capstan.py).
 
 Slip onset (``tension_ratio``): the rope slips as a whole when no contact point on the arc sticks
@@ -47,8 +47,10 @@ in-end has moved ``slip_displacement`` towards the drum (late by the time the ro
 accelerate; it is an upper bound).
 
 Stiffnesses are per unit length of rope (a point carries eps * ds, ds = element length / points),
-so refining the rope keeps the distributed stiffness: ``eps_n`` [N/m^2], ``eps_1``, ``eps_2``
-[N/m^2], ``normal_damping`` [N s/m^2].
+so refining the rope keeps the distributed stiffness: ``eps_n_per_length`` [N/m^2],
+``eps_1_per_length``, ``eps_2_per_length`` [N/m^2], ``normal_damping_per_length`` [N s/m^2] (the
+names say per length: the other scenes' ``eps_n``, ``eps_1``, ``eps_2`` and ``normal_damping`` are
+totals of a contact set).
 
 Energy ledger (``capstan_energy``): work in = work of the two end forces; kinetic =
 1/2 q_t^T M q_t of the cable (Exudyn's KineticEnergy of each ObjectANCFCable2D, which is that
@@ -62,7 +64,6 @@ c |v|^2 over the steps). With the trapezoidal rule the residual is the contact l
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -71,7 +72,7 @@ from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cylinder
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, _defaults, _energy, _ParamsMixin
+from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters
 
 CAPSTAN_PARAMS = {
     "radius": (0.1, "m", "drum radius", "> 0"),
@@ -87,15 +88,17 @@ CAPSTAN_PARAMS = {
     "tension_in": (10.0, "N", "tension T_in held at the in-end", "> 0"),
     "ramp_rate": (1.0, "1/s", "rise of the out-end force per second, relative to tension_in", "> 0"),
     "t_load": (0.05, "s", "time over which both ends are loaded to tension_in", "> 0"),
-    "eps_n": (1e7, "N/m^2", "normal penalty stiffness per length of rope", "> 0"),
+    "eps_n_per_length": (1e7, "N/m^2", "normal penalty stiffness per length of rope", "> 0"),
     "adhesion": ("isotropic", "-", "adhesion (sticking stiffness) field B on the drum", ("isotropic", "orthotropic")),
-    "eps_1": (1e6, "N/m^2", "tangential stiffness per length along the circumference (isotropic: both)", "> 0"),
-    "eps_2": (1e6, "N/m^2", "tangential stiffness per length along the drum axis", "> 0"),
+    "eps_1_per_length": (1e6, "N/m^2", "tangential stiffness per length along the circumference (isotropic: "
+                         "both)", "> 0"),
+    "eps_2_per_length": (1e6, "N/m^2", "tangential stiffness per length along the drum axis",
+                         "> 0"),
     "friction": ("isotropic", "-", "friction field F on the drum", ("isotropic", "orthotropic")),
     "mu_1": (0.3, "-", "friction coefficient along the circumference (isotropic: both)", "> 0"),
     "mu_2": (0.3, "-", "friction coefficient along the drum axis (across the rope)", "> 0"),
     "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
-    "normal_damping": (1e3, "N s/m^2", "normal contact damping per length of rope", ">= 0"),
+    "normal_damping_per_length": (1e3, "N s/m^2", "normal contact damping per length of rope", ">= 0"),
     "end_damping": (30.0, "N s/m", "dashpot to ground at each rope end (the loading device)", ">= 0"),
     "slip_displacement": (1e-3, "m", "in-end travel towards the drum that marks gross slip (cross-check)", "> 0"),
     "stop_displacement": (5e-3, "m", "in-end travel towards the drum at which the run stops", "> 0"),
@@ -104,42 +107,10 @@ CAPSTAN_PARAMS = {
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
 }
 
-_CD = _defaults(CAPSTAN_PARAMS)
 
-
-@dataclass(frozen=True)
-class CapstanParams(_ParamsMixin):
+@scene_parameters(CAPSTAN_PARAMS)
+class CapstanParams(SceneParams):
     """Rope over a drum (capstan); see CAPSTAN_PARAMS for units and meaning."""
-
-    TABLE = CAPSTAN_PARAMS
-
-    radius: float = _CD["radius"]
-    wrap_angle: float = _CD["wrap_angle"]
-    tail_length: float = _CD["tail_length"]
-    elements: int = _CD["elements"]
-    tail_elements: int = _CD["tail_elements"]
-    points: int = _CD["points"]
-    mass_per_length: float = _CD["mass_per_length"]
-    axial_stiffness: float = _CD["axial_stiffness"]
-    bending_stiffness: float = _CD["bending_stiffness"]
-    tension_in: float = _CD["tension_in"]
-    ramp_rate: float = _CD["ramp_rate"]
-    t_load: float = _CD["t_load"]
-    eps_n: float = _CD["eps_n"]
-    adhesion: str = _CD["adhesion"]
-    eps_1: float = _CD["eps_1"]
-    eps_2: float = _CD["eps_2"]
-    friction: str = _CD["friction"]
-    mu_1: float = _CD["mu_1"]
-    mu_2: float = _CD["mu_2"]
-    return_map: str = _CD["return_map"]
-    normal_damping: float = _CD["normal_damping"]
-    end_damping: float = _CD["end_damping"]
-    slip_displacement: float = _CD["slip_displacement"]
-    stop_displacement: float = _CD["stop_displacement"]
-    t_end: float = _CD["t_end"]
-    dt: float = _CD["dt"]
-    solver: str = _CD["solver"]
 
     def contact_points(self):
         return (self.elements + 2 * self.tail_elements) * self.points
@@ -222,8 +193,8 @@ def capstan_theory(p):
     * Coulomb friction mu_1 along the rope: the rope slides along e1 (circumference) only, a
       principal axis of the net (the scene's nets are never turned), so mu_2 and the return map change
       nothing (measured: seed, exact and radial maps equal to 1e-13 with mu_2 0.8);
-    * the rope conforms to the drum (pressure T / R per length): the penalty eps_n's penetration
-      T / (eps_n R) is 1e-5 m on the defaults, and the contact points' polygon is refined away
+    * the rope conforms to the drum (pressure T / R per length): the penalty's penetration
+      T / (eps_n_per_length R) is 1e-5 m on the defaults, and the contact points' polygon is refined away
       (tests/test_capstan.py: 6 to 48 elements within 1e-3);
     * an extensible rope changes nothing at the onset of gross slip (the classic result); no
       tangential dashpot (the scene's law has none); the end dashpots are taken out of the tensions;
@@ -254,15 +225,15 @@ def capstan_contact_law(p):
     values times the point spacing on the arc (tail points get the same: they are off the drum)."""
     ds = point_spacing(p)
     if p.adhesion == "isotropic":
-        B = Adhesion.isotropic(p.eps_1 * ds)
+        B = Adhesion.isotropic(p.eps_1_per_length * ds)
     else:
-        B = Adhesion.orthotropic(p.eps_1 * ds, p.eps_2 * ds, angle=0.0)
+        B = Adhesion.orthotropic(p.eps_1_per_length * ds, p.eps_2_per_length * ds, angle=0.0)
     if p.friction == "isotropic":
         F = Friction.isotropic(p.mu_1)
     else:
         F = Friction.orthotropic(p.mu_1, p.mu_2, angle=0.0)
-    return ContactLaw(Cylinder(p.radius, side="outside"), B, F, normal_stiffness=p.eps_n * ds,
-                      normal_damping=p.normal_damping * ds, return_map=p.return_map)
+    return ContactLaw(Cylinder(p.radius, side="outside"), B, F, normal_stiffness=p.eps_n_per_length * ds,
+                      normal_damping=p.normal_damping_per_length * ds, return_map=p.return_map)
 
 
 def tension_out(p, t):
@@ -335,7 +306,7 @@ def capstan_energy(traj, law, X, V, H, kinetic, potential, work_in, end_dissipat
     the elements) per sample; work_in: cumulative work of the end forces; end_dissipation:
     cumulative dissipation of the end dashpots."""
     stored, diss = energy.contact_energy(law, X, V, H)
-    return _energy(dict(work_in=work_in, kinetic=kinetic, potential=potential, stored=stored,
+    return energy_ledger(dict(work_in=work_in, kinetic=kinetic, potential=potential, stored=stored,
                         dissipated=diss + end_dissipation), traj, "capstan run")
 
 

@@ -34,10 +34,8 @@ MAX_SPECTRAL_RADIUS are refused (the unresolved contact vibrations must be dampe
 """
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -47,7 +45,7 @@ from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cylinder, Helicoid, Plane
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin
+from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters
 from exu_aniso.util.validation import ParameterError
 
 FASTENING_PARAMS = {
@@ -95,7 +93,6 @@ FASTENING_PARAMS = {
                         "and drive vibrations in one step (quasi-static tightening)", ">= 0"),
 }
 
-_D = {k: v[0] for k, v in FASTENING_PARAMS.items()}
 
 MAX_SPECTRAL_RADIUS = 0.6
 """Largest generalized-alpha rho_inf the scene accepts. Its contact and drive vibrations (thread and head
@@ -116,47 +113,9 @@ ENERGY_ADVICE = ("reduce dt (spectral_radius 0, the default, removes the unresol
 """The energy warning's advice for this scene (energy.warn_if_open): not the generic 'try trapezoidal'."""
 
 
-@dataclass(frozen=True)
-class FasteningParams(_ParamsMixin):
+@scene_parameters(FASTENING_PARAMS)
+class FasteningParams(SceneParams):
     """A bolt tightened into a nut; see FASTENING_PARAMS for units and meaning."""
-
-    TABLE = FASTENING_PARAMS
-
-    thread: str = _D["thread"]
-    d2: float = _D["d2"]
-    pitch: float = _D["pitch"]
-    flank_angle: float = _D["flank_angle"]
-    mu_thread: float = _D["mu_thread"]
-    thread_net: str = _D["thread_net"]
-    mu_thread_2: float = _D["mu_thread_2"]
-    mu_head: float = _D["mu_head"]
-    head_net: str = _D["head_net"]
-    mu_head_2: float = _D["mu_head_2"]
-    head_lay_angle: float = _D["head_lay_angle"]
-    head_radius: float = _D["head_radius"]
-    joint_stiffness: float = _D["joint_stiffness"]
-    joint_damping_ratio: float = _D["joint_damping_ratio"]
-    thread_stiffness: float = _D["thread_stiffness"]
-    head_stiffness: float = _D["head_stiffness"]
-    sticking_stiffness: float = _D["sticking_stiffness"]
-    net_mu_along: float = _D["net_mu_along"]
-    net_mu_across: float = _D["net_mu_across"]
-    net_normal_force: float = _D["net_normal_force"]
-    points_per_turn: int = _D["points_per_turn"]
-    turns: int = _D["turns"]
-    head_points: int = _D["head_points"]
-    rundown_angle: float = _D["rundown_angle"]
-    axial_load: float = _D["axial_load"]
-    bolt_mass: float = _D["bolt_mass"]
-    bolt_length: float = _D["bolt_length"]
-    part_mass: float = _D["part_mass"]
-    rotation_speed: float = _D["rotation_speed"]
-    drive_stiffness: float = _D["drive_stiffness"]
-    return_map: str = _D["return_map"]
-    t_end: float = _D["t_end"]
-    dt: float = _D["dt"]
-    solver: str = _D["solver"]
-    spectral_radius: float = _D["spectral_radius"]
 
     def contact_points(self):
         return self.turns * self.points_per_turn + self.head_points
@@ -190,8 +149,6 @@ class FasteningParams(_ParamsMixin):
         if self.thread == "net" and not self.net_mu_along:
             calibrate_net(self)        # ParameterError now (17 ms, closed form) rather than after the model is built
 
-
-assert [f.name for f in dataclasses.fields(FasteningParams)] == list(FASTENING_PARAMS)
 
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "torque": "N m", "thread_torque": "N m", "head_torque": "N m",
            "clamp_force": "N", "part_displacement": "m", "tilt": "rad", "lateral": "m",
@@ -567,7 +524,7 @@ def fastening_energy(p, traj, bolt, part_z, part_vz, laws, X, V, H):
     c = joint_damping(p)
     f = c * part_vz                                  # dashpot force on the part against its velocity
     diss = diss + energy.work_trapezoid(f, part_z)
-    return _energy(dict(work_in=work, kinetic=kinetic, potential=potential, stored=stored, dissipated=diss),
+    return energy_ledger(dict(work_in=work, kinetic=kinetic, potential=potential, stored=stored, dissipated=diss),
                    traj, "fastening run", ENERGY_ADVICE)
 
 

@@ -28,9 +28,7 @@ the one-dimensional stick-slip analysis of vibratory conveying, ``oracles.convey
 """
 from __future__ import annotations
 
-import dataclasses
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -44,7 +42,8 @@ from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.util.validation import check_keywords
-from exu_aniso.scenes.base import ENERGY_COLUMNS, HEADING_V_ABS, SOLVERS, _energy, _ParamsMixin, solver_advice
+from exu_aniso.scenes.base import (ENERGY_COLUMNS, HEADING_V_ABS, SOLVERS, energy_ledger, SceneParams,
+                                   scene_parameters, solver_advice)
 
 FEEDER_PARAMS = {
     "parts": (3, "-", "number of parts, in a row across the track", "int >= 1"),
@@ -73,36 +72,10 @@ FEEDER_PARAMS = {
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
 }
 
-_FD = {k: v[0] for k, v in FEEDER_PARAMS.items()}
 
-
-@dataclass(frozen=True)
-class FeederParams(_ParamsMixin):
+@scene_parameters(FEEDER_PARAMS)
+class FeederParams(SceneParams):
     """Parts on a vibrating track; see FEEDER_PARAMS for units and meaning."""
-
-    TABLE = FEEDER_PARAMS
-
-    parts: int = _FD["parts"]
-    spacing: float = _FD["spacing"]
-    part_size: float = _FD["part_size"]
-    part_mass: float = _FD["part_mass"]
-    amplitude: float = _FD["amplitude"]
-    frequency: float = _FD["frequency"]
-    throw_angle: float = _FD["throw_angle"]
-    net: str = _FD["net"]
-    net_angle: float = _FD["net_angle"]
-    mu_1: float = _FD["mu_1"]
-    mu_2: float = _FD["mu_2"]
-    eps_n: float = _FD["eps_n"]
-    eps_1: float = _FD["eps_1"]
-    eps_2: float = _FD["eps_2"]
-    normal_damping_ratio: float = _FD["normal_damping_ratio"]
-    gravity: float = _FD["gravity"]
-    plate_mass: float = _FD["plate_mass"]
-    return_map: str = _FD["return_map"]
-    t_end: float = _FD["t_end"]
-    dt: float = _FD["dt"]
-    solver: str = _FD["solver"]
 
     def contact_points(self):
         return 4 * self.parts                  # the corners of each part's bottom face
@@ -128,8 +101,6 @@ class FeederParams(_ParamsMixin):
             raise ValueError(f"t_end must be >= 4 / frequency = {4.0 / self.frequency:.3g} s (the velocity is "
                              f"measured over whole periods in the second half); got t_end={self.t_end!r}")
 
-
-assert [f.name for f in dataclasses.fields(FeederParams)] == list(FEEDER_PARAMS)
 
 COLUMNS = {"t": "s", "plate_u": "m", "plate_x": "m", "plate_y": "m", "plate_z": "m",
            "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "yaw": "rad",
@@ -389,7 +360,7 @@ def feeder_energy(p, traj, motions, forces, law, H, plate):
         X, V = energy.point_motion(m, part_points(p))
         s_i, d_i = energy.contact_energy(law, X - u[:, None, :], V - ud[:, None, :], H[:, i])
         stored, diss = stored + s_i, diss + d_i
-    return _energy(dict(work_in=work, kinetic=kinetic, potential=potential, stored=stored, dissipated=diss),
+    return energy_ledger(dict(work_in=work, kinetic=kinetic, potential=potential, stored=stored, dissipated=diss),
                    traj, "feeder run", solver_advice(p))
 
 

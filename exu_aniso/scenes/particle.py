@@ -62,10 +62,8 @@ None with their reason under ``undefined``.
 """
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -73,12 +71,14 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, run
 from exu_aniso.engines.result import Result
 from exu_aniso.law import oracles
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, SLIP, ContactLaw
+from exu_aniso.law.history import HISTORY_FIELDS, SLIP
+from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cone, Cylinder, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.util.validation import check_instance, check_keywords
-from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, _energy, _ParamsMixin, solver_advice
+from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters,
+                                   solver_advice)
 
 SURFACES = ("plane", "cylinder", "cone", "sphere", "torus", "revolution", "parametric")
 SPHERES = ("sphere", "revolution", "parametric")
@@ -124,42 +124,9 @@ _PD = {k: v[0] for k, v in PARTICLE_PARAMS.items()}
 _STATE = ("x0", "y0", "z0", "vx0", "vy0", "vz0")
 
 
-@dataclass(frozen=True)
-class ParticleParams(_ParamsMixin):
+@scene_parameters(PARTICLE_PARAMS)
+class ParticleParams(SceneParams):
     """Mass point on a surface of the protocol; see PARTICLE_PARAMS for units and meaning."""
-
-    TABLE = PARTICLE_PARAMS
-
-    case: str = _PD["case"]
-    surface: str = _PD["surface"]
-    side: str = _PD["side"]
-    radius: float = _PD["radius"]
-    half_angle: float = _PD["half_angle"]
-    minor_radius: float = _PD["minor_radius"]
-    x0: float = _PD["x0"]
-    y0: float = _PD["y0"]
-    z0: float = _PD["z0"]
-    vx0: float = _PD["vx0"]
-    vy0: float = _PD["vy0"]
-    vz0: float = _PD["vz0"]
-    speed: float = _PD["speed"]
-    gravity: float = _PD["gravity"]
-    tilt: float = _PD["tilt"]
-    mass: float = _PD["mass"]
-    eps_n: float = _PD["eps_n"]
-    adhesion: str = _PD["adhesion"]
-    eps_1: float = _PD["eps_1"]
-    eps_2: float = _PD["eps_2"]
-    friction: str = _PD["friction"]
-    mu_1: float = _PD["mu_1"]
-    mu_2: float = _PD["mu_2"]
-    angle: float = _PD["angle"]
-    return_map: str = _PD["return_map"]
-    t_end: float = _PD["t_end"]
-    dt: float = _PD["dt"]
-    solver: str = _PD["solver"]
-    normal_damping: float = _PD["normal_damping"]
-    tangential_damping: float = _PD["tangential_damping"]
 
     def _check_scene(self):
         if self.surface == "torus" and not self.minor_radius < self.radius:
@@ -194,8 +161,6 @@ class ParticleParams(_ParamsMixin):
             if not self.speed > 0.0:
                 raise ValueError(f"speed must be > 0 for case=cavity; got speed={self.speed!r}")
 
-
-assert [f.name for f in dataclasses.fields(ParticleParams)] == list(PARTICLE_PARAMS)
 
 # trajectory columns (csv) -> SI unit
 COLUMNS = {"t": "s", "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s", "gap": "m",
@@ -414,7 +379,7 @@ def particle_energy(p, traj, law, H):
     X, V = energy.point_motion(motion, np.zeros((1, 3)))
     stored, diss = energy.contact_energy(law, X, V, np.asarray(H, dtype=float).reshape(len(traj["t"]), 1, -1))
     potential = -p.mass * (motion.position - motion.position[0]) @ gravity_vector(p)
-    return _energy(dict(work_in=np.zeros(len(traj["t"])),
+    return energy_ledger(dict(work_in=np.zeros(len(traj["t"])),
                         kinetic=0.5 * p.mass * np.sum(motion.velocity ** 2, axis=1),
                         potential=potential, stored=stored, dissipated=diss), traj, "particle run",
                    solver_advice(p))

@@ -35,7 +35,6 @@ The advance per revolution is ``2 pi R v_z / v_phi`` (R the hole radius, where t
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -49,7 +48,7 @@ from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cone, Cylinder
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import SOLVERS, _defaults, _energy, _ParamsMixin, solver_advice
+from exu_aniso.scenes.base import SOLVERS, energy_ledger, SceneParams, scene_parameters, solver_advice
 
 
 TURN_ANGLE_MIN = 1e-6    # rad: a net rotation over the last half at or below this is no turning
@@ -109,53 +108,15 @@ SCREW_PARAMS = {
 }
 
 
-_SD = _defaults(SCREW_PARAMS)
-
-
-@dataclass(frozen=True)
-class ScrewParams(_ParamsMixin):
+@scene_parameters(SCREW_PARAMS)
+class ScrewParams(SceneParams):
     """Screw in a threaded hole with a spiral net; see SCREW_PARAMS for units and meaning."""
-
-    TABLE = SCREW_PARAMS
-
-    radius: float = _SD["radius"]
-    length: float = _SD["length"]
-    mass: float = _SD["mass"]
-    interference: float = _SD["interference"]
-    helix_angle: float = _SD["helix_angle"]
-    eps_n: float = _SD["eps_n"]
-    adhesion: str = _SD["adhesion"]
-    eps_1: float = _SD["eps_1"]
-    eps_2: float = _SD["eps_2"]
-    friction: str = _SD["friction"]
-    mu_1: float = _SD["mu_1"]
-    mu_2: float = _SD["mu_2"]
-    return_map: str = _SD["return_map"]
-    drive: str = _SD["drive"]
-    torque: float = _SD["torque"]
-    rotation_speed: float = _SD["rotation_speed"]
-    axial_speed: float = _SD["axial_speed"]
-    drive_stiffness: float = _SD["drive_stiffness"]
-    axial_load: float = _SD["axial_load"]
-    rings: int = _SD["rings"]
-    points_per_ring: int = _SD["points_per_ring"]
-    t_end: float = _SD["t_end"]
-    dt: float = _SD["dt"]
-    model: str = _SD["model"]
-    solver: str = _SD["solver"]
-    normal_damping: float = _SD["normal_damping"]
-    tangential_damping: float = _SD["tangential_damping"]
-    surface: str = _SD["surface"]
-    half_angle: float = _SD["half_angle"]
 
     def contact_points(self):
         return self.rings * self.points_per_ring
 
     def _layout_text(self):
         return f"rings={self.rings} x points_per_ring={self.points_per_ring}"
-
-
-assert [f.name for f in dataclasses.fields(ScrewParams)] == list(SCREW_PARAMS)
 
 
 def screw_points(p):
@@ -230,7 +191,7 @@ def screw_energy(p, traj, motion, points, law, H):
     X, V = energy.point_motion(motion, points)
     stored, diss = energy.contact_energy(law, X, V, H)
     work = energy.work_trapezoid(traj["torque"], traj["angle"]) + energy.work_trapezoid(traj["axial_force"], traj["z"])
-    return _energy(dict(work_in=work, kinetic=energy.rigid_kinetic(motion, mass, J),
+    return energy_ledger(dict(work_in=work, kinetic=energy.rigid_kinetic(motion, mass, J),
                         potential=np.zeros(len(traj["t"])), stored=stored, dissipated=diss), traj, "screw run",
                    solver_advice(p))
 

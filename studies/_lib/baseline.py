@@ -90,7 +90,7 @@ def _cartesian_springs(mbs, bodyNumber, localPoints, anchors, stiffness):
 def _empty_callbacks(mbs, node, K):
     """The Exudyn items of one contact set of K points on node with user functions that do nothing
     (the floor; module doc)."""
-    from exu_aniso.kernel.contact_law import N_HISTORY
+    from exu_aniso.law.history import N_HISTORY
     n = len(mbs.GetNodeParameter(node, "referenceCoordinates"))
     zq, zJ = np.zeros(n), np.zeros((n, n))
 

@@ -28,11 +28,11 @@ def turned_contact_law(turn_deg):
 
     def law(p):
         ds = point_spacing(p)
-        B = (Adhesion.isotropic(p.eps_1 * ds) if p.adhesion == "isotropic"
-             else Adhesion.orthotropic(p.eps_1 * ds, p.eps_2 * ds, angle=0.0))
+        B = (Adhesion.isotropic(p.eps_1_per_length * ds) if p.adhesion == "isotropic"
+             else Adhesion.orthotropic(p.eps_1_per_length * ds, p.eps_2_per_length * ds, angle=0.0))
         F = Friction.orthotropic(p.mu_1, p.mu_2, angle=math.radians(turn_deg))
-        return ContactLaw(Cylinder(p.radius, side="outside"), B, F, normal_stiffness=p.eps_n * ds,
-                          normal_damping=p.normal_damping * ds, return_map=p.return_map)
+        return ContactLaw(Cylinder(p.radius, side="outside"), B, F, normal_stiffness=p.eps_n_per_length * ds,
+                          normal_damping=p.normal_damping_per_length * ds, return_map=p.return_map)
     return law
 
 

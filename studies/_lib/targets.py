@@ -138,7 +138,7 @@ def empty_contact(mbs, nodes, K, storeHistory, sparse=False):
     dissipation sensor and with storeHistory the history sensor, the post-Newton function) with user
     functions that return zeros and accept every step. sparse: the Jacobian as a sparse matrix (a
     group's)."""
-    from exu_aniso.kernel.contact_law import N_HISTORY
+    from exu_aniso.law.history import N_HISTORY
     n = sum(len(mbs.GetNodeParameter(nd, "referenceCoordinates")) for nd in nodes)
     zq = np.zeros(n)
     if sparse:

@@ -41,7 +41,8 @@ from numba import njit
 
 from exu_aniso.kernel.sets import stage_candidate
 from exu_aniso.kernel.point import _entry_point
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, N_HISTORY, UNRESOLVED, ContactLaw
+from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, UNRESOLVED
+from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.util.validation import check_bool, check_index, check_instance, check_points
 
 _SETS_KEY = "exu_aniso_contact_sets"

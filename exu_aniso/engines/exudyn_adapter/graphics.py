@@ -73,7 +73,7 @@ import exudyn as exu
 import numpy as np
 from exudyn import graphics
 
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, OPEN, SLIP, STICK
+from exu_aniso.law.history import HISTORY_FIELDS, OPEN, SLIP, STICK
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.util.validation import check_bool, check_instance
 

@@ -25,7 +25,7 @@ from exudyn.itemInterface import (MarkerNodeCoordinate, MarkerNodeCoordinates, N
 from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RotationMatrixX,
                                        RotationMatrixZ, RotationVector2RotationMatrix)
 
-from exu_aniso.kernel.contact_law import HISTORY_FIELDS, N_HISTORY
+from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY
 from exu_aniso.engines.exudyn_adapter.glue import contact_force_calls
 from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.util.output import atomic_write
