@@ -79,11 +79,9 @@ import time
 import numpy as np
 
 from exu_aniso.law.history import UNRESOLVED
-from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.engines import energy
-from exu_aniso.engines.result import Result  # noqa: F401  (the result of run's callers)
 from exu_aniso.engines.timing import time_grid, time_step
-from exu_aniso.util.validation import check_bool, check_in_range, check_instance, check_integer, check_keywords, check_positive
+from exu_aniso.util.validation import check_bool, check_in_range, check_instance, check_integer, check_positive
 
 # ----------------------------------------------------------------------------------------------
 # SO(3) helpers
