@@ -164,12 +164,11 @@ class ContactLaw:
             "history", np.reshape(history, (K, N_HISTORY)) if np.size(history) == K * N_HISTORY else history,
             (K, N_HISTORY))
         from exu_aniso.kernel import point as kernel
-        from exu_aniso.kernel.point import LawParams, MAP_CODES
         # a Python loop over the points: a compiled loop would inline the whole kernel once more per surface
         # and field types (+2 s of compilation each, measured; the set kernels already hold their own copy)
         contact_point = kernel.contact_point if self.compiled else kernel.plain_python().contact_point
         K = x.shape[0]
-        law = LawParams(self.eps_N, self.d_N, self.d_T, MAP_CODES[self.return_map])
+        law = kernel.law_params(self)
         sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]
         force = np.zeros((K, 3))
         stiff = np.zeros((K, 3, 3))

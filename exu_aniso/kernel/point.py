@@ -445,12 +445,16 @@ def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, T, k
                          S, T, cols)
 
 
+def law_params(contact_law):
+    """The law parameters of a ContactLaw for the kernel (LawParams: penalty, dashpots, map code)."""
+    return LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
+                     MAP_CODES[contact_law.return_map])
+
+
 def _law_bundle(contact_law):
     """The law of a ContactLaw packed for the compiled kernels (surface, nets, law parameters; named tuples)."""
     nB, nF = contact_law._nets
-    return CovariantLaw(contact_law.surface.params, nB, nF,
-                        LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
-                                  MAP_CODES[contact_law.return_map]))
+    return CovariantLaw(contact_law.surface.params, nB, nF, law_params(contact_law))
 
 
 class CovariantSet:

@@ -54,6 +54,9 @@ _CUR = exu.ConfigurationType.Current
 
 
 def _rot_vec_matrix(th):
+    """Rodrigues' formula. Not exudyn.rigidBodyUtilities.RotationVector2RotationMatrix: in Exudyn 1.13
+    that gives a matrix that is not a rotation once |th| > 2 pi (th = (-5.00, 4.18, -0.24): entries
+    up to 20, measured against scipy's Rotation.from_rotvec)."""
     a = math.sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2])
     K = np.array([[0.0, -th[2], th[1]], [th[2], 0.0, -th[0]], [-th[1], th[0], 0.0]])
     if a < 1e-8:
