@@ -1,29 +1,13 @@
-"""Standalone numpy/scipy reference of the two scenes: rigid-body dynamics and an implicit integrator.
+"""Standalone numpy/scipy reference engine: rigid-body dynamics and an implicit integrator.
 
 No Exudyn here: this module is the oracle the Exudyn engine is compared with.
 
-Models (state = configuration + velocity; generalized coordinates in brackets)
-----------------------------------------------------------------------------
-* block "planar"  (x, y, theta): the slave points are held at the penetration that carries the
-  normal load equally, gap = -normal_load / eps_n (eps_n total); only the in-plane contact force
-  and the z-torque act. Inertia m, m, m size^2 / 6.
-* block "full"    6-DOF rigid cube: position r of the COM (world), rotation matrix R (body ->
-  world), velocity v (world), angular velocity Omega (BODY frame). normal_load acts downward at
-  the COM (no separate gravity); the contact points carry it through the normal penalty.
-  The block starts at the static penetration (no initial bounce).
-* screw "reduced" (psi, z): rotation psi about the hole axis z and axial position z of the COM;
-  the screw axis stays on the hole axis. Inertia J_axial = m r^2 / 2, m.
-* screw "full"    6-DOF rigid cylinder (J_axial = m r^2/2, J_transverse = m (3 r^2 + L^2)/12) in the
-  hole (axis z), no gravity; axial_load along +z.
-* particle        mass point (x, y, z) on any surface of the protocol (exu_aniso.scenes.particle),
-  gravity m g as a constant force, the initial state of the scene (the history of t = 0 is
-  evaluated with the initial velocity, as the Exudyn glue does).
-
-Drives: block "force" P (cos a, sin a, 0) at the COM; block "displacement": spring along the drive
-direction d only, F = k (s t - d.(r - r0)) d. Screw "torque": constant tau about +z; "rotation":
-tau = k (omega_d t - psi); "axial": F = k (v_d t - z); axial_load along +z always. In the full
-screw psi is the unwrapped yaw atan2(R_10, R_00) (exact for rotations about z, which is the
-motion of interest; a small tilt perturbs it at second order).
+Body models: any ``BodyModel`` (a configuration, a velocity and the generalized forces of its
+contact points); each scene's module defines its own and says what it models (e.g. the block's
+planar and 6-DOF models in ``exu_aniso.scenes.block``, the screw's in ``exu_aniso.scenes.screw``, a
+mass point in ``exu_aniso.scenes.particle``). ``RigidBody6`` is the 6-DOF rigid body they share:
+position r of the COM (world), rotation matrix R (body -> world), velocity v (world), angular
+velocity Omega (BODY frame).
 
 Contact: ``ContactLaw.evaluate`` at the end-of-step configuration with the last CONVERGED history
 (backward Euler of the rate law); the history candidate is committed only when the step is

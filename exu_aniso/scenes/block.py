@@ -7,6 +7,19 @@ ledger, and its body models for the reference engine (``exu_aniso.engines.refere
 there (``simulate_block``): a planar rigid body (x, y, theta) held at the penetration that carries the
 normal load, or a 6-DOF rigid cube on the plane (the reference engine's docstring has the models'
 equations). The Exudyn model script is ``exu_aniso.models.block``.
+
+Body models of the reference engine (state = configuration + velocity; generalized coordinates in
+brackets):
+
+* "planar" (x, y, theta): the slave points are held at the penetration that carries the normal
+  load equally, gap = -normal_load / eps_n (eps_n total); only the in-plane contact force and the
+  z-torque act. Inertia m, m, m size^2 / 6.
+* "full": the 6-DOF rigid cube (``RigidBody6``). normal_load acts downward at the COM (no separate
+  gravity); the contact points carry it through the normal penalty. The block starts at the static
+  penetration (no initial bounce).
+
+Drives: "force" P (cos a, sin a, 0) at the COM; "displacement": a spring along the drive direction
+d only, F = k (s t - d.(r - r0)) d.
 """
 from __future__ import annotations
 

@@ -8,6 +8,19 @@ run there (``simulate_screw``): the reduced model (psi, z) on the hole's axis or
 cylinder in the hole; and its closed-form steady sliding (``steady_sliding``, what
 ``exu_aniso.calibration`` fits to). The Exudyn model script is ``exu_aniso.models.screw``.
 
+Body models of the reference engine (state = configuration + velocity; generalized coordinates in
+brackets):
+
+* "reduced" (psi, z): rotation psi about the hole axis z and axial position z of the COM; the
+  screw axis stays on the hole axis. Inertia J_axial = m r^2 / 2, m.
+* "full": the 6-DOF rigid cylinder (``RigidBody6``; J_axial = m r^2/2, J_transverse =
+  m (3 r^2 + L^2)/12) in the hole (axis z), no gravity; axial_load along +z.
+
+Drives: "torque": constant tau about +z; "rotation": tau = k (omega_d t - psi); "axial":
+F = k (v_d t - z); axial_load along +z always. In the full screw psi is the unwrapped yaw
+atan2(R_10, R_00) (exact for rotations about z, the motion of interest; a small tilt perturbs it at
+second order).
+
 Steady sliding in closed form (``steady_sliding``)
 --------------------------------------------------
 In the reduced model the screw stays on the hole axis, so every point carries the same normal force;
