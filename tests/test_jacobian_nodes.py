@@ -24,6 +24,7 @@ from exudyn.utilities import InertiaCuboid  # noqa: E402
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 
 NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D"]
@@ -84,7 +85,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
     else:
         nt = exu.NodeType.RotationRotationVector if node_kind == "RigidBodyRotVecLG" else \
             exu.NodeType.RotationEulerParameters
-        R0 = glue._rot_vec_matrix(rng.normal(scale=0.8, size=3))      # a general orientation
+        R0 = rotation_matrix(rng.normal(scale=0.8, size=3))      # a general orientation
         o = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1] * 3), referencePosition=[0.3, 0.1, 0.05],
                                 referenceRotationMatrix=R0, nodeType=nt)
         kin = glue._BodyKinematics(mbs, mbs.GetObject(o)["nodeNumber"])
@@ -138,7 +139,7 @@ def _perturbed(cs, q, c, h):
         th = sl.ref[3:6] + q[3:6]
         inc = np.zeros(3)
         inc[c - 3] = h
-        q[3:6] = _rot_log(glue._rot_vec_matrix(th) @ glue._rot_vec_matrix(inc)) - sl.ref[3:6]
+        q[3:6] = _rot_log(rotation_matrix(th) @ rotation_matrix(inc)) - sl.ref[3:6]
     else:
         q[c] += h
     return q

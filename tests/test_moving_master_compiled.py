@@ -25,6 +25,7 @@ from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane  # noqa: E402
 
@@ -122,7 +123,7 @@ def _scene(slave_kind, master_kind, lawname, seed=5):
     mbs = SC.AddSystem()
     mbs.variables["SC"] = SC                     # keep the container alive with the mbs
     oM = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.5, 0.5, 0.05]), referencePosition=[0.1, -0.2, 0.3],
-                             referenceRotationMatrix=glue._rot_vec_matrix(rng.normal(scale=0.8, size=3)),
+                             referenceRotationMatrix=rotation_matrix(rng.normal(scale=0.8, size=3)),
                              nodeType=NODE_TYPES[master_kind])
     master = glue._BodyKinematics(mbs, mbs.GetObject(oM)["nodeNumber"])
     if slave_kind == "Point":
@@ -131,7 +132,7 @@ def _scene(slave_kind, master_kind, lawname, seed=5):
         pass                                     # built in the master's plane below
     else:
         oS = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1] * 3), referencePosition=[0.12, -0.18, 0.35],
-                                 referenceRotationMatrix=glue._rot_vec_matrix(rng.normal(scale=0.8, size=3)),
+                                 referenceRotationMatrix=rotation_matrix(rng.normal(scale=0.8, size=3)),
                                  nodeType=NODE_TYPES[slave_kind])
     if slave_kind == "Cable":
         qm, vm = _random_coordinates(master, rng, 0.05)
@@ -240,7 +241,7 @@ def _perturbed(nodes, q, c, h):
         th = kin.ref[3:6] + q[off + 3:off + 6]
         inc = np.zeros(3)
         inc[c - off - 3] = h
-        q[off + 3:off + 6] = _rot_log(glue._rot_vec_matrix(th) @ glue._rot_vec_matrix(inc)) - kin.ref[3:6]
+        q[off + 3:off + 6] = _rot_log(rotation_matrix(th) @ rotation_matrix(inc)) - kin.ref[3:6]
     else:
         q[c] += h
     return q

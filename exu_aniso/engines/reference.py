@@ -65,14 +65,11 @@ import numpy as np
 from exu_aniso.law.history import UNRESOLVED
 from exu_aniso.engines import energy
 from exu_aniso.engines.timing import time_grid, time_step
+from exu_aniso.util.rotations import rotation_matrix, skew, wrap_angle
 from exu_aniso.util.validation import check_bool, check_in_range, check_instance, check_integer, check_positive
 
 # ----------------------------------------------------------------------------------------------
 # SO(3) helpers
-
-
-def _skew(a):
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
 
 
 def _skew_batch(a):
@@ -83,26 +80,13 @@ def _skew_batch(a):
     return S
 
 
-def _exp_so3(th):
-    """Rodrigues: exp([th]x)."""
-    phi = math.sqrt(th @ th)
-    W = _skew(th)
-    if phi < 1e-8:
-        return np.eye(3) + W + 0.5 * W @ W
-    return np.eye(3) + math.sin(phi) / phi * W + (1.0 - math.cos(phi)) / phi ** 2 * W @ W
-
-
 def _right_jacobian(th):
     """J_r(th): exp([th + d]x) = exp([th]x) exp([J_r d]x) + O(d^2)."""
     phi = math.sqrt(th @ th)
-    W = _skew(th)
+    W = skew(th)
     if phi < 1e-6:
         return np.eye(3) - 0.5 * W + W @ W / 6.0
     return np.eye(3) - (1.0 - math.cos(phi)) / phi ** 2 * W + (phi - math.sin(phi)) / phi ** 3 * W @ W
-
-
-def _wrap(a):
-    return math.pi - (math.pi - a) % (2.0 * math.pi)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -157,8 +141,8 @@ class RigidBody6(BodyModel):
 
     def retract(self, q, d):
         r, R, yaw = q
-        R1 = R @ _exp_so3(d[3:])
-        yaw1 = yaw + _wrap(math.atan2(R1[1, 0], R1[0, 0]) - yaw)
+        R1 = R @ rotation_matrix(d[3:])
+        yaw1 = yaw + wrap_angle(math.atan2(R1[1, 0], R1[0, 0]) - yaw)
         T = np.eye(6)
         T[3:, 3:] = _right_jacobian(d[3:])
         return (r + d[:3], R1, yaw1), T
@@ -197,13 +181,13 @@ class RigidBody6(BodyModel):
                                 np.einsum("kij,lj->kil", self.S, R)], axis=1)   # rows of g per force
             Gq = np.einsum("kia,kab,kbj->ij", B, st.stiffness, A)
             Gq[3:, 3:] += np.einsum("kij,kjl->il", self.S, _skew_batch(fb))
-            Gq[3:, 3:] += _skew(R.T @ Me) + np.outer(R.T @ dMe, R[2, :])
+            Gq[3:, 3:] += skew(R.T @ Me) + np.outer(R.T @ dMe, R[2, :])
             Gq[:3, :3] += dFe
             dV = np.zeros((self.K, 3, 6))                             # d(R (Om x s))/dphi = -R [Om x s]x
             dV[:, :, 3:] = -np.einsum("ij,kjl->kil", R, _skew_batch(np.cross(Om, self.s)))
             Gq += np.einsum("kia,kab,kbj->ij", B, st.damping, dV)
             Gv = np.einsum("kia,kab,kbj->ij", B, st.damping, A)
-            Gv[3:, 3:] -= _skew(Om) @ np.diag(self.J) - _skew(JOm)
+            Gv[3:, 3:] -= skew(Om) @ np.diag(self.J) - skew(JOm)
         return g, Gq, Gv, st
 
     def world_omega(self, q, v):

@@ -43,6 +43,7 @@ from exu_aniso.kernel.sets import stage_candidate
 from exu_aniso.kernel.point import _entry_point
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, UNRESOLVED
 from exu_aniso.kernel.contact_law import ContactLaw
+from exu_aniso.util.rotations import rotation_matrix
 from exu_aniso.util.validation import check_bool, check_index, check_instance, check_points
 
 _SETS_KEY = "exu_aniso_contact_sets"
@@ -51,17 +52,6 @@ _SOS = exu.ConfigurationType.StartOfStep
 _STATUS = HISTORY_FIELDS.index("status")
 _DISSIPATED = HISTORY_FIELDS.index("dissipated_energy")
 _CUR = exu.ConfigurationType.Current
-
-
-def _rot_vec_matrix(th):
-    """Rodrigues' formula. Not exudyn.rigidBodyUtilities.RotationVector2RotationMatrix: in Exudyn 1.13
-    that gives a matrix that is not a rotation once |th| > 2 pi (th = (-5.00, 4.18, -0.24): entries
-    up to 20, measured against scipy's Rotation.from_rotvec)."""
-    a = math.sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2])
-    K = np.array([[0.0, -th[2], th[1]], [th[2], 0.0, -th[0]], [-th[1], th[0], 0.0]])
-    if a < 1e-8:
-        return np.eye(3) + K + 0.5 * K @ K
-    return np.eye(3) + math.sin(a) / a * K + (1.0 - math.cos(a)) / (a * a) * K @ K
 
 
 def _ep_matrix(e):
@@ -206,7 +196,7 @@ class _BodyKinematics:
     def rotation(self, q_total):
         """Rotation matrix A and G (omega_local = G dq_rot/dt) of a 3D node at total coordinates."""
         if self.kind == "RigidBodyRotVecLG":
-            return _rot_vec_matrix(q_total[3:6]), np.eye(3)
+            return rotation_matrix(q_total[3:6]), np.eye(3)
         return _ep_matrix(q_total[3:7])
 
     def frame(self, q, q_t):

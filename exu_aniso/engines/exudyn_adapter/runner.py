@@ -32,6 +32,7 @@ from exu_aniso.util.output import atomic_write
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.energy import RigidMotion, motion_about_z
 from exu_aniso.engines.exudyn_adapter.solver_settings import NEWTON_MODES, SOLVER_TYPES
+from exu_aniso.util.rotations import skew, wrap_angle
 from exu_aniso.util.validation import check_in_range, check_instance, check_positive
 
 
@@ -78,14 +79,6 @@ def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
                                            forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
 
 
-def _skew(a):
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-
-
-def _wrap(a):
-    return math.pi - (math.pi - a) % (2.0 * math.pi)
-
-
 def AddYawDrive(mbs, nodeNumber, nodeType, torque):
     """A torque tau about the world z axis on a 3D rigid body's node (``nodeType`` "RotVecLG" or
     "EP"), ``torque(yaw, t) -> (tau, dtau/dyaw)``, with yaw the unwrapped angle atan2(A_10, A_00) of
@@ -103,7 +96,7 @@ def AddYawDrive(mbs, nodeNumber, nodeType, torque):
         return np.asarray(RotationVector2RotationMatrix(q[3:6])), np.eye(3)
 
     def Yaw(A):
-        yaw = yaw_last[0] + _wrap(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])
+        yaw = yaw_last[0] + wrap_angle(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])
         yaw_last[0] = yaw
         return yaw
 
@@ -118,7 +111,7 @@ def AddYawDrive(mbs, nodeNumber, nodeType, torque):
         A, G = Kinematics(q)
         tau, dtau = torque(Yaw(A), t)
         Kq = np.zeros((nq, nq))
-        Kq[3:, 3:] = -G.T @ (_skew(A[2, :] * tau) + dtau * np.outer(A[2, :], A[2, :])) @ G
+        Kq[3:, 3:] = -G.T @ (skew(A[2, :] * tau) + dtau * np.outer(A[2, :], A[2, :])) @ G
         return Kq
 
     return AddNodeDrive(mbs, nodeNumber, nq, DriveForce, DriveJacobian)
