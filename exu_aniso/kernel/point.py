@@ -135,8 +135,9 @@ def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
 
 # the surface terms (surface_terms) by position: transported traction (2), slip (2), B (11, 12, 22),
 # F (11, 12, 22), n (3), G's first and second row (3 each)
-(ST_T1, ST_T2, ST_S1, ST_S2, ST_B11, ST_B12, ST_B22, ST_F11, ST_F12, ST_F22,
- ST_N, _, _, ST_G1, _, _, ST_G2, _, _) = range(19)
+ST_T1, ST_T2, ST_S1, ST_S2 = 0, 1, 2, 3
+ST_B11, ST_B12, ST_B22, ST_F11, ST_F12, ST_F22 = 4, 5, 6, 7, 8, 9
+ST_N, ST_G1, ST_G2 = 10, 13, 16                  # the first of three each
 _NT = 19            # number of surface terms
 
 

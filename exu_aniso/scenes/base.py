@@ -211,9 +211,6 @@ class SceneParams:
             raise ValueError(f"dt must be <= t_end; got dt={self.dt!r} > t_end={self.t_end!r}")
         self.check_cost()
         self._check_scene()
-        if getattr(self, "model", None) == "full" and getattr(self, "points_per_ring", 3) < 3:
-            raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); "
-                             f"got {self.points_per_ring}")
 
     def _check_scene(self):
         """Rules that tie several parameters together (scene-specific)."""

@@ -131,6 +131,11 @@ class ScrewParams(SceneParams):
     def _layout_text(self):
         return f"rings={self.rings} x points_per_ring={self.points_per_ring}"
 
+    def _check_scene(self):
+        if self.model == "full" and self.points_per_ring < 3:
+            raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); "
+                             f"got {self.points_per_ring}")
+
 
 def screw_points(p):
     """Body-local contact points (K, 3) on the cylinder of radius radius + interference [m] (on a
@@ -361,8 +366,6 @@ def simulate_screw(params=None, **options):
     p = ScrewParams() if params is None else params
     if not isinstance(p, ScrewParams):
         raise TypeError(f"params must be ScrewParams; got {type(p).__name__}")
-    if p.model == "full" and p.points_per_ring < 3:
-        raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
     check_keywords("simulate_screw", options, RUN_OPTIONS)
     model, floor = reference_model(p)
     traj, wall, iters, steps, info, motion, H = run(model, p, floor=floor, **options)

@@ -23,7 +23,7 @@ from exudyn.itemInterface import (MarkerNodeCoordinate, MarkerNodeCoordinates, N
                                   ObjectGenericODE2, VNodePointGround,
                                   VObjectConnectorCoordinate, VObjectConnectorCoordinateSpringDamper)
 from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RotationMatrixX,
-                                       RotationMatrixZ, RotationVector2RotationMatrix)
+                                       RotationMatrixZ)
 
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY
 from exu_aniso.engines.exudyn_adapter.glue import contact_force_calls
@@ -32,7 +32,7 @@ from exu_aniso.util.output import atomic_write
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.energy import RigidMotion, motion_about_z
 from exu_aniso.engines.exudyn_adapter.solver_settings import NEWTON_MODES, SOLVER_TYPES
-from exu_aniso.util.rotations import skew, wrap_angle
+from exu_aniso.util.rotations import rotation_matrix, skew, wrap_angle
 from exu_aniso.util.validation import check_in_range, check_instance, check_positive
 
 
@@ -93,7 +93,7 @@ def AddYawDrive(mbs, nodeNumber, nodeType, torque):
         if ep:
             e = q[3:7] + np.array([1.0, 0.0, 0.0, 0.0])
             return np.asarray(EulerParameters2RotationMatrix(e)), np.asarray(EulerParameters2GLocal(e))
-        return np.asarray(RotationVector2RotationMatrix(q[3:6])), np.eye(3)
+        return rotation_matrix(q[3:6]), np.eye(3)
 
     def Yaw(A):
         yaw = yaw_last[0] + wrap_angle(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])
