@@ -41,6 +41,12 @@ from numba import njit
 
 from exu_aniso.kernel.sets import stage_candidate
 from exu_aniso.kernel.point import _entry_point
+from exu_aniso.kernel.native import NativeBlock
+
+try:        # the native force callback (C++, built at install; see _native.cpp); absent: Python callbacks
+    from exu_aniso.engines.exudyn_adapter import _native
+except ImportError:                             # pragma: no cover - an install without a C++ compiler
+    _native = None
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, UNRESOLVED
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.util.rotations import rotation_matrix
@@ -630,6 +636,9 @@ class _CompiledSet(_ContactSet):
         self._qb, self._q_tb = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])   # own buffers
         self._q, self._q_t = self._qb, self._q_tb
         self._force_args = None               # the force call's arguments, made with dt by _load_history
+        self._native = None                   # NativeBlock when Exudyn calls the native force (use_native)
+        self._mbs_address = None
+        self._t_end = math.inf                # end time of the solve [s] (native_delegate)
 
     @staticmethod
     def _pack(law, kind, slave, points, master):
@@ -669,6 +678,49 @@ class _CompiledSet(_ContactSet):
         self._t0 = t0
         self._dt = t - t0
         self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt, self._h0) + self._tail
+        if self._native is not None:          # views checked, start of the step known: the native caller may go on
+            if self._native.H is not self._h0:
+                self._native.store(self._h0)
+            self._native.clock[:] = (t0, 1.0)
+
+    # --- the native force callback (_native.cpp): Exudyn calls the kernel without Python -----------
+    def use_native(self, mbs):
+        """Give Exudyn the native force callback for this set's object (after locate): its kernel
+        (kernel.native: the same compiled entry over the same arguments) is registered for (mbs,
+        object), unarmed; the first call of a solve goes to ``native_delegate``, which arms it."""
+        self._native = NativeBlock(self.pk._fn, self.pk.H, self._tail)
+        self._mbs_address = _native.system_address(mbs)
+        _native.register_set(mbs, self.oContact, self._native.kernel, self._native.address,
+                             self.pk.Q.ctypes.data, self.pk.X.shape[1], self._native.clock.ctypes.data,
+                             _Delegate(self, mbs))
+        return _native.force
+
+    def native_delegate(self, mbs, t):
+        """The native callback's call in Python (its first call of every solve, a call at or before
+        the start of the step, a call the kernel raised in): checks the views (_load_history, which
+        arms the native caller), reads the solve's end time and evaluates the force into Q."""
+        self.force_calls += 1
+        self._load_history(mbs, t)
+        ss = mbs.sys.get("simulationSettings")
+        self._t_end = float(ss.timeIntegration.endTime) if ss is not None else math.inf
+        if self._gathered:
+            self._gather(*self._gather_args)
+        self._entry(*self._force_args)
+
+    def disarm(self):
+        """The next native call goes to Python first (native_delegate): at the end of a solve."""
+        if self._native is not None:
+            self._native.clock[1] = 0.0
+
+    def native_calls(self):
+        """(native, delegated) force calls of this set so far."""
+        if self._native is None:
+            return 0, 0
+        return _native.calls(self._mbs_address, self.oContact)
+
+    def __del__(self):
+        if self._native is not None and _native is not None:
+            _native.release_set(self._mbs_address, self.oContact, self._native.address)
 
     def force(self, mbs, t, itemNumber, q, q_t):
         """Generalized contact forces at the given q, q_t (the set's coordinates, any values: for
@@ -840,24 +892,63 @@ def contact_force_calls(mbs):
     """How many times Exudyn called the force user functions of this system's contact sets so far.
     Exudyn allocates 2 vectors per call of an ObjectGenericODE2 force function (its own copies of the
     returned force), which its solver's allocation check counts (exu_aniso.engines.exudyn_adapter.runner.SolveTimed)."""
-    return sum(cs.force_calls for cs in mbs.variables.get(_SETS_KEY, ()))
+    sets = mbs.variables.get(_SETS_KEY, ())
+    return sum(cs.force_calls + (cs.native_calls()[0] if isinstance(cs, _CompiledSet) else 0) for cs in sets)
 
 
 def _post_newton(mbs, t):
     """Commit every contact set's history candidate; if any set saw an unresolved step, reject the
     step and ask Exudyn to repeat it with a quarter of the step size (Exudyn restores Current
     from StartOfStep, so sets already written leave no trace)."""
-    if not _commit(mbs, t, mbs.variables[_SETS_KEY]):
+    sets = mbs.variables[_SETS_KEY]
+    if not _commit(mbs, t, sets):
         h = t - mbs.systemData.GetTime(_SOS)
         mbs.variables[_UNRESOLVED_KEY] = t
         return [1.0, UNRESOLVED_STEP_FACTOR * h]
+    for cs in sets:
+        if getattr(cs, "_native", None) is not None:
+            _step_done(cs._native.clock, cs, t)
     return [0.0, -1.0]
+
+
+def _step_done(clock, cs, t):
+    """A native set after an accepted step at t: the next step starts at t; after the solve's last
+    step (t within half a step of its end time) the next call goes to Python first."""
+    h = t - clock[0]
+    clock[0] = t
+    if t + 0.5 * h >= cs._t_end:
+        clock[1] = 0.0
+
+
+def disarm_native(mbs):
+    """Every native set of mbs calls Python first at its next call (``_CompiledSet.disarm``): before
+    and after a solve whose start the sets cannot see."""
+    for cs in mbs.variables.get(_SETS_KEY, ()):
+        if isinstance(cs, _CompiledSet):
+            cs.disarm()
+
+
+class _Delegate:
+    """What the native callback calls in Python: the set's native_delegate, by weak references (the
+    C++ registry must not keep a system alive)."""
+
+    def __init__(self, cs, mbs):
+        import weakref
+        self.cs, self.mbs = weakref.ref(cs), weakref.ref(mbs)
+
+    def __call__(self, t, q, q_t):
+        cs, mbs = self.cs(), self.mbs()
+        if cs is None or mbs is None:
+            raise RuntimeError("exu_aniso: the exudyn.MainSystem of a contact set (or the set) was deleted while "
+                               "Exudyn still calls its force; keep a reference to mbs while solving")
+        cs.native_delegate(mbs, t)
 
 
 def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
                              normalStiffness=None, normalDamping=None, returnMap="exact", contactLaw=None,
                              masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True,
-                             implementation="auto", tangentialDamping=None, storeHistory=False):
+                             implementation="auto", tangentialDamping=None, storeHistory=False,
+                             nativeCallbacks=None):
     """Add anisotropic frictional contact between body-fixed points and an analytical surface.
 
     bodyNumber: slave body (ObjectRigidBody, ObjectRigidBody2D for a planar model, ObjectMassPoint or
@@ -897,11 +988,17 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     (ContactLaw.evaluate with numpy; any configuration) or "auto" (compiled where it applies, numpy
     otherwise). Both give the same results to round-off (tests/test_fastpath.py,
     tests/test_moving_master_compiled.py).
+    nativeCallbacks: None (default: where the compiled kernel is used and the native extension is
+    built), True (required: an error otherwise) or False: Exudyn calls the compiled kernel through a
+    C++ force function (``_native.cpp``) without entering Python, instead of through a Python user
+    function; the same compiled call on the same arguments, so the same numbers bit for bit
+    (tests/test_native_callbacks.py). The Jacobian and the post-Newton commit stay in Python.
 
     Returns a dict with 'oContact' (ObjectGenericODE2), 'nDissipation' (NodeGenericData with the set's
     total dissipated energy [J], written with the history), 'nData' (NodeGenericData, the history:
     9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history, with storeHistory),
-    'sDissipation' (sensor of the total dissipated energy [J], with storeSensors), 'law', 'points' and 'implementation' (the one used),
+    'sDissipation' (sensor of the total dissipated energy [J], with storeSensors), 'law', 'points', 'implementation' (the one used)
+    and 'nativeCallbacks' (True when Exudyn calls the native force),
     and for graphics and post-processing: 'bodyNumber', 'masterBodyNumber' (as given), and three
     read-only functions of (mbs, configuration=None) (an exu.ConfigurationType; None: the initial
     coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
@@ -952,6 +1049,16 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a surface and fields numba can "
                          "compile; use 'numpy' or 'auto'")
     use_compiled = compiled_ok and implementation != "numpy"
+    if nativeCallbacks not in (None, True, False):
+        raise ValueError(f"CreateAnisotropicContact: nativeCallbacks must be None, True or False; got {nativeCallbacks!r}")
+    if nativeCallbacks and not use_compiled:
+        raise ValueError("CreateAnisotropicContact: nativeCallbacks=True needs the compiled kernel (implementation "
+                         "'auto' or 'compiled' with a surface and fields numba compiles)")
+    if nativeCallbacks and _native is None:
+        raise ValueError("CreateAnisotropicContact: nativeCallbacks=True, but the native extension "
+                         "exu_aniso.engines.exudyn_adapter._native is not built (pip install builds it with a C++ "
+                         "compiler)")
+    use_native = use_compiled and _native is not None and nativeCallbacks is not False
     if isinstance(slave, _RigidGroup) and master is not None:
         raise ValueError("CreateAnisotropicContact: a list of rigid bodies in bodyNumber (a group) needs a fixed "
                          "surface (masterBodyNumber None); give each body its own contact set on a moving master")
@@ -980,12 +1087,14 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     oContact = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=cs.force_in_place
                                                if use_compiled else cs.force, **kw))
     cs.locate(mbs, oContact)
+    if use_native:
+        mbs.SetObjectParameter(oContact, "forceUserFunction", cs.use_native(mbs))
     if _SETS_KEY not in mbs.variables:
         mbs.variables[_SETS_KEY] = []
         mbs.SetPostNewtonUserFunction(_post_newton)
     mbs.variables[_SETS_KEY].append(cs)
     out = {"oContact": oContact, "nData": cs.nData, "nDissipation": cs.nTotal, "law": contactLaw, "points": points,
-           "implementation": "compiled" if use_compiled else "numpy",
+           "implementation": "compiled" if use_compiled else "numpy", "nativeCallbacks": use_native,
            # read-only views (exu_aniso.engines.exudyn_adapter.graphics); functions of (mbs, configuration=None), see _ContactSet
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,

@@ -35,7 +35,8 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
                                        initializeHistory: bool = True, storeSensors: bool = True,
                                        storeHistory: bool = False, implementation: str = "auto", contactLaw=None,
                                        show: bool = True, color: Sequence[float] = None,
-                                       showTraction: bool = False, tractionScale: float = None) -> dict:
+                                       showTraction: bool = False, tractionScale: float = None,
+                                       nativeCallbacks: bool = None) -> dict:
     """Create anisotropic frictional contact (Konyukhov & Schweizerhof) between points fixed on a body and
     an analytical surface; the sticking stiffness (adhesion tensor B) and the sliding limit (friction
     tensor F) follow a net on the surface (polar orthotropy on a plane, a thread-like spiral on a cylinder)
@@ -70,6 +71,8 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         storeHistory: if True, a sensor of the whole history is added too (storeInternal: 9 numbers per
             point and step, so memory grows with points x steps; off unless asked for)
         implementation: 'auto', 'compiled' (numba kernel) or 'numpy'
+        nativeCallbacks: None (native where available), True or False: Exudyn calls the compiled kernel
+            through a C++ force function, without Python (the same numbers bit for bit)
         contactLaw: a ready exu_aniso.ContactLaw instead of surface, adhesion, friction, normalStiffness,
             normalDamping, tangentialDamping and returnMap
         show: if True, the surface with its net and the contact points (coloured open, stick, slip) are drawn
@@ -130,7 +133,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         contact = exudyn_glue.CreateAnisotropicContact(
             mbs, bodyNumber, localPoints, masterBodyNumber=masterBodyNumber, jacobian=jacobian,
             initializeHistory=initializeHistory, storeSensors=storeSensors, storeHistory=storeHistory,
-            implementation=implementation, **lawArgs)
+            implementation=implementation, nativeCallbacks=nativeCallbacks, **lawArgs)
     except (TypeError, ValueError) as e:
         raise _named(e) from None
     if name:

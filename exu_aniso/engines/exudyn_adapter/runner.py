@@ -26,7 +26,7 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
                                        RotationMatrixZ)
 
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY
-from exu_aniso.engines.exudyn_adapter.glue import contact_force_calls
+from exu_aniso.engines.exudyn_adapter.glue import contact_force_calls, disarm_native
 from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.util.output import atomic_write
 from exu_aniso.util.progress import make_progress
@@ -193,6 +193,7 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     threshold = exudyn.solver.solverCheckMemoryAllocationsThreshold
     exudyn.solver.solverCheckMemoryAllocationsThreshold = math.inf   # checked below, without Exudyn's own
     t0 = time.perf_counter()
+    disarm_native(mbs)                          # the first call of the solve checks the views in Python
     try:
         with contextlib.redirect_stdout(capture) if capture is not None else contextlib.nullcontext():
             ok = mbs.SolveDynamic(simulationSettings, solverType=solverType, storeSolver=True)
@@ -200,6 +201,7 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     except Exception as e:                      # exudyn.SolverError, exudyn.ModelError, ...
         error = e
     finally:
+        disarm_native(mbs)
         exudyn.solver.solverCheckMemoryAllocationsThreshold = threshold
         if prog is not None:                    # leave the system as it was given
             mbs.SetPreStepUserFunction(previous if previous is not None else 0)

@@ -1,0 +1,131 @@
+// Native force callbacks: Exudyn calls the compiled contact kernel without entering Python.
+//
+// Exudyn stores an ObjectGenericODE2's forceUserFunction as a std::function of the signature
+//     std::vector<double>(const MainSystem&, double t, int itemNumber, std::vector<double> q,
+//                         std::vector<double> q_t)
+// converted from the Python object it is given by pybind11's std::function caster. When that object
+// is a pybind11 function of exactly this signature without state, the caster takes the raw C++
+// function pointer out of it: Exudyn then calls ``force`` below directly, with no Python frame, no
+// list conversion and no reference counting. ``force`` looks up the contact set registered for
+// (the system's address, itemNumber) and calls its kernel: a numba cfunc
+// (exu_aniso.kernel.native) over the set's compiled arguments, stored once in memory.
+//
+// What Python still does (exu_aniso.engines.exudyn_adapter.glue): a call that is not inside a
+// time step that Python has checked goes to the set's Python ``delegate`` instead (the first call
+// of every solve: Exudyn's initial accelerations; a call at or before the start of the step, as
+// after a restart; a call after a disarm). The delegate checks the views of Exudyn's vectors
+// (a re-assembly may have moved them), stores the kernel's arguments again if needed, evaluates the
+// call and arms the set with the start time of the step. Python's post-Newton function commits the
+// history and moves the start time on. A kernel that raises (an ill-posed contact state) returns
+// ERROR; the call is then repeated by the delegate, which raises the error with its message.
+//
+// Only the names of Exudyn's types matter here (the function type must be Exudyn's, for the
+// caster): MainSystem is declared, never used. No Exudyn header, no link to Exudyn.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace py = pybind11;
+
+class MainSystem {};                 // Exudyn's system class: its name makes the function type
+using StdVector = std::vector<double>;
+
+// the set kernel: (block address, mode, dt [s], q, q_t, n, fODE2, fODE2_t) -> status of the set
+using Kernel = int64_t (*)(int64_t, int64_t, double, const double*, const double*, int64_t, double, double);
+
+static const int64_t KERNEL_ERROR = -1000;   // the kernel raised (see exu_aniso.kernel.native)
+
+// clock (a float64 array of the set, CLOCK_* entries): start time of the step [s], armed flag
+static const int CLOCK_START = 0, CLOCK_ARMED = 1;
+
+struct Entry {
+    Kernel kernel = nullptr;
+    int64_t block = 0;               // address of the kernel's stored arguments
+    const double* Q = nullptr;       // the generalized force the kernel writes (n,)
+    int64_t n = 0;                   // the contact object's coordinates
+    double* clock = nullptr;
+    py::object delegate;             // Python: delegate(t, q, q_t) evaluates into Q
+    long native_calls = 0;
+    long delegated_calls = 0;
+};
+
+using Key = std::pair<uintptr_t, int>;
+// never destroyed: its Python references must not be released after the interpreter has finalized
+static std::map<Key, Entry>& registry = *new std::map<Key, Entry>();
+
+static StdVector force(const MainSystem& mbs, double t, int itemNumber, StdVector q, StdVector q_t) {
+    auto it = registry.find(Key(reinterpret_cast<uintptr_t>(&mbs), itemNumber));
+    if (it == registry.end()) {
+        throw std::runtime_error("exu_aniso native force: contact object " + std::to_string(itemNumber) +
+                                 " of this system has no registered contact set (CreateAnisotropicContact "
+                                 "registers it)");
+    }
+    Entry& e = it->second;
+    if (static_cast<int64_t>(q.size()) != e.n || static_cast<int64_t>(q_t.size()) != e.n) {
+        throw std::runtime_error("exu_aniso native force: contact object " + std::to_string(itemNumber) + " got " +
+                                 std::to_string(q.size()) + " coordinates, registered with " + std::to_string(e.n));
+    }
+    bool done = false;
+    if (e.clock[CLOCK_ARMED] != 0.0 && t > e.clock[CLOCK_START]) {
+        done = e.kernel(e.block, 0, t - e.clock[CLOCK_START], q.data(), q_t.data(), e.n, 0.0, 0.0) != KERNEL_ERROR;
+        e.native_calls += done;
+    }
+    if (!done) {
+        e.delegated_calls++;
+        e.delegate(t, q, q_t);       // raises (pybind11 passes the Python error on to Exudyn)
+    }
+    return StdVector(e.Q, e.Q + e.n);
+}
+
+// The address of the C++ object behind a pybind11 instance (Exudyn's MainSystem): the value
+// pointer of pybind11's instance record, the address Exudyn passes to force as ``&mbs``.
+static uintptr_t instance_address(py::handle obj) {
+    auto* inst = reinterpret_cast<py::detail::instance*>(obj.ptr());
+    if (!py::isinstance(obj, py::module_::import("exudyn").attr("MainSystem"))) {
+        throw std::invalid_argument("exu_aniso native: expected an exudyn.MainSystem");
+    }
+    void* p = inst->simple_layout ? inst->simple_value_holder[0] : inst->nonsimple.values_and_holders[0];
+    return reinterpret_cast<uintptr_t>(p);
+}
+
+PYBIND11_MODULE(_native, m) {
+    m.doc() = "Native force callbacks for Exudyn: the compiled contact kernel without Python (see _native.cpp)";
+    m.attr("KERNEL_ERROR") = KERNEL_ERROR;
+    m.attr("CLOCK_START") = CLOCK_START;
+    m.attr("CLOCK_ARMED") = CLOCK_ARMED;
+    m.def("force", &force, "the forceUserFunction to give Exudyn's ObjectGenericODE2");
+    m.def("system_address", &instance_address, "address of the C++ MainSystem behind an exudyn.MainSystem");
+    m.def("register_set",
+          [](py::handle mbs, int item, uintptr_t kernel, int64_t block, uintptr_t Q, int64_t n, uintptr_t clock,
+             py::object delegate) {
+              Entry e;
+              e.kernel = reinterpret_cast<Kernel>(kernel);
+              e.block = block;
+              e.Q = reinterpret_cast<const double*>(Q);
+              e.n = n;
+              e.clock = reinterpret_cast<double*>(clock);
+              e.delegate = std::move(delegate);
+              registry[Key(instance_address(mbs), item)] = std::move(e);
+          },
+          "register a contact set's kernel for (mbs, itemNumber), replacing an earlier one");
+    m.def("release_set",
+          [](uintptr_t system, int item, int64_t block) {
+              auto it = registry.find(Key(system, item));
+              if (it != registry.end() && it->second.block == block) registry.erase(it);
+          },
+          "forget the set registered for (system address, itemNumber) if it is still the one at block");
+    m.def("calls",
+          [](uintptr_t system, int item) {
+              auto it = registry.find(Key(system, item));
+              if (it == registry.end()) return py::make_tuple(0, 0);
+              return py::make_tuple(it->second.native_calls, it->second.delegated_calls);
+          },
+          "(native, delegated) force calls of the set registered for (system address, itemNumber)");
+    m.def("registered", []() { return registry.size(); }, "number of registered sets");
+}
