@@ -17,6 +17,8 @@ is raised with its message. This module needs no Exudyn.
 """
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 from numba import carray, cfunc, njit, typeof, types
 from numba.core.registry import cpu_target
@@ -55,20 +57,24 @@ def _load(typingctx, address, typeref):
 
 
 @intrinsic
-def _drop(typingctx, address, typeref):
-    """Release the references a _store at ``address`` holds."""
-    ty = typeref.instance_type
-
+def _drop(typingctx, address, like):
+    """Release the references a _store at ``address`` holds; ``like``: a value of the stored type."""
     def codegen(context, builder, sig, args):
+        ty = sig.args[1]
         ptr = builder.inttoptr(args[0], context.get_value_type(ty).as_pointer())
         context.nrt.decref(builder, ty, builder.load(ptr))
         return context.get_dummy_value()
-    return types.none(types.int64, typeref), codegen
+    return types.none(types.int64, like), codegen
 
 
 @njit(cache=True)
 def store_block(address, value):
     _store(address, value)
+
+
+@njit(cache=True)
+def drop_block(address, like):
+    _drop(address, like)
 
 
 def _native_size(ty):
@@ -77,7 +83,6 @@ def _native_size(ty):
 
 
 _CFUNCS = {}
-_DROPS = {}
 
 
 def set_cfunc(entry, block_type):
@@ -103,17 +108,6 @@ def set_cfunc(entry, block_type):
     return _CFUNCS[key]
 
 
-def _drop_function(block_type):
-    if block_type not in _DROPS:
-        bt = block_type
-
-        @njit
-        def drop(address):
-            _drop(address, bt)
-        _DROPS[block_type] = drop
-    return _DROPS[block_type]
-
-
 class NativeBlock:
     """The arguments ``(H,) + tail`` of a set's compiled entry stored for its cfunc. ``address``:
     where they are; ``kernel``: the cfunc's address; ``clock`` (2,): the start time of the step [s]
@@ -129,6 +123,7 @@ class NativeBlock:
         self.cfunc = set_cfunc(entry, self.type)
         self.kernel = int(self.cfunc.address)
         self.clock = np.zeros(2)
+        self._drop = drop_block                # held: at interpreter exit the module may be gone first
         self.store(H)
 
     def store(self, H):
@@ -143,7 +138,8 @@ class NativeBlock:
         """Give back the stored references (the cfunc must not be called until the next store)."""
         if self._stored:
             self._stored = False
-            _drop_function(self.type)(self.address)
+            self._drop(self.address, (self.H,) + self.tail)
 
     def __del__(self):
-        self.release()
+        if not sys.is_finalizing():            # at exit the process gives the memory back itself
+            self.release()

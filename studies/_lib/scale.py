@@ -115,31 +115,29 @@ def _solve(model):
 
 
 def count_callbacks(M, contact, t_end, dt):
-    """(force callbacks, Jacobian callbacks, Newton iterations, steps) of one untimed run: the user
-    functions the contact classes give Exudyn (numpy route: force, jacobian; compiled: force_in_place,
+    """(force callbacks, Jacobian callbacks, Newton iterations, steps) of one untimed run: the force
+    calls as the glue counts them (``contact_force_calls``: Python and native calls), the Jacobian
+    user functions the contact classes give Exudyn (numpy route: jacobian; compiled:
     jacobian_in_place) wrapped with counters while the model is built."""
     from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
-    counts = [0, 0]
-    names = {exudyn_glue._ContactSet: ("force", "jacobian"),
-             exudyn_glue._CompiledSet: ("force_in_place", "jacobian_in_place")}
-    saved = {cls: tuple(cls.__dict__[n] for n in pair) for cls, pair in names.items()}
+    counts = [0]
+    names = {exudyn_glue._ContactSet: "jacobian", exudyn_glue._CompiledSet: "jacobian_in_place"}
+    saved = {cls: cls.__dict__[name] for cls, name in names.items()}
 
-    def counted(f, i):
+    def counted(f):
         def w(*a, **k):
-            counts[i] += 1
+            counts[0] += 1
             return f(*a, **k)
         return w
     try:
-        for cls, fns in saved.items():
-            for i, (name, f) in enumerate(zip(names[cls], fns)):
-                setattr(cls, name, counted(f, i))
+        for cls, f in saved.items():
+            setattr(cls, names[cls], counted(f))
         model = BuildCubes(M, contact, t_end, dt)
         _, steps, iters = _solve(model)
     finally:
-        for cls, fns in saved.items():
-            for name, f in zip(names[cls], fns):
-                setattr(cls, name, f)
-    return counts[0], counts[1], iters, steps
+        for cls, f in saved.items():
+            setattr(cls, names[cls], f)
+    return exudyn_glue.contact_force_calls(model["mbs"]), counts[0], iters, steps
 
 
 def scale_rows(quick=False, repeats=5):
