@@ -126,6 +126,19 @@ def _helix(helix_angle):
     return a
 
 
+def _orthotropic(kind, n1, v1, n2, v2, angle):
+    """Constant orthotropy: v1 along e1 at angle [rad] in the transport frame, v2 across."""
+    return TensorField(kind, "orthotropic", _pair(kind, n1, v1, n2, v2), angle=check_real("angle", angle),
+                       label=f"orthotropic({v1}, {v2}, angle={angle})")
+
+
+def _polar(kind, n1, v1, n2, v2, core_radius):
+    """Polar orthotropy on a plane: v1 radial, v2 circumferential, regularized within core_radius [m]."""
+    return TensorField(kind, "polar", _pair(kind, n1, v1, n2, v2),
+                       core_radius=check_nonnegative("core_radius", core_radius),
+                       label=f"polar({v1}, {v2}, core_radius={core_radius})")
+
+
 def _spiral(kind, n1, v1, n2, v2, helix_angle, lead):
     """A spiral net given by its helix angle (at the surface's radius: Cylinder, Cone) or by its
     lead [m of the second surface coordinate per turn] (any surface of revolution)."""
@@ -152,16 +165,12 @@ class Adhesion:
     @staticmethod
     def orthotropic(eps_1, eps_2, angle=0.0):
         """Constant orthotropy; angle [rad] of e1 in the transport frame."""
-        lam = _pair(_ADHESION, "eps_1", eps_1, "eps_2", eps_2)
-        return TensorField(_ADHESION, "orthotropic", lam, angle=check_real("angle", angle),
-                           label=f"orthotropic({eps_1}, {eps_2}, angle={angle})")
+        return _orthotropic(_ADHESION, "eps_1", eps_1, "eps_2", eps_2, angle)
 
     @staticmethod
     def polar(eps_r, eps_phi, core_radius=0.0):
         """Polar orthotropy on a plane (papers' eq. 8): radial eps_r, circumferential eps_phi."""
-        lam = _pair(_ADHESION, "eps_r", eps_r, "eps_phi", eps_phi)
-        return TensorField(_ADHESION, "polar", lam, core_radius=check_nonnegative("core_radius", core_radius),
-                           label=f"polar({eps_r}, {eps_phi}, core_radius={core_radius})")
+        return _polar(_ADHESION, "eps_r", eps_r, "eps_phi", eps_phi, core_radius)
 
     @staticmethod
     def spiral(eps_1, eps_2, helix_angle=None, lead=None):
@@ -192,15 +201,13 @@ class Friction:
 
     @staticmethod
     def orthotropic(mu_1, mu_2, angle=0.0):
-        lam = _pair(_FRICTION, "mu_1", mu_1, "mu_2", mu_2)
-        return TensorField(_FRICTION, "orthotropic", lam, angle=check_real("angle", angle),
-                           label=f"orthotropic({mu_1}, {mu_2}, angle={angle})")
+        """Constant orthotropy, as Adhesion.orthotropic (mu_1 along e1, mu_2 across)."""
+        return _orthotropic(_FRICTION, "mu_1", mu_1, "mu_2", mu_2, angle)
 
     @staticmethod
     def polar(mu_r, mu_phi, core_radius=0.0):
-        lam = _pair(_FRICTION, "mu_r", mu_r, "mu_phi", mu_phi)
-        return TensorField(_FRICTION, "polar", lam, core_radius=check_nonnegative("core_radius", core_radius),
-                           label=f"polar({mu_r}, {mu_phi}, core_radius={core_radius})")
+        """Polar orthotropy on a plane, as Adhesion.polar (mu_r radial, mu_phi circumferential)."""
+        return _polar(_FRICTION, "mu_r", mu_r, "mu_phi", mu_phi, core_radius)
 
     @staticmethod
     def spiral(mu_1, mu_2, helix_angle=None, lead=None):

@@ -32,13 +32,10 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigi
 from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.util.progress import make_progress
-from exu_aniso.engines.result import Result
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
-from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, AddSpringDrive, BodyMotion, HistoryOutputs,
-                                                     IMPLICIT_SOLVERS, SimulationSettingsFor, SolveTimed, StoreSolution,
-                                                     Unwrap, WriteSnapshot)
+from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
+                                                     BodyMotion, HistoryOutputs, RunScene,
+                                                     SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.util.validation import check_instance
 
 
@@ -183,29 +180,22 @@ def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=
     ``ViewSolution(BuildBlock(p, **options), solutionFile)``."""
     p = BlockParams() if p is None else p
     model = BuildBlock(p, **options)
-    if solutionFile is not None:
-        StoreSolution(model["simulationSettings"], solutionFile)
-    try:
-        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=[model["contact"]],
-                                              progress=make_progress(progress, "block"))
-    except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
+
+    def partial(failure):
         traj = BlockTrajectory(model)
-        failure.partial = Result(traj, block_summary(traj, float("nan"), failure.steps, failure.newton_iterations),
-                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
-        raise
-    traj = BlockTrajectory(model)
-    summary = block_summary(traj, wall, steps, iters)
-    summary.update(block_energy(p, traj, BodyMotion(model, traj), model["contact"]["law"],
-                                HistoryOutputs(model["mbs"], model["contact"])[2]))
-    info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
-                nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
-                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
-                newton=options.get("newton", "modified"),
-                implementation=model["contact"]["implementation"])
-    if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot)
-    return Result(traj, summary, p, info)
+        return traj, block_summary(traj, float("nan"), failure.steps, failure.newton_iterations)
+
+    def complete(wall, steps, iters, info):
+        traj = BlockTrajectory(model)
+        summary = block_summary(traj, wall, steps, iters)
+        summary.update(block_energy(p, traj, BodyMotion(model, traj), model["contact"]["law"],
+                                    HistoryOutputs(model["mbs"], model["contact"])[2]))
+        info.update(model=p.model, jacobian=options.get("jacobian", "analytic"),
+                    nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
+                    K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
+                    newton=options.get("newton", "modified"), implementation=model["contact"]["implementation"])
+        return traj, summary
+    return RunScene(model, p, "block", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
 
 
 if __name__ == "__main__":

@@ -34,11 +34,7 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.law.history import HISTORY_FIELDS
 from exu_aniso.engines.energy import work_trapezoid
 from exu_aniso.engines.exudyn_adapter.glue import hermite_shape_functions
-from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, SimulationSettingsFor, SolveTimed,
-                                                     StoreSolution, WriteSnapshot)
-from exu_aniso.util.progress import make_progress
-from exu_aniso.engines.result import Result
+from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SimulationSettingsFor
 from exu_aniso.scenes.capstan import (CapstanParams, capstan_contact_law, capstan_energy, capstan_summary,
                                      element_length, tension_in, tension_out)
 from exu_aniso.util.validation import check_instance
@@ -301,27 +297,21 @@ def RunCapstan(p: CapstanParams = None, progress=False, snapshot=None, solutionF
     info). options: see BuildCapstan. progress, snapshot, solutionFile: as RunBlock."""
     p = CapstanParams() if p is None else p
     model = BuildCapstan(p, **options)
-    if solutionFile is not None:
-        StoreSolution(model["simulationSettings"], solutionFile)
-    try:
-        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=model["contacts"], progress=make_progress(progress, "capstan"))
-    except SimulationFailure as failure:
+
+    def partial(failure):
         traj = CapstanTrajectory(model)[0]
-        failure.partial = Result(traj, capstan_summary(traj, p, float("nan"), failure.steps,
-                                                       failure.newton_iterations),
-                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
-        raise
-    traj, q, qt, H = CapstanTrajectory(model)
-    summary = capstan_summary(traj, p, wall, steps, iters)
-    summary.update(CapstanLedger(model, traj, q, qt, H))
-    info.update(engine="exudyn", jacobian=options.get("jacobian", "analytic"),
-                K=int(sum(_contact_set(model["mbs"], c).K for c in model["contacts"])),
-                newton_tol=options.get("newtonTolerance", 1e-8), newton=options.get("newton", "modified"),
-                implementation=model["contact"]["implementation"], elements=len(model["elements"]))
-    if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot)
-    return Result(traj, summary, p, info)
+        return traj, capstan_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
+
+    def complete(wall, steps, iters, info):
+        traj, q, qt, H = CapstanTrajectory(model)
+        summary = capstan_summary(traj, p, wall, steps, iters)
+        summary.update(CapstanLedger(model, traj, q, qt, H))
+        info.update(jacobian=options.get("jacobian", "analytic"),
+                    K=int(sum(_contact_set(model["mbs"], c).K for c in model["contacts"])),
+                    newton_tol=options.get("newtonTolerance", 1e-8), newton=options.get("newton", "modified"),
+                    implementation=model["contact"]["implementation"], elements=len(model["elements"]))
+        return traj, summary
+    return RunScene(model, p, "capstan", model["contacts"], partial, complete, progress, snapshot, solutionFile)
 
 
 if __name__ == "__main__":

@@ -25,12 +25,8 @@ from exudyn.utilities import InertiaCuboid
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.law import oracles
-from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive,
-                                                     SimulationSettingsFor, SolveTimed, StoreSolution,
-                                                     Unwrap, WriteSnapshot)
-from exu_aniso.util.progress import make_progress
-from exu_aniso.engines.result import Result
+from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, RunScene,
+                                                     SimulationSettingsFor, Unwrap)
 from exu_aniso.scenes.fastening import (FasteningParams, bolt_inertia, contact_torques, fastening_energy,
                                        fastening_summary, head_contact_law, head_points, head_z, joint_damping, lead,
                                        part_top_z, thread_contact_law, thread_points)
@@ -169,28 +165,23 @@ def RunFastening(p: FasteningParams = None, progress=False, snapshot=None, solut
     ledger). options: see BuildFastening. progress, snapshot, solutionFile: as RunBlock."""
     p = FasteningParams() if p is None else p
     model = BuildFastening(p, **options)
-    if solutionFile is not None:
-        StoreSolution(model["simulationSettings"], solutionFile)
     contacts = list(model["contacts"].values())
-    try:
-        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=contacts, progress=make_progress(progress, "fastening"))
-    except SimulationFailure as failure:        # keep the trajectory up to the failure
+
+    def partial(failure):
         traj = FasteningTrajectory(model)[0]
-        failure.partial = Result(traj, fastening_summary(traj, p, float("nan"), failure.steps,
-                                                         failure.newton_iterations),
-                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
-        raise
-    traj, ex = FasteningTrajectory(model)
-    summary = fastening_summary(traj, p, wall, steps, iters)
-    summary.update(fastening_energy(p, traj, ex["bolt"], ex["part_z"], ex["part_vz"], ex["laws"], ex["X"], ex["V"],
-                                    ex["H"]))
-    info.update(engine="exudyn", jacobian=options.get("jacobian", "analytic"),
-                K=len(thread_points(p)) + len(head_points(p)), newton=options.get("newton", "modified"),
-                implementation=contacts[0]["implementation"], thread_law=repr(contacts[0]["law"]))
-    if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot, modelRotation=SNAPSHOT_VIEW)
-    return Result(traj, summary, p, info)
+        return traj, fastening_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
+
+    def complete(wall, steps, iters, info):
+        traj, ex = FasteningTrajectory(model)
+        summary = fastening_summary(traj, p, wall, steps, iters)
+        summary.update(fastening_energy(p, traj, ex["bolt"], ex["part_z"], ex["part_vz"], ex["laws"], ex["X"],
+                                        ex["V"], ex["H"]))
+        info.update(jacobian=options.get("jacobian", "analytic"),
+                    K=len(thread_points(p)) + len(head_points(p)), newton=options.get("newton", "modified"),
+                    implementation=contacts[0]["implementation"], thread_law=repr(contacts[0]["law"]))
+        return traj, summary
+    return RunScene(model, p, "fastening", contacts, partial, complete, progress, snapshot, solutionFile,
+                    snapshotOptions=dict(modelRotation=SNAPSHOT_VIEW))
 
 
 if __name__ == "__main__":

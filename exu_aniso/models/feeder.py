@@ -25,11 +25,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
-from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.engines.exudyn_adapter.runner import (SimulationSettingsFor, SolveTimed, StoreSolution,
-                                                     WriteSnapshot)
-from exu_aniso.util.progress import make_progress
-from exu_aniso.engines.result import Result
+from exu_aniso.engines.exudyn_adapter.runner import RunScene, SimulationSettingsFor
 from exu_aniso.scenes.feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary,
                                     finish_trajectory, part_inertia, part_points, part_positions, throw_direction)
 from exu_aniso.engines.timing import time_step
@@ -130,27 +126,22 @@ def RunFeeder(p: FeederParams = None, progress=False, snapshot=None, solutionFil
     the parts). options: see BuildFeeder. progress, snapshot, solutionFile: as RunBlock."""
     p = FeederParams() if p is None else p
     model = BuildFeeder(p, **options)
-    if solutionFile is not None:
-        StoreSolution(model["simulationSettings"], solutionFile)
-    try:
-        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=model["contacts"], progress=make_progress(progress, "feeder"))
-    except SimulationFailure as failure:        # keep the trajectory up to the failure
+
+    def partial(failure):
         traj, P, yaw = FeederTrajectory(model)[:3]
-        failure.partial = Result(traj, feeder_summary(traj, P, yaw, p, float("nan"), failure.steps,
-                                                      failure.newton_iterations, extra_steps=None),
-                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
-        raise
-    traj, P, yaw, motions, forces, H, plate = FeederTrajectory(model)
-    # steps: the nominal steps of the run, as the reference engine counts them; Exudyn's step reductions apart
-    extra = max(0, steps - info["nominal_steps"])
-    summary = feeder_summary(traj, P, yaw, p, wall, steps - extra, iters, extra_steps=extra)
-    summary.update(feeder_energy(p, traj, motions, forces, model["contacts"][0]["law"], H, plate))
-    info.update(engine="exudyn", jacobian=options.get("jacobian", "analytic"), K=4 * p.parts,
-                newton=options.get("newton", "modified"), implementation=model["contacts"][0]["implementation"])
-    if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot)
-    return Result(traj, summary, p, info)
+        return traj, feeder_summary(traj, P, yaw, p, float("nan"), failure.steps, failure.newton_iterations,
+                                    extra_steps=None)
+
+    def complete(wall, steps, iters, info):
+        traj, P, yaw, motions, forces, H, plate = FeederTrajectory(model)
+        # steps: the nominal steps of the run, as the reference engine counts them; Exudyn's step reductions apart
+        extra = max(0, steps - info["nominal_steps"])
+        summary = feeder_summary(traj, P, yaw, p, wall, steps - extra, iters, extra_steps=extra)
+        summary.update(feeder_energy(p, traj, motions, forces, model["contacts"][0]["law"], H, plate))
+        info.update(jacobian=options.get("jacobian", "analytic"), K=4 * p.parts,
+                    newton=options.get("newton", "modified"), implementation=model["contacts"][0]["implementation"])
+        return traj, summary
+    return RunScene(model, p, "feeder", model["contacts"], partial, complete, progress, snapshot, solutionFile)
 
 
 if __name__ == "__main__":

@@ -18,11 +18,7 @@ from exudyn import graphics
 from exudyn.itemInterface import SensorNode
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, SimulationSettingsFor, SolveTimed,
-                                                     StoreSolution, WriteSnapshot)
-from exu_aniso.util.progress import make_progress
-from exu_aniso.engines.result import Result
+from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SimulationSettingsFor
 from exu_aniso.scenes.particle import (ParticleParams, finish_trajectory, gravity_vector, initial_state,
                                       particle_contact_law, particle_energy, particle_summary)
 from exu_aniso.util.validation import check_instance
@@ -79,27 +75,22 @@ def RunParticle(p: ParticleParams = None, progress=False, snapshot=None, solutio
     info). options: see BuildParticle. progress, snapshot, solutionFile: as RunBlock."""
     p = ParticleParams() if p is None else p
     model = BuildParticle(p, **options)
-    if solutionFile is not None:
-        StoreSolution(model["simulationSettings"], solutionFile)
-    try:
-        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=[model["contact"]],
-                                              progress=make_progress(progress, "particle"))
-    except SimulationFailure as failure:        # keep the trajectory up to the failure
+
+    def partial(failure):
         traj, _ = ParticleTrajectory(model)
-        failure.partial = Result(traj, particle_summary(traj, p, float("nan"), failure.steps,
-                                                        failure.newton_iterations),
-                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
-        raise
-    traj, H = ParticleTrajectory(model)
-    summary = particle_summary(traj, p, wall, steps, iters)
-    summary.update(particle_energy(p, traj, model["contact"]["law"], H))
-    info.update(engine="exudyn", jacobian=options.get("jacobian", "analytic"), K=1,
-                newton_tol=options.get("newtonTolerance", 1e-10), newton=options.get("newton", "modified"),
-                implementation=model["contact"]["implementation"])
-    if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot)
-    return Result(traj, summary, p, info)
+        return traj, particle_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
+
+    def complete(wall, steps, iters, info):
+        traj, H = ParticleTrajectory(model)
+        summary = particle_summary(traj, p, wall, steps, iters)
+        summary.update(particle_energy(p, traj, model["contact"]["law"], H))
+        info.update(jacobian=options.get("jacobian", "analytic"), K=1,
+                    newton_tol=options.get("newtonTolerance", 1e-10),
+                    newton=options.get("newton", "modified"),
+                    implementation=model["contact"]["implementation"])
+        return traj, summary
+    return RunScene(model, p, "particle", [model["contact"]], partial, complete, progress, snapshot,
+                    solutionFile)
 
 
 if __name__ == "__main__":

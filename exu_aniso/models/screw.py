@@ -33,13 +33,9 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGene
 from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.failure import SimulationFailure
-from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
-                                                     AddYawDrive, BodyMotion, HistoryOutputs,
-                                                     SimulationSettingsFor, SolveTimed, StoreSolution,
-                                                     Unwrap, WriteSnapshot)
-from exu_aniso.engines.result import Result
+                                                     AddYawDrive, BodyMotion, HistoryOutputs, RunScene,
+                                                     SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.scenes.screw import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.util.validation import check_bool, check_instance
 
@@ -217,29 +213,22 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapsho
     p = ScrewParams() if p is None else p
     check_bool("contactOutputs", contactOutputs)
     model = BuildScrew(p, **options)
-    if solutionFile is not None:
-        StoreSolution(model["simulationSettings"], solutionFile)
-    try:
-        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=[model["contact"]],
-                                              progress=make_progress(progress, "screw"))
-    except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
+
+    def partial(failure):
         traj = ScrewTrajectory(model, contactOutputs=False)
-        failure.partial = Result(traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations),
-                                 p, dict(engine="exudyn", complete=False, time_reached=failure.time_reached))
-        raise
-    traj = ScrewTrajectory(model, contactOutputs)
-    summary = screw_summary(traj, wall, steps, iters)
-    summary.update(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]),
-                                model["contact"]["law"], HistoryOutputs(model["mbs"], model["contact"])[2]))
-    info.update(engine="exudyn", model=p.model, jacobian=options.get("jacobian", "analytic"),
-                nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
-                K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
-                newton=options.get("newton", "modified"),
-                implementation=model["contact"]["implementation"])
-    if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot)
-    return Result(traj, summary, p, info)
+        return traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations)
+
+    def complete(wall, steps, iters, info):
+        traj = ScrewTrajectory(model, contactOutputs)
+        summary = screw_summary(traj, wall, steps, iters)
+        summary.update(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]),
+                                    model["contact"]["law"], HistoryOutputs(model["mbs"], model["contact"])[2]))
+        info.update(model=p.model, jacobian=options.get("jacobian", "analytic"),
+                    nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
+                    K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
+                    newton=options.get("newton", "modified"), implementation=model["contact"]["implementation"])
+        return traj, summary
+    return RunScene(model, p, "screw", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
 
 
 if __name__ == "__main__":

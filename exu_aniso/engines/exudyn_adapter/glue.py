@@ -32,6 +32,7 @@ The law itself is never changed here: every force comes from ``ContactLaw.evalua
 from __future__ import annotations
 
 import math
+import weakref
 from typing import NamedTuple
 
 import exudyn as exu
@@ -399,6 +400,7 @@ class _ContactSet:
     """State-free glue between one GenericODE2 object and a ContactLaw."""
 
     force_calls = 0             # calls of the force user function Exudyn made (each costs Exudyn 2 vectors)
+    _native = None              # kernel.native.NativeBlock when Exudyn calls the native force (_CompiledSet)
 
     def __init__(self, mbs, law, slave, points, master):
         self.law = law
@@ -636,8 +638,7 @@ class _CompiledSet(_ContactSet):
         self._qb, self._q_tb = np.zeros(self.pk.X.shape[1]), np.zeros(self.pk.X.shape[1])   # own buffers
         self._q, self._q_t = self._qb, self._q_tb
         self._force_args = None               # the force call's arguments, made with dt by _load_history
-        self._native = None                   # NativeBlock when Exudyn calls the native force (use_native)
-        self._mbs_address = None
+        self._mbs_address = None              # the C++ system's address: the native registry's key
         self._t_end = math.inf                # end time of the solve [s] (native_delegate)
 
     @staticmethod
@@ -711,6 +712,16 @@ class _CompiledSet(_ContactSet):
         """The next native call goes to Python first (native_delegate): at the end of a solve."""
         if self._native is not None:
             self._native.clock[1] = 0.0
+
+    def step_done(self, t):
+        """After an accepted step at t (every set committed): the native caller's next step starts at
+        t; after the solve's last step (t within half a step of its end time) its next call goes to
+        Python first."""
+        clock = self._native.clock
+        h = t - clock[0]
+        clock[0] = t
+        if t + 0.5 * h >= self._t_end:
+            clock[1] = 0.0
 
     def native_calls(self):
         """(native, delegated) force calls of this set so far."""
@@ -906,18 +917,9 @@ def _post_newton(mbs, t):
         mbs.variables[_UNRESOLVED_KEY] = t
         return [1.0, UNRESOLVED_STEP_FACTOR * h]
     for cs in sets:
-        if getattr(cs, "_native", None) is not None:
-            _step_done(cs._native.clock, cs, t)
+        if cs._native is not None:
+            cs.step_done(t)
     return [0.0, -1.0]
-
-
-def _step_done(clock, cs, t):
-    """A native set after an accepted step at t: the next step starts at t; after the solve's last
-    step (t within half a step of its end time) the next call goes to Python first."""
-    h = t - clock[0]
-    clock[0] = t
-    if t + 0.5 * h >= cs._t_end:
-        clock[1] = 0.0
 
 
 def disarm_native(mbs):
@@ -933,7 +935,6 @@ class _Delegate:
     C++ registry must not keep a system alive)."""
 
     def __init__(self, cs, mbs):
-        import weakref
         self.cs, self.mbs = weakref.ref(cs), weakref.ref(mbs)
 
     def __call__(self, t, q, q_t):

@@ -28,6 +28,7 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY
 from exu_aniso.engines.exudyn_adapter.glue import contact_force_calls, disarm_native
 from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, failure_message
+from exu_aniso.engines.result import Result
 from exu_aniso.util.output import atomic_write
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.energy import RigidMotion, motion_about_z
@@ -224,6 +225,36 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     info = dict(solverType=str(solverType), nominal_steps=int(simulationSettings.timeIntegration.numberOfSteps),
                 accepted_steps=steps, newton_jacobians=int(getattr(it, "newtonJacobiCount", 0)))
     return wall, steps, int(it.newtonStepsCount), info
+
+
+def RunScene(model, p, name, contacts, partial, complete, progress=False, snapshot=None, solutionFile=None,
+             snapshotOptions=None):
+    """What every scene's Run function does with its built model: solve it (``SolveTimed``) and
+    return an ``exu_aniso.engines.result.Result``.
+
+    model: the Build function's dict; p: the scene's parameters; name: the scene's name (progress
+    line); contacts: the dicts of CreateAnisotropicContact (failure reports);
+    partial(failure) -> (trajectory, summary) of a run that failed, up to the failure (the Result
+    goes to ``failure.partial``, then the failure is raised on);
+    complete(wall, steps, iterations, info) -> (trajectory, summary) of a completed run, the energy
+    ledger in the summary; it adds its scene's entries to info (after ``engine``);
+    progress, snapshot (a PNG of the final state, ``WriteSnapshot`` with snapshotOptions),
+    solutionFile (Exudyn's solution file, ``StoreSolution``): as the scenes' Run functions say."""
+    if solutionFile is not None:
+        StoreSolution(model["simulationSettings"], solutionFile)
+    try:
+        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
+                                              contacts=contacts, progress=make_progress(progress, name))
+    except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
+        traj, summary = partial(failure)
+        failure.partial = Result(traj, summary, p, dict(engine="exudyn", complete=False,
+                                                        time_reached=failure.time_reached))
+        raise
+    info["engine"] = "exudyn"
+    traj, summary = complete(wall, steps, iters, info)
+    if snapshot is not None:
+        info["snapshot"] = WriteSnapshot(model, snapshot, **(snapshotOptions or {}))
+    return Result(traj, summary, p, info)
 
 
 def CheckAllocations(before, contact_calls, newton_iterations, threshold):
