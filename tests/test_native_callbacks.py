@@ -7,6 +7,7 @@ native path's own bookkeeping (one call in Python per solve, restarts, a re-asse
 errors with their messages, the registry's size)."""
 import ctypes
 import gc
+import sys
 
 import exudyn as exu
 import numpy as np
@@ -83,6 +84,37 @@ def test_native_and_python_callbacks_give_the_same_numbers(callbacks, build):
     cs = _sets(res[True][1])[0]
     n_native, n_delegated = cs.native_calls()
     assert n_delegated == 1 and n_native > 0          # the initial accelerations in Python, every Newton call native
+
+
+def test_a_law_that_cannot_be_cached_compiles_the_same_call_in_the_process(callbacks, monkeypatch):
+    """A set whose argument type cannot be spelled out for numba's disk cache (a user's function in
+    the law; here every type is declared so) gets the same cfunc compiled in the process, not from a
+    file: the same numbers as the Python callback."""
+    from exu_aniso.kernel import native
+    monkeypatch.setattr(native, "_type_key", lambda ty: None)
+    monkeypatch.setattr(native, "_CFUNCS", {})
+    res = _run_both(callbacks, lambda: BuildBlock(BlockParams(model="full", points="corners", t_end=0.05)))
+    for name, data in res[False][0].items():
+        assert np.array_equal(data, res[True][0][name]), name
+    module = _sets(res[True][1])[0]._native.cfunc._pyfunc.__module__         # numba's CFunc keeps its function
+    assert module.startswith("exu_aniso_native_") and module not in sys.modules     # made here, not from a file
+
+
+def test_argument_types_are_spelled_out_only_when_they_are_for_good():
+    """The disk-cache key of a native cfunc: named tuples by importable classes, arrays, numbers;
+    anything else (a class made at run time, a function) is not cached across processes."""
+    from collections import namedtuple
+
+    from numba import typeof
+
+    from exu_aniso.kernel.native import _type_key
+    from exu_aniso.kernel.point import LawParams
+    law = LawParams(1.0, 0.0, 0.0, 2)
+    assert _type_key(typeof((np.zeros((2, 9)), law, 3))) == (
+        "(array(float64, 2d, C), exu_aniso.kernel.point.LawParams(float64, float64, float64, int64), int64)")
+    Local = namedtuple("LawParams", LawParams._fields)           # same name and fields, another class
+    assert _type_key(typeof(Local(1.0, 0.0, 0.0, 2))) is None
+    assert _type_key(typeof((np.zeros(2), Local(1.0, 0.0, 0.0, 2)))) is None
 
 
 def test_a_restart_and_a_continuation_equal_fresh_runs(callbacks):
