@@ -84,6 +84,9 @@ def test_native_and_python_callbacks_give_the_same_numbers(callbacks, build):
     cs = _sets(res[True][1])[0]
     n_native, n_delegated = cs.native_calls()
     assert n_delegated == 1 and n_native > 0          # the initial accelerations in Python, every Newton call native
+    committed_natively, in_python = glue.post_newton_calls(res[True][1]["mbs"])
+    assert committed_natively > 0 and in_python <= committed_natively // 10   # the commit too (Python: unresolved steps)
+    assert res[True][1]["mbs"].GetPostNewtonUserFunction()["function"] is glue._native.post_newton
 
 
 def test_a_law_that_cannot_be_cached_compiles_the_same_call_in_the_process(callbacks, monkeypatch):
@@ -115,6 +118,24 @@ def test_argument_types_are_spelled_out_only_when_they_are_for_good():
     Local = namedtuple("LawParams", LawParams._fields)           # same name and fields, another class
     assert _type_key(typeof(Local(1.0, 0.0, 0.0, 2))) is None
     assert _type_key(typeof((np.zeros(2), Local(1.0, 0.0, 0.0, 2)))) is None
+
+
+def test_a_system_with_a_python_set_commits_in_python():
+    """Two cubes, one native set and one on the Python callback: the system's post-Newton function is
+    the Python one (it commits both), and the histories equal those of two Python sets."""
+    histories = {}
+    for natives in ((False, False), (True, False)):
+        SC = exu.SystemContainer()
+        mbs = SC.AddSystem()
+        contacts = [_cube_on_plane(mbs, x0, native) for x0, native in zip((0.0, 1.0), natives)]
+        mbs.Assemble()
+        _solve(mbs, 0.05)
+        assert mbs.GetPostNewtonUserFunction()["function"] is glue._post_newton
+        histories[natives] = [np.array(mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates))
+                              for c in contacts]
+        assert [c["nativeCallbacks"] for c in contacts] == list(natives)
+    for h0, h1 in zip(histories[(False, False)], histories[(True, False)]):
+        assert np.array_equal(h0, h1) and np.any(h0 != 0.0)
 
 
 def test_a_restart_and_a_continuation_equal_fresh_runs(callbacks):
@@ -204,7 +225,7 @@ def test_an_error_in_the_kernel_reaches_the_user_with_its_message():
     for x in ([0.3, 0.0, 0.0], [0.0, 0.0, 0.0]):
         q = (np.array(x) - np.array([0.3, 0.0, 0.0])).ctypes
         qd = np.zeros(3)
-        status.append(cs._native.cfunc.ctypes(cs._native.address, 0, 1e-3, q.data_as(ctypes.POINTER(ctypes.c_double)),
+        status.append(cs._native.cfunc.ctypes(cs._native.args.address, 0, 1e-3, q.data_as(ctypes.POINTER(ctypes.c_double)),
                                               qd.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), 3, 0.0, 0.0))
     assert status == [1, KERNEL_ERROR]
 

@@ -4,30 +4,34 @@
 A set's compiled entry takes ``(mode, q, q_t, fq, fv, dt, H, *tail)`` (``CovariantSet.entry``:
 the history view H and the packed ``tail``: law bundle, points, scratch, outputs). Here those
 arguments are stored once, as numba's own native value of the tuple ``(H,) + tail``, into a block
-of memory (``NativeBlock``: arrays keep one reference each while stored, given back by ``release``
-and when the block is collected); a cfunc made per tuple type (``set_cfunc``) loads the tuple from
-the block's address and calls the entry with q, q_t given as C pointers:
+of memory (``StoredArguments``: arrays keep one reference each while stored, given back by
+``release`` and when it is collected); a cfunc made per tuple type (``set_cfunc``) loads the tuple
+from that address and calls the entry with q, q_t given as C pointers:
 
-    status = cfunc(block address, mode, dt [s], q, q_t, n, fq, fv)
+    status = cfunc(address, mode, dt [s], q, q_t, n, fq, fv)
 
 the same compiled function with the same arguments as the Python-called entry, so the two give
-the same numbers bit for bit (tests/test_native_callbacks.py). A kernel that raises (an ill-posed
-contact state) returns ``KERNEL_ERROR``: the caller repeats the call from Python, where the error
-is raised with its message. This module needs no Exudyn.
+the same numbers bit for bit (tests/test_native_callbacks.py). The post-Newton commit likewise:
+``stage_kernel(address)`` over the stored arguments of kernel.sets.stage_gathered. A kernel that
+raises (an ill-posed contact state) returns ``KERNEL_ERROR``: the caller repeats the call from
+Python, where the error is raised with its message. ``NativeBlock`` holds what one contact set
+needs. This module needs no Exudyn.
 """
 from __future__ import annotations
 
 import hashlib
 import importlib.util
+import math
 import os
 import sys
 from types import ModuleType
 
 import numpy as np
-from numba import njit, typeof, types
+from numba import cfunc, njit, typeof, types
 from numba.core.registry import cpu_target
 from numba.extending import intrinsic
 
+from exu_aniso.kernel.sets import stage_gathered
 from exu_aniso.util.numba_cache import CACHE_DIR
 from exu_aniso.util.output import write_text
 
@@ -181,38 +185,78 @@ def _module(name, text):
     return module
 
 
-class NativeBlock:
-    """The arguments ``(H,) + tail`` of a set's compiled entry stored for its cfunc. ``address``:
-    where they are; ``kernel``: the cfunc's address; ``clock`` (2,): the start time of the step [s]
-    and the armed flag (1: the native caller may evaluate; read and written by the caller and the
-    Exudyn glue). ``store(H)`` stores the arguments again with another history view H."""
+class StoredArguments:
+    """A tuple of arguments stored as numba's native value (_store) for a cfunc to load: ``address``
+    where, ``type`` its numba type; ``store(values)`` stores another tuple of the same type (the
+    old one's references given back), ``release()`` gives them back."""
 
-    def __init__(self, entry, H, tail):
+    def __init__(self, values):
         self._stored = False
-        self.tail = tuple(tail)
-        self.type = typeof((H,) + self.tail)
+        self.type = typeof(values)
         self.memory = np.zeros(_native_size(self.type) // 8 + 1)
         self.address = int(self.memory.ctypes.data)
-        self.cfunc = set_cfunc(entry, self.type)
-        self.kernel = int(self.cfunc.address)
-        self.clock = np.zeros(2)
         self._drop = drop_block                # held: at interpreter exit the module may be gone first
-        self.store(H)
+        self.store(values)
 
-    def store(self, H):
-        if typeof(H) != self.type[0]:
-            raise TypeError(f"NativeBlock.store: history view of type {typeof(H)}, stored as {self.type[0]}")
+    def store(self, values):
+        if typeof(values) != self.type:
+            raise TypeError(f"StoredArguments.store: values of type {typeof(values)}, stored as {self.type}")
         self.release()
-        self.H = H
-        store_block(self.address, (H,) + self.tail)
+        self.values = values
+        store_block(self.address, values)
         self._stored = True
 
     def release(self):
-        """Give back the stored references (the cfunc must not be called until the next store)."""
+        """Give back the stored references (no cfunc may load them until the next store)."""
         if self._stored:
             self._stored = False
-            self._drop(self.address, (self.H,) + self.tail)
+            self._drop(self.address, self.values)
 
     def __del__(self):
         if not sys.is_finalizing():            # at exit the process gives the memory back itself
             self.release()
+
+
+# the stage kernel's arguments: kernel.sets.stage_gathered's (X, q, q_t, idx, qb, q_tb, Hn, data, ltg,
+# ltg_total)
+_F1, _F2, _I1 = types.float64[::1], types.float64[:, ::1], types.int64[::1]
+STAGE_TYPE = types.Tuple((_F2, _F1, _F1, _I1, _F1, _F1, _F2, _F1, _I1, types.int64))
+
+
+@cfunc(types.int64(types.int64), cache=True)
+def stage_kernel(address):
+    """The post-Newton commit of one set from its stored arguments (STAGE_TYPE): 0 written, 1 the
+    last residual was at another state, -1 unresolved (kernel.sets.stage_candidate), KERNEL_ERROR."""
+    a = _load(address, STAGE_TYPE)
+    try:
+        return stage_gathered(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], a[9])
+    except Exception:          # noqa: BLE001 - the Python commit repeats it and raises the message
+        return KERNEL_ERROR
+
+
+class NativeBlock:
+    """What the native callbacks of one set need: ``args``, the arguments ``(H,) + tail`` of its
+    compiled entry (StoredArguments), for ``kernel`` (its cfunc's address, ``set_cfunc``);
+    ``stage``, the stage kernel's arguments (STAGE_TYPE); ``clock`` (3,): the start time of the
+    step [s], the armed flag (1: the native callers may evaluate) and the end time of the solve [s]
+    (read and written by the native callers and the Exudyn glue). ``store(H, stage)`` stores both
+    again with another history view H and stage arguments."""
+
+    def __init__(self, entry, H, tail, stage):
+        self.tail = tuple(tail)
+        self.args = StoredArguments((H,) + self.tail)
+        self.stage = StoredArguments(stage)
+        if self.stage.type != STAGE_TYPE:
+            raise TypeError(f"NativeBlock: stage arguments of type {self.stage.type}, the stage kernel takes "
+                            f"{STAGE_TYPE}")
+        self.cfunc = set_cfunc(entry, self.args.type)
+        self.kernel = int(self.cfunc.address)
+        self.clock = np.array([0.0, 0.0, math.inf])
+
+    @property
+    def H(self):
+        return self.args.values[0]
+
+    def store(self, H, stage):
+        self.args.store((H,) + self.tail)
+        self.stage.store(stage)

@@ -549,6 +549,26 @@ def stage_candidate(X, q, q_t, Hn, data, ltg, ltg_total):
     return 0
 
 
+@njit(cache=True)
+def gather_coordinates(q, q_t, idx, qb, q_tb):
+    """qb[i] = q[idx[i]], q_tb[i] = q_t[idx[i]]: a contact object's coordinates and velocities, at its
+    indices idx in Exudyn's ODE2 vector, from the views q, q_t of the Current ones into the set's
+    float64 buffers (compiled: a loop over a few numbers in numba costs less than converting
+    Exudyn's lists or numpy's fancy indexing)."""
+    for i in range(idx.shape[0]):
+        j = idx[i]
+        qb[i] = q[j]
+        q_tb[i] = q_t[j]
+
+
+@njit(cache=True)
+def stage_gathered(X, q, q_t, idx, qb, q_tb, Hn, data, ltg, ltg_total):
+    """stage_candidate at the set's coordinates gathered (gather_coordinates) from the system's
+    Current q, q_t (views): the native post-Newton commit of one set (kernel.native.stage_kernel)."""
+    gather_coordinates(q, q_t, idx, qb, q_tb)
+    return stage_candidate(X, qb, q_tb, Hn, data, ltg, ltg_total)
+
+
 # --- a moving master: the surface carried by a 3D rigid node -------------------------------------
 
 PAIR_SLOTS = 8   # pair scratch T (PAIR_SLOTS, w, w), w = max(9, coordinates of one point's columns)

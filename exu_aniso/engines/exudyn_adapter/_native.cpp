@@ -10,20 +10,29 @@
 // (the system's address, itemNumber) and calls its kernel: a numba cfunc
 // (exu_aniso.kernel.native) over the set's compiled arguments, stored once in memory.
 //
+// The same for the system's post-Newton function (``post_newton``, Exudyn's type
+//     std::array<double, 2>(const MainSystem&, double t)):
+// when every contact set of the system is native and armed, it commits each set's history
+// candidate by the compiled stage kernel (exu_aniso.kernel.native.stage_kernel) and moves the sets'
+// start of step on; anything else (a set not armed, a candidate not at the converged state, an
+// unresolved step) goes to the system's Python post-Newton function, which does it all.
+//
 // What Python still does (exu_aniso.engines.exudyn_adapter.glue): a call that is not inside a
 // time step that Python has checked goes to the set's Python ``delegate`` instead (the first call
 // of every solve: Exudyn's initial accelerations; a call at or before the start of the step, as
-// after a restart; a call after a disarm). The delegate checks the views of Exudyn's vectors
-// (a re-assembly may have moved them), stores the kernel's arguments again if needed, evaluates the
-// call and arms the set with the start time of the step. Python's post-Newton function commits the
-// history and moves the start time on. A kernel that raises (an ill-posed contact state) returns
-// ERROR; the call is then repeated by the delegate, which raises the error with its message.
+// after a restart or a rejected step; a call after a disarm). The delegate checks the views of
+// Exudyn's vectors (a re-assembly may have moved them), stores the kernel's arguments again if
+// needed, evaluates the call and arms the set with the start time of the step. A kernel that
+// raises (an ill-posed contact state) returns ERROR; the call is then repeated by the delegate,
+// which raises the error with its message.
 //
 // Only the names of Exudyn's types matter here (the function type must be Exudyn's, for the
 // caster): MainSystem is declared, never used. No Exudyn header, no link to Exudyn.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
+#include <climits>
 #include <cstdint>
 #include <map>
 #include <stdexcept>
@@ -41,12 +50,18 @@ using Kernel = int64_t (*)(int64_t, int64_t, double, const double*, const double
 
 static const int64_t KERNEL_ERROR = -1000;   // the kernel raised (see exu_aniso.kernel.native)
 
-// clock (a float64 array of the set, CLOCK_* entries): start time of the step [s], armed flag
-static const int CLOCK_START = 0, CLOCK_ARMED = 1;
+// the stage kernel: (stage block address) -> 0 written, else not (exu_aniso.kernel.sets.stage_candidate)
+using Stage = int64_t (*)(int64_t);
+static Stage stage_kernel = nullptr;
+
+// clock (a float64 array of the set, CLOCK_* entries): start time of the step [s], armed flag,
+// end time of the solve [s]
+static const int CLOCK_START = 0, CLOCK_ARMED = 1, CLOCK_END = 2;
 
 struct Entry {
     Kernel kernel = nullptr;
     int64_t block = 0;               // address of the kernel's stored arguments
+    int64_t stage = 0;               // address of the stage kernel's stored arguments
     const double* Q = nullptr;       // the generalized force the kernel writes (n,)
     int64_t n = 0;                   // the contact object's coordinates
     double* clock = nullptr;
@@ -58,6 +73,15 @@ struct Entry {
 using Key = std::pair<uintptr_t, int>;
 // never destroyed: its Python references must not be released after the interpreter has finalized
 static std::map<Key, Entry>& registry = *new std::map<Key, Entry>();
+
+struct System {
+    py::object fallback;             // Python: fallback(t) -> [discontinuous error, step size], glue._post_newton
+    long native_calls = 0;
+    long python_calls = 0;
+};
+// one entry per system that had all its sets native (a few bytes; replaced when a system at the same
+// address registers, and used only by a system whose post-Newton function is post_newton)
+static std::map<uintptr_t, System>& systems = *new std::map<uintptr_t, System>();
 
 static StdVector force(const MainSystem& mbs, double t, int itemNumber, StdVector q, StdVector q_t) {
     auto it = registry.find(Key(reinterpret_cast<uintptr_t>(&mbs), itemNumber));
@@ -83,6 +107,35 @@ static StdVector force(const MainSystem& mbs, double t, int itemNumber, StdVecto
     return StdVector(e.Q, e.Q + e.n);
 }
 
+static std::array<double, 2> post_newton(const MainSystem& mbs, double t) {
+    const uintptr_t a = reinterpret_cast<uintptr_t>(&mbs);
+    auto sys = systems.find(a);
+    if (sys == systems.end()) {
+        throw std::runtime_error("exu_aniso native post-Newton: this system has no registered contact sets");
+    }
+    const auto first = registry.lower_bound(Key(a, INT_MIN));
+    bool native = stage_kernel != nullptr;
+    for (auto it = first; native && it != registry.end() && it->first.first == a; ++it) {
+        const double* c = it->second.clock;
+        native = c[CLOCK_ARMED] != 0.0 && t > c[CLOCK_START];
+    }
+    for (auto it = first; native && it != registry.end() && it->first.first == a; ++it) {
+        native = stage_kernel(it->second.stage) == 0;
+    }
+    if (!native) {                   // Python commits every set (a set written above is written again)
+        sys->second.python_calls++;
+        return sys->second.fallback(t).cast<std::array<double, 2>>();
+    }
+    for (auto it = first; it != registry.end() && it->first.first == a; ++it) {
+        double* c = it->second.clock;    // the step is accepted: the next one starts at t
+        const double h = t - c[CLOCK_START];
+        c[CLOCK_START] = t;
+        if (t + 0.5 * h >= c[CLOCK_END]) c[CLOCK_ARMED] = 0.0;   // the solve's last step
+    }
+    sys->second.native_calls++;
+    return {0.0, -1.0};
+}
+
 // The address of the C++ object behind a pybind11 instance (Exudyn's MainSystem): the value
 // pointer of pybind11's instance record, the address Exudyn passes to force as ``&mbs``.
 static uintptr_t instance_address(py::handle obj) {
@@ -99,14 +152,33 @@ PYBIND11_MODULE(_native, m) {
     m.attr("KERNEL_ERROR") = KERNEL_ERROR;
     m.attr("CLOCK_START") = CLOCK_START;
     m.attr("CLOCK_ARMED") = CLOCK_ARMED;
+    m.attr("CLOCK_END") = CLOCK_END;
     m.def("force", &force, "the forceUserFunction to give Exudyn's ObjectGenericODE2");
+    m.def("post_newton", &post_newton, "the post-Newton function to give mbs.SetPostNewtonUserFunction");
+    m.def("set_stage_kernel", [](uintptr_t kernel) { stage_kernel = reinterpret_cast<Stage>(kernel); },
+          "the stage kernel's address (exu_aniso.kernel.native.stage_kernel)");
+    m.def("register_system",
+          [](py::handle mbs, py::object fallback) {
+              System s;
+              s.fallback = std::move(fallback);
+              systems[instance_address(mbs)] = std::move(s);
+          },
+          "register the Python post-Newton function of a system whose contact sets are all native");
+    m.def("post_newton_calls",
+          [](uintptr_t system) {
+              auto it = systems.find(system);
+              if (it == systems.end()) return py::make_tuple(0, 0);
+              return py::make_tuple(it->second.native_calls, it->second.python_calls);
+          },
+          "(native, Python) post-Newton calls of a system");
     m.def("system_address", &instance_address, "address of the C++ MainSystem behind an exudyn.MainSystem");
     m.def("register_set",
-          [](py::handle mbs, int item, uintptr_t kernel, int64_t block, uintptr_t Q, int64_t n, uintptr_t clock,
-             py::object delegate) {
+          [](py::handle mbs, int item, uintptr_t kernel, int64_t block, int64_t stage, uintptr_t Q, int64_t n,
+             uintptr_t clock, py::object delegate) {
               Entry e;
               e.kernel = reinterpret_cast<Kernel>(kernel);
               e.block = block;
+              e.stage = stage;
               e.Q = reinterpret_cast<const double*>(Q);
               e.n = n;
               e.clock = reinterpret_cast<double*>(clock);

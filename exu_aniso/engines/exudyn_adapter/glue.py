@@ -12,7 +12,8 @@ Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
   numpy route leaves the Jacobian to Exudyn (numerical);
 * the history lives in a ``NodeGenericData`` (9 numbers per point, ``HISTORY_FIELDS``). During
   Newton the law is evaluated from the last *converged* history (``ConfigurationType.StartOfStep``);
-  one post-Newton function per mbs evaluates every set at the converged state and writes the
+  one post-Newton function per mbs (native when every set is: ``_native.post_newton``, else
+  ``_post_newton``) evaluates every set at the converged state and writes the
   candidate to ``ConfigurationType.Current``. Exudyn copies Current to StartOfStep only when a step
   is accepted and restores Current from StartOfStep when it rejects a step, so rejected or reduced
   steps leave no trace. The compiled sets do this in place, on Exudyn's own vectors
@@ -38,14 +39,14 @@ from typing import NamedTuple
 import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
-from numba import njit
 
-from exu_aniso.kernel.sets import stage_candidate
+from exu_aniso.kernel.sets import gather_coordinates, stage_candidate
 from exu_aniso.kernel.point import _entry_point
-from exu_aniso.kernel.native import NativeBlock
+from exu_aniso.kernel.native import NativeBlock, stage_kernel
 
-try:        # the native force callback (C++, built at install; see _native.cpp); absent: Python callbacks
+try:        # the native callbacks (C++, built at install; see _native.cpp); absent: Python callbacks
     from exu_aniso.engines.exudyn_adapter import _native
+    _native.set_stage_kernel(stage_kernel.address)
 except ImportError:                             # pragma: no cover - an install without a C++ compiler
     _native = None
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, UNRESOLVED
@@ -582,18 +583,6 @@ class _SystemViews:
         return sd.ODE2Size() == self.sizes[0] and sd.DataSize() == self.sizes[1]
 
 
-@njit(cache=True)
-def gather_coordinates(q, q_t, idx, qb, q_tb):
-    """qb[i] = q[idx[i]], q_tb[i] = q_t[idx[i]]: a contact object's coordinates and velocities, at its
-    indices idx in Exudyn's ODE2 vector, from the views q, q_t of the Current ones into the set's
-    float64 buffers (compiled: a loop over a few numbers in numba costs less than converting
-    Exudyn's lists or numpy's fancy indexing)."""
-    for i in range(idx.shape[0]):
-        j = idx[i]
-        qb[i] = q[j]
-        q_tb[i] = q_t[j]
-
-
 class _CompiledSet(_ContactSet):
     """The same contact set evaluated by the compiled kernel ``exu_aniso.kernel.sets`` (ground
     master, a surface numba compiles): one compiled call per user function on arrays packed once
@@ -639,7 +628,6 @@ class _CompiledSet(_ContactSet):
         self._q, self._q_t = self._qb, self._q_tb
         self._force_args = None               # the force call's arguments, made with dt by _load_history
         self._mbs_address = None              # the C++ system's address: the native registry's key
-        self._t_end = math.inf                # end time of the solve [s] (native_delegate)
 
     @staticmethod
     def _pack(law, kind, slave, points, master):
@@ -670,29 +658,41 @@ class _CompiledSet(_ContactSet):
         self._stage_args = (self.pk.X, self._q, self._q_t, self.pk.Hn, V.data, np.ascontiguousarray(self.ltg),
                             int(self.ltgTotal))
         self._stage = _entry_point(stage_candidate, self._stage_args)
+        if self._native is not None:          # the native callers read the new views from now on
+            self._native.store(self._h0, self._native_stage_args(V))
+
+    def _native_stage_args(self, V):
+        """The native post-Newton commit's arguments (kernel.native.STAGE_TYPE) over the views V: the
+        set's coordinates gathered at its indices into its buffers, then stage_candidate."""
+        return (self.pk.X, V.q, V.q_t, np.ascontiguousarray(self.ltgODE2, dtype=np.int64), self._qb, self._q_tb,
+                self.pk.Hn, V.data, np.ascontiguousarray(self.ltg, dtype=np.int64), int(self.ltgTotal))
 
     def _load_history(self, mbs, t):
         t0 = mbs.systemData.GetTime(_SOS)
-        if self._V is None or (t0 != self._t0 and t0 != self._committed_t) or not self._V.current(mbs):
+        # the last commit: the native post-Newton's while the native callers are armed (it moves their clock)
+        native = self._native is not None and self._native.clock[1] != 0.0
+        committed = self._native.clock[0] if native else self._committed_t
+        if self._V is None or (t0 != self._t0 and t0 != committed) or not self._V.current(mbs):
             self._views(mbs)                  # a new solve, or a re-assembled system
         self._t = t
         self._t0 = t0
         self._dt = t - t0
         self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt, self._h0) + self._tail
-        if self._native is not None:          # views checked, start of the step known: the native caller may go on
-            if self._native.H is not self._h0:
-                self._native.store(self._h0)
-            self._native.clock[:] = (t0, 1.0)
+        if self._native is not None:          # views checked, start of the step known: the native callers may go on
+            self._native.clock[:2] = (t0, 1.0)
 
     # --- the native force callback (_native.cpp): Exudyn calls the kernel without Python -----------
     def use_native(self, mbs):
         """Give Exudyn the native force callback for this set's object (after locate): its kernel
         (kernel.native: the same compiled entry over the same arguments) is registered for (mbs,
         object), unarmed; the first call of a solve goes to ``native_delegate``, which arms it."""
-        self._native = NativeBlock(self.pk._fn, self.pk.H, self._tail)
+        f, i = np.zeros(0), np.zeros(0, dtype=np.int64)          # stage arguments until the views are known
+        self._native = NativeBlock(self.pk._fn, self.pk.H, self._tail,
+                                   (self.pk.X, f, f, i, self._qb, self._q_tb, self.pk.Hn, f, i, 0))
         self._mbs_address = _native.system_address(mbs)
-        _native.register_set(mbs, self.oContact, self._native.kernel, self._native.address,
-                             self.pk.Q.ctypes.data, self.pk.X.shape[1], self._native.clock.ctypes.data,
+        _native.register_set(mbs, self.oContact, self._native.kernel, self._native.args.address,
+                             self._native.stage.address, self.pk.Q.ctypes.data, self.pk.X.shape[1],
+                             self._native.clock.ctypes.data,
                              _Delegate(self, mbs))
         return _native.force
 
@@ -703,7 +703,7 @@ class _CompiledSet(_ContactSet):
         self.force_calls += 1
         self._load_history(mbs, t)
         ss = mbs.sys.get("simulationSettings")
-        self._t_end = float(ss.timeIntegration.endTime) if ss is not None else math.inf
+        self._native.clock[2] = float(ss.timeIntegration.endTime) if ss is not None else math.inf
         if self._gathered:
             self._gather(*self._gather_args)
         self._entry(*self._force_args)
@@ -717,10 +717,10 @@ class _CompiledSet(_ContactSet):
         """After an accepted step at t (every set committed): the native caller's next step starts at
         t; after the solve's last step (t within half a step of its end time) its next call goes to
         Python first."""
-        clock = self._native.clock
+        clock = self._native.clock            # start of the step, armed, end of the solve
         h = t - clock[0]
         clock[0] = t
-        if t + 0.5 * h >= self._t_end:
+        if t + 0.5 * h >= clock[2]:
             clock[1] = 0.0
 
     def native_calls(self):
@@ -731,7 +731,7 @@ class _CompiledSet(_ContactSet):
 
     def __del__(self):
         if self._native is not None and _native is not None:
-            _native.release_set(self._mbs_address, self.oContact, self._native.address)
+            _native.release_set(self._mbs_address, self.oContact, self._native.args.address)
 
     def force(self, mbs, t, itemNumber, q, q_t):
         """Generalized contact forces at the given q, q_t (the set's coordinates, any values: for
@@ -930,6 +930,29 @@ def disarm_native(mbs):
             cs.disarm()
 
 
+def post_newton_calls(mbs):
+    """(native, Python) calls of the native post-Newton function of mbs so far."""
+    return _native.post_newton_calls(_native.system_address(mbs)) if _native is not None else (0, 0)
+
+
+def _alive(ref, what):
+    obj = ref()
+    if obj is None:
+        raise RuntimeError(f"exu_aniso: {what} was deleted while Exudyn still calls its user functions; keep a "
+                           "reference to mbs while solving")
+    return obj
+
+
+class _PostNewtonFallback:
+    """What the native post-Newton function calls in Python: _post_newton of the system, held weakly."""
+
+    def __init__(self, mbs):
+        self.mbs = weakref.ref(mbs)
+
+    def __call__(self, t):
+        return _post_newton(_alive(self.mbs, "the exudyn.MainSystem of a contact set"), t)
+
+
 class _Delegate:
     """What the native callback calls in Python: the set's native_delegate, by weak references (the
     C++ registry must not keep a system alive)."""
@@ -938,11 +961,7 @@ class _Delegate:
         self.cs, self.mbs = weakref.ref(cs), weakref.ref(mbs)
 
     def __call__(self, t, q, q_t):
-        cs, mbs = self.cs(), self.mbs()
-        if cs is None or mbs is None:
-            raise RuntimeError("exu_aniso: the exudyn.MainSystem of a contact set (or the set) was deleted while "
-                               "Exudyn still calls its force; keep a reference to mbs while solving")
-        cs.native_delegate(mbs, t)
+        _alive(self.cs, "a contact set").native_delegate(_alive(self.mbs, "the exudyn.MainSystem of a contact set"), t)
 
 
 def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
@@ -993,7 +1012,9 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     built), True (required: an error otherwise) or False: Exudyn calls the compiled kernel through a
     C++ force function (``_native.cpp``) without entering Python, instead of through a Python user
     function; the same compiled call on the same arguments, so the same numbers bit for bit
-    (tests/test_native_callbacks.py). The Jacobian and the post-Newton commit stay in Python.
+    (tests/test_native_callbacks.py). When every set of the system is native, the post-Newton commit
+    is native too (``_native.post_newton``: the compiled stage kernel; Python for an unresolved step).
+    The Jacobian stays in Python.
 
     Returns a dict with 'oContact' (ObjectGenericODE2), 'nDissipation' (NodeGenericData with the set's
     total dissipated energy [J], written with the history), 'nData' (NodeGenericData, the history:
@@ -1090,10 +1111,17 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     cs.locate(mbs, oContact)
     if use_native:
         mbs.SetObjectParameter(oContact, "forceUserFunction", cs.use_native(mbs))
-    if _SETS_KEY not in mbs.variables:
-        mbs.variables[_SETS_KEY] = []
-        mbs.SetPostNewtonUserFunction(_post_newton)
-    mbs.variables[_SETS_KEY].append(cs)
+    first = _SETS_KEY not in mbs.variables
+    sets = mbs.variables.setdefault(_SETS_KEY, [])
+    sets.append(cs)
+    current = None if first else mbs.GetPostNewtonUserFunction()
+    current = current.get("function") if isinstance(current, dict) else current    # Exudyn's record of it
+    if first or current is _post_newton or (_native is not None and current is _native.post_newton):
+        if all(s._native is not None for s in sets):       # the commit without Python too (_native.cpp)
+            _native.register_system(mbs, _PostNewtonFallback(mbs))
+            mbs.SetPostNewtonUserFunction(_native.post_newton)
+        else:
+            mbs.SetPostNewtonUserFunction(_post_newton)
     out = {"oContact": oContact, "nData": cs.nData, "nDissipation": cs.nTotal, "law": contactLaw, "points": points,
            "implementation": "compiled" if use_compiled else "numpy", "nativeCallbacks": use_native,
            # read-only views (exu_aniso.engines.exudyn_adapter.graphics); functions of (mbs, configuration=None), see _ContactSet
