@@ -104,10 +104,18 @@ def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
     the traction's contravariant components (tn1, tn2) there (``anchor_contravariant``):
     transported traction (2), slip (2), B (3, negative definite), F (3), n (3), G (6, rows of the
     2 x 3 matrix), all in the local frame. Smooth in xi: the kernel differences them for the tangent."""
-    d1, d2 = xi1 - xn1, xi2 - xn2
     r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
     a1, a2, nu = tangent_frame(r1, r2)
     n = scale(sp.sign, nu)
+    M = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    return _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n, M)
+
+
+@njit(cache=True, inline="always")
+def _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n, M):
+    """surface_terms given the chart (r, r1, r2), the frame (a1, a2, n) and A^-1 (M, as _A_inv
+    returns it) at C: contact_point has them already."""
+    d1, d2 = xi1 - xn1, xi2 - xn2
     # T_n: contravariant at xi_n -> transport -> physical components at xi (a constant metric: the
     # physical components unchanged, anchor_contravariant)
     Tt1, Tt2 = (tn1, tn2) if _core.constant_metric(sp) else (0.0, 0.0)
@@ -122,7 +130,7 @@ def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
     c11, c12, c22 = physical(netB, xi1, xi2, r, r1, r2, a1, a2)
     f11, f12, f22 = physical(netF, xi1, xi2, r, r1, r2, a1, a2)
     # G = E^T rho A^-1 rho^T
-    M11, M12, M22, _, _, _ = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    M11, M12, M22 = M[0], M[1], M[2]
     e11, e12 = dot(a1, r1), dot(a1, r2)
     e21, e22 = dot(a2, r1), dot(a2, r2)
     g11, g12 = e11 * M11 + e12 * M12, e11 * M12 + e12 * M22      # row 1 of E^T rho A^-1
@@ -335,7 +343,10 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     else:
         xn1, xn2, Tn1, Tn2 = xi1, xi2, 0.0, 0.0
     tn1, tn2 = anchor_contravariant(sp, xn1, xn2, Tn1, Tn2)
-    st = surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2)
+    # the chart, frame and A^-1 at C taken above at the projection's coordinates: the unwrapped ones
+    # name the same point (a periodic coordinate another branch, up to round-off)
+    st = _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n,
+                           (M11, M12, M22, h11, h12, h22))
     vn = dot(n, vl)
     N = law.eps_N * xi3 + law.d_N * vn
     loaded = N < 0.0

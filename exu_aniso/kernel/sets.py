@@ -301,13 +301,10 @@ def _rigid_moment(kind, A, F0, F1, F2, bx, by, bz, ax, ay):
 
 
 @njit(cache=True, inline="always")
-def _force_at(law, x, v, H, dt, f, hn, S, Hn, k):
-    """The force paths' law at point k (point_force, f filled), its history candidate into Hn[k];
-    returns the status."""
-    st = point_force(law, x, v, H[k], dt, f, hn, S)
-    for i in range(N_HISTORY):
-        Hn[k, i] = hn[i]
-    return st
+def _force_at(law, x, v, H, dt, f, S, Hn, k):
+    """The force paths' law at point k (point_force, f filled), its history candidate written into
+    Hn[k] directly; returns the status."""
+    return point_force(law, x, v, H[k], dt, f, Hn[k], S)
 
 
 @njit(cache=True, inline="always")
@@ -340,7 +337,7 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
     nq = q.shape[0]
     K = b.shape[0]
     A, G = S[9, :3, :3], S[10, :3, :4]
-    qt, x, v, f, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :N_HISTORY]
+    qt, x, v, f = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3]
     _node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
     motion = _rigid_motion(kind, qt, q_t, G, nq)
     F0 = F1 = F2 = M0 = M1 = M2 = 0.0
@@ -349,7 +346,7 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
         ax, ay = _rigid_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v)
-        st = _force_at(law, x, v, H, dt, f, hn, S, Hn, k)
+        st = _force_at(law, x, v, H, dt, f, S, Hn, k)
         ncontact += st > 0
         unresolved |= st == UNRESOLVED
         if mode == 2 or st == 0:
@@ -616,7 +613,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     ns = n - nm
     linear = kind < 0
     As, Gs = S[9, :3, :3], S[10, :3, :4]
-    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :N_HISTORY]
+    x, v, f = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3]
     xr, vr = S[17, 6, :3], S[17, 7, :3]
     qts = S[15, 0, :(0 if linear else ns)]
     qtm, wlm, w = S[15, 1, :nm], S[15, 2, :3], S[15, 3, :3]
@@ -654,7 +651,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
         for j in range(3):
             xr[j] = Am[0, j] * d0 + Am[1, j] * d1 + Am[2, j] * d2
             vr[j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
-        st = _force_at(law, xr, vr, H, dt, f, hn, S, Hn, k)
+        st = _force_at(law, xr, vr, H, dt, f, S, Hn, k)
         ncontact += st > 0
         unresolved |= st == UNRESOLVED
         if mode == 2 or st == 0:
