@@ -69,7 +69,7 @@ def test_every_script_runs_quick_in_the_suite():
     assert set(COVERED) <= set(SCRIPTS), set(COVERED) - set(SCRIPTS)
     for name, module in COVERED.items():
         assert f'quick_study("{name}"' in (ROOT / "tests" / module).read_text(), (name, module)
-    assert set(RUN_HERE) == {"bench_kernels", "baseline", "newton_settings", "run_all"}, RUN_HERE
+    assert set(RUN_HERE) == {"bench_kernels", "baseline", "native_callbacks", "newton_settings", "run_all"}, RUN_HERE
 
 
 # ----------------------------------------------------------------------------------------------
@@ -113,6 +113,19 @@ def test_newton_settings_quick(tmp_path, quick_study):
                                T["newton_per_step [-]"]):
         assert it >= 1.0
         assert err < (1e-9 if st in ("package", "full_newton_1e-10") else 1e-6), (sc, st, err)
+
+
+def test_native_callbacks_quick(tmp_path, quick_study):
+    """Every scene with Python and with native callbacks: the two runs' sensors identical bit for
+    bit (the same compiled kernel on the same arguments); the spreads ordered."""
+    quick_study("native_callbacks", tmp_path, timeout=240)
+    T = read_table(tmp_path / "native_callbacks.csv")
+    assert T["scene [-]"] == ["block", "block", "screw", "particle"]
+    assert T["identical [-]"] == [1, 1, 1, 1]
+    for kind in ("python", "native"):
+        assert all(lo <= med <= hi for lo, med, hi in zip(T[f"{kind}_min [s]"], T[f"{kind}_per_step [s]"],
+                                                           T[f"{kind}_max [s]"]))
+    assert all(n >= 1.0 for n in T["newton_per_step [-]"])
 
 
 def test_run_all_quick_assembles_the_document(tmp_path, quick_study):
