@@ -40,7 +40,7 @@ import warnings
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 from numba.extending import overload
 
 from exu_aniso.kernel.sets import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
@@ -50,7 +50,7 @@ from exu_aniso.geometry import _core
 from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
 from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
                                       H_XI2, N_HISTORY, OPEN, SLIP, STICK, UNRESOLVED)
-from exu_aniso.law.return_maps import MAP_CODES, return_map
+from exu_aniso.law.return_maps import MAP_CODES, return_map, trial_slip
 from exu_aniso.fields.nets import physical, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
@@ -59,6 +59,19 @@ LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
 # (round-off), ~1e-10 relative: Newton needs no more (a fourth-order stencil, ~1e-12, cost twice the
 # surface-term evaluations, the larger part of a Jacobian call)
 XI_STEP = 1e-5
+
+
+def run_time(flag):
+    """flag as a run-time bool: the force loops pass tangent as the literal False, with which
+    every function it reaches (the return maps) would be compiled a second time."""
+    return flag
+
+
+@overload(run_time)
+def _run_time(flag):
+    if isinstance(flag, types.Literal):
+        return (lambda flag: True) if flag.literal_value else (lambda flag: False)
+    return lambda flag: flag
 
 
 @njit(cache=True)
@@ -356,7 +369,11 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     Ttr2 = st[ST_T2] + st[ST_B12] * st[ST_S1] + st[ST_B22] * st[ST_S2]
     B = (st[ST_B11], st[ST_B12], st[ST_B22])
     F = (st[ST_F11], st[ST_F12], st[ST_F22])
-    T1, T2, state, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, tangent)[:5]
+    if not tangent and trial_slip(Ttr1, Ttr2, -N, F) <= 0.0:
+        # a force call's sticking point: return_map's result without the call (its test, the same numbers)
+        T1, T2, state, sl1, sl2 = Ttr1, Ttr2, STICK, 0.0, 0.0
+    else:
+        T1, T2, state, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, run_time(tangent))[:5]
     if state == SLIP and status != UNRESOLVED:
         status = SLIP
     G1 = (st[ST_G1], st[ST_G1 + 1], st[ST_G1 + 2])

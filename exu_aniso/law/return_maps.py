@@ -106,6 +106,13 @@ def _quad(s11, s12, s22, x1, x2):
 
 
 
+@njit(cache=True, inline="always")
+def trial_slip(t1, t2, N, F):
+    """The slip function at the trial state, Phi_tr = sqrt(T_tr . F T_tr) - |N| (N = |N|): the
+    point sticks when it is <= 0 (return_map's test, and the force loops' test before they call it)."""
+    return math.sqrt(max(_quad(F[0], F[1], F[2], t1, t2), 0.0)) - N
+
+
 @njit(cache=True)
 def _radial(t1, t2, N, f11, f12, f22, dT, tangent):
     s = math.sqrt(_quad(f11, f12, f22, t1, t2))
@@ -242,7 +249,7 @@ def return_map(method, t1, t2, N, B, F, dT, tangent):
         for a in range(2):
             for j in range(9):
                 dT[a, j] = 0.0
-    phi = math.sqrt(max(_quad(F[0], F[1], F[2], t1, t2), 0.0)) - N
+    phi = trial_slip(t1, t2, N, F)
     if phi <= 0.0:
         if tangent:
             dT[0, 0] = 1.0

@@ -189,7 +189,14 @@ def ScrewTrajectory(model, contactOutputs=True):
         pos, vel, w = P[:, 1:], V[:, 1:], W[:, 1:]
     traj["torque"] = np.array([_drive_torque(p, a, ti)[0] for a, ti in zip(psi, t)])
     traj["axial_force"] = np.array([_axial_force(p, zi, ti) for zi, ti in zip(traj["z"], t)])
-    if contactOutputs:
+    if contactOutputs and p.model == "reduced":
+        # the contact object's generalized force on (psi, z) is the torque about the axis and the axial
+        # force, from the set's own kernel (no second compiled law to build for post-processing)
+        force = model["contact"]["generalizedForce"]
+        G = np.array([force((psi[n], z[n]), (traj["omega"][n], traj["vz"][n]), H[max(n - 1, 0)])
+                      for n in range(len(t))])
+        traj["contact_torque"], traj["contact_axial_force"] = G[:, 0], G[:, 1]
+    elif contactOutputs:
         law = model["contact"]["law"]
         ct, cf = np.zeros(len(t)), np.zeros(len(t))
         for n in range(len(t)):

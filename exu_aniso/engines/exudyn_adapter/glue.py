@@ -415,6 +415,11 @@ class _ContactSet:
         ns = self.slave.n
         return q[:ns], q_t[:ns], q[ns:], q_t[ns:]
 
+    def initial_history(self, q, q_t):
+        """The history (K * 9,) of the points at the initial coordinates q, q_t (the set's): the
+        candidate from a history of zeros, so that points in contact start sticking there."""
+        return self.state(None, q, q_t, None, tangent=False)[0].history.ravel()
+
     def state(self, mbs, q, q_t, history, tangent, dt=None):
         """Evaluate the law (dt: time since the converged history, see ContactLaw.evaluate); returns
         (ContactState, slave Jp, F_global, master Jp or None, tangent data of the slave points for
@@ -488,6 +493,15 @@ class _ContactSet:
         if Jm is not None:
             Q = np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
         return Q.tolist()
+
+    def generalized_force(self, q, q_t, history):
+        """The contact object's generalized force Q over its coordinates at q, q_t (the set's
+        coordinates, reference values excluded) from the converged history (K, 9), as a residual of
+        the solver with no time elapsed since that history (post-processing: what the solver saw)."""
+        _, Jp, F, Jm, _ = self.state(None, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float),
+                                     np.asarray(history, dtype=float), tangent=False, dt=0.0)
+        Q = np.einsum("kij,ki->j", Jp, F)
+        return Q if Jm is None else np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         """-(fODE2 dQ/dq + fODE2_t dQ/dq_t) of Q = sum_k Jp_k^T f_k(x_k, v_k) (ground master)."""
@@ -628,6 +642,20 @@ class _CompiledSet(_ContactSet):
         self._q, self._q_t = self._qb, self._q_tb
         self._force_args = None               # the force call's arguments, made with dt by _load_history
         self._mbs_address = None              # the C++ system's address: the native registry's key
+
+    def generalized_force(self, q, q_t, history):
+        """As _ContactSet.generalized_force, from the set's own compiled kernel (mode 0 on the packed
+        history; the residual's state is forgotten, so a later commit evaluates afresh)."""
+        self.pk.H[:] = np.reshape(history, self.pk.H.shape)
+        self.pk.evaluate(0, q, q_t, 0.0, 0.0, 0.0)
+        self.pk.X[:] = np.nan
+        return self.pk.Q.copy()
+
+    def initial_history(self, q, q_t):
+        """As _ContactSet.initial_history, from the set's own compiled kernel (mode 2: the candidate
+        from the zero history the packed set starts with), so no other compiled entry is needed."""
+        self.pk.evaluate(2, q, q_t, 0.0, 0.0, 0.0)
+        return self.pk.Hn.ravel().copy()
 
     @staticmethod
     def _pack(law, kind, slave, points, master):
@@ -1026,7 +1054,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
     (K, 3), master position (3,), master rotation (3, 3)), 'historyAt' -> history (K, 9) and
     'bodyPosition' -> global position (3,) of the slave body's local origin (a cable: the start of
-    its first element).
+    its first element); and 'generalizedForce', a function (q, q_t, history) -> the contact object's
+    generalized force over its coordinates (reference values excluded; the slave's, then the
+    master's) from a converged history (K, 9), as the solver evaluates it (post-processing of
+    stored states: contact torques, reaction forces).
     """
     if contactLaw is None:
         if normalStiffness is None:
@@ -1093,9 +1124,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     h0 = np.zeros(K * N_HISTORY)
     if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
         nodes = [slave] + ([master] if master is not None else [])
-        st = cs.state(mbs, np.concatenate([nd.q0 for nd in nodes]), np.concatenate([nd.v0 for nd in nodes]),
-                      None, tangent=False)[0]
-        h0 = st.history.ravel()
+        h0 = cs.initial_history(np.concatenate([nd.q0 for nd in nodes]), np.concatenate([nd.v0 for nd in nodes]))
     cs.nData = mbs.AddNode(NodeGenericData(initialCoordinates=h0.tolist(), numberOfDataCoordinates=K * N_HISTORY))
     # the set's total dissipated energy, written with the history: a C++ sensor reads it (no Python per step)
     cs.nTotal = mbs.AddNode(NodeGenericData(initialCoordinates=[float(h0[_DISSIPATED::N_HISTORY].sum())],
@@ -1127,7 +1156,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
            # read-only views (exu_aniso.engines.exudyn_adapter.graphics); functions of (mbs, configuration=None), see _ContactSet
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
-           "bodyPosition": cs.body_position}
+           "bodyPosition": cs.body_position, "generalizedForce": cs.generalized_force}
     if storeHistory:     # 9 numbers per point and step: only when asked for
         out["sHistory"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nData,
                                                    outputVariableType=exu.OutputVariableType.Coordinates,
