@@ -379,9 +379,10 @@ def main(argv=None):
     targets.print_targets(tres.rows)
     print("\none force call of the full block's contact set (CPU time, median over repeats):")
     for r in fres:
-        print(f"  {r['points']:8s} K={r['K']:3d} callback {r['callback_us']:7.2f} us, "
-              f"compiled call {r['entry_us']:7.3f} us")
-    print(f"  compiled call = {fres[0]['entry_fixed_us']:.3f} us + {fres[0]['entry_per_point_us']:.4f} us "
+        print(f"  {r['points']:8s} K={r['K']:3d} Python callback {r['callback_us']:7.2f} us, "
+              f"entry from Python {r['entry_us']:7.3f} us, native call {r['native_us']:7.3f} us")
+    print(f"  native call = {fres[0]['native_fixed_us']:.3f} us + {fres[0]['native_per_point_us']:.4f} us per "
+          f"point; entry from Python = {fres[0]['entry_fixed_us']:.3f} us + {fres[0]['entry_per_point_us']:.4f} us "
           "per point (fits per repeat, median)")
     print("\nscale: M cubes, per body and step (ours at the package's settings, springs at Exudyn's defaults):")
     for r in sres:

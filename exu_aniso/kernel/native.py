@@ -112,7 +112,9 @@ from exu_aniso.kernel.native import _PENDING, CFUNC_SIGNATURE, KERNEL_ERROR, _lo
 BLOCK_TYPE = _PENDING[__name__]
 
 
-@njit(cache={cache})
+# inlined: numba takes no star-arguments in a try block, and a function of its own would link and
+# compile the whole kernel once more
+@njit(inline="always")
 def call(mode, q, q_t, fq, fv, dt, args):
     return entry(mode, q, q_t, fq, fv, dt, *args)
 

@@ -44,8 +44,8 @@ from numba import njit, types
 from numba.extending import overload
 
 from exu_aniso.kernel.sets import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
-from exu_aniso.kernel.sets import point_force as sets_point_force
-from exu_aniso.kernel.sets import point_law as sets_point_law
+from exu_aniso.kernel.sets import Y_DV, Y_F, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
+from exu_aniso.kernel.sets import point_states as sets_point_states
 from exu_aniso.geometry import _core
 from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
 from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
@@ -62,8 +62,8 @@ XI_STEP = 1e-5
 
 
 def run_time(flag):
-    """flag as a run-time bool: the force loops pass tangent as the literal False, with which
-    every function it reaches (the return maps) would be compiled a second time."""
+    """flag as a run-time bool: a literal True or False would compile every function it reaches
+    (the return maps) once more."""
     return flag
 
 
@@ -117,10 +117,7 @@ def surface_terms(sp, netB, netF, xi1, xi2, xi3, xn1, xn2, tn1, tn2):
     the traction's contravariant components (tn1, tn2) there (``anchor_contravariant``):
     transported traction (2), slip (2), B (3, negative definite), F (3), n (3), G (6, rows of the
     2 x 3 matrix), all in the local frame. Smooth in xi: the kernel differences them for the tangent."""
-    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
-    a1, a2, nu = tangent_frame(r1, r2)
-    n = scale(sp.sign, nu)
-    M = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    r, r1, r2, a1, a2, n, M, _, _ = _chart_at(sp, xi1, xi2, xi3)
     return _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n, M)
 
 
@@ -192,19 +189,59 @@ def _release(sp, netB, h, hn):
     hn[H_DISSIPATED] += 0.5 * (c22 * T1 * T1 - 2.0 * c12 * T1 * T2 + c11 * T2 * T2) / det
 
 
+@njit(cache=True, inline="always")
+def _chart_at(sp, xi1, xi2, xi3):
+    """What the kernel needs of the chart at the contact point C (local frame): rho, rho_1, rho_2, the
+    frame a_1, a_2, n (on the slave's side), A^-1 and h_ij as (A^-1_11, A^-1_12, A^-1_22, h11, h12,
+    h22), and the rows X1, X2 of d xi / dx = A^-1 rho^T."""
+    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
+    a1, a2, nu = tangent_frame(r1, r2)
+    n = scale(sp.sign, nu)
+    M = _A_inv(r1, r2, r11, r12, r22, n, xi3)
+    X1 = add(scale(M[0], r1), scale(M[1], r2))
+    X2 = add(scale(M[1], r1), scale(M[2], r2))
+    return r, r1, r2, a1, a2, n, M, X1, X2
+
+
+@njit(cache=True, inline="always")
+def _normal_traction(law, xi3, n, vl):
+    """N = eps_N xi3 + d_N n.v, clipped to <= 0: (N, loaded, n.v)."""
+    vn = dot(n, vl)
+    N = law.eps_N * xi3 + law.d_N * vn
+    loaded = N < 0.0
+    return (N if loaded else 0.0), loaded, vn
+
+
+@njit(cache=True, inline="always")
+def _trial(st):
+    """The trial traction T_tr = T_n (transported) + B slip and the tensors B, F from the surface terms."""
+    Ttr1 = st[ST_T1] + st[ST_B11] * st[ST_S1] + st[ST_B12] * st[ST_S2]
+    Ttr2 = st[ST_T2] + st[ST_B12] * st[ST_S1] + st[ST_B22] * st[ST_S2]
+    return Ttr1, Ttr2, (st[ST_B11], st[ST_B12], st[ST_B22]), (st[ST_F11], st[ST_F12], st[ST_F22])
+
+
 @njit(cache=True)
-def _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, Minv, hc, X1, X2, xi1, xi2, xi3, xn1, xn2, tn1,
-                   tn2, active, st, N, loaded, vn, T1, T2, G1, G2, dTd, Kx, Dv, W):
-    """df/dx Kx and df/dv Dv (3, 3, master frame) of contact_point at its state (step 6 of the
-    module docstring): the quantities contact_point computed at the contact point C are passed in
-    (local frame: y, vl the slave point and its velocity, the chart basis r1, r2, the frame a1, a2, n,
-    Minv = A^-1 and hc = h_ij as (11, 12, 22), X1, X2 the rows of d xi / dx, the surface terms st,
-    the normal traction N, the traction T, G's rows G1, G2, the tangential dashpot dTd; W[0, 0:2]
-    holds dT/dp of the return map). A function of its own, compiled once per law, so that the
-    force-only copy of contact_point inlined into the force loops holds none of this code."""
-    M11, M12, M22 = Minv
-    h11, h12, h22 = hc
+def point_tangent(sp, netB, netF, law, state, Kx, Dv, W):
+    """df/dx Kx and df/dv Dv (3, 3, master frame) of the law at a point's state (step 6 of the
+    module docstring), state as contact_force returns it: the slave point y and its velocity vl
+    (local frame), the contact point (xi1, xi2, xi3) (unwrapped), the anchor xn with the traction's
+    contravariant components tn there, active. The quantities at C and the return map (with dT/dp,
+    into W[0, 0:2]) are evaluated again from these, the same functions on the same numbers as the
+    force (a Jacobian call is rare): a function of its own with few arguments, compiled once per
+    law, so that the force path holds none of this code and keeps nothing alive for it."""
+    y, vl = (state[1], state[2], state[3]), (state[4], state[5], state[6])
+    xi1, xi2, xi3, xn1, xn2, tn1, tn2 = state[7], state[8], state[9], state[10], state[11], state[12], state[13]
+    active = state[14] > 0.5
+    r, r1, r2, a1, a2, n, M, X1, X2 = _chart_at(sp, xi1, xi2, xi3)
+    M11, M12, M22, h11, h12, h22 = M
+    st = _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n, M)
+    N, loaded, vn = _normal_traction(law, xi3, n, vl)
+    G1 = (st[ST_G1], st[ST_G1 + 1], st[ST_G1 + 2])
+    G2 = (st[ST_G2], st[ST_G2 + 1], st[ST_G2 + 2])
+    dTd = law.d_T if loaded else 0.0
     dT = W[0, 0:2, :]
+    Ttr1, Ttr2, B, F = _trial(st)
+    T1, T2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, run_time(True))[:2]
     # surface terms differenced in xi (at fixed xi3); G also depends on xi3 (analytic)
     Kl = W[0, 2:5, 0:3]
     Dl = W[0, 5:8, 0:3]
@@ -290,34 +327,50 @@ def _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, Minv, hc, X1, 
             Dv[i, j] = d
 
 
-# inlined into the set kernels (numba IR level): a call per point cost ~0.1 us of reference counting of
-# its array arguments and stack set-up (K = 16 points, mode 0, 4.75 -> 3.41 us per call)
-@njit(cache=True, inline="always")
+NO_STATE = (0.0,) * 15      # contact_force's state of a point that did not reach the law
+
+
+@njit(cache=True)
 def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     """Force f (3), df/dx Kx (3, 3), df/dv Dv (3, 3) (when tangent) on the slave point at x with
     velocity v (master frame, relative to the master), and the history candidate hn (9) from the
     converged history h (9): traction (2, frame at the anchor), anchor xi (2, unwrapped), active,
     dissipated energy, slip distance, status, N. dt: time since h (predicts the branch of periodic
     coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (OPEN,
-    STICK, SLIP, UNRESOLVED: kernel.history) and the normal gap xi3."""
-    dT = W[0, 0:2, :]
+    STICK, SLIP, UNRESOLVED: kernel.history) and the normal gap xi3. contact_force, then
+    point_tangent: what the set kernels do, in two loops over their points (point_states)."""
+    if tangent:
+        for i in range(3):
+            for j in range(3):
+                Kx[i, j] = 0.0
+                Dv[i, j] = 0.0
+    status, xi3, state = contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, W[0, 0:2, :])
+    if tangent and state[0] > 0.5:
+        point_tangent(sp, netB, netF, law, state, Kx, Dv, W)
+    return status, xi3
+
+
+# inlined into the set kernels' loop over the points (numba IR level): a call per point cost ~0.1 us of
+# reference counting of its array arguments and stack set-up (K = 16 points, mode 0, 4.75 -> 3.41 us)
+@njit(cache=True, inline="always")
+def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
+    """contact_point's force f and history candidate hn, without derivatives; dT (2, 9): any scratch
+    (a force call's return map does not write it). Returns (status, xi3, state): state, what
+    point_tangent needs, (reached, y (3), v (3) in the surface's local frame, xi1, xi2, xi3, xn1, xn2,
+    tn1, tn2, active), reached = 1 for a point that got to the law (NO_STATE otherwise)."""
     for i in range(N_HISTORY):
         hn[i] = h[i]
     for i in (H_T1, H_T2, H_XI1, H_XI2, H_ACTIVE, H_STATUS, H_NORMAL):     # kept: the accumulated columns
         hn[i] = 0.0
     for i in range(3):
         f[i] = 0.0
-        if tangent:
-            for j in range(3):
-                Kx[i, j] = 0.0
-                Dv[i, j] = 0.0
     active = h[H_ACTIVE] > 0.5
     hint1, hint2 = (h[H_XI1], h[H_XI2]) if active else (math.nan, math.nan)
     xi1, xi2, xi3, pstat = _core.project(sp, (x[0], x[1], x[2]), hint1, hint2)
     if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
         if xi3 >= 0.0:
             _release(sp, netB, h, hn)
-            return OPEN, xi3
+            return OPEN, xi3, NO_STATE
     if pstat == 2 and not active:
         raise ValueError("slave point at a centre of curvature of the surface (on the cylinder axis, a cone's axis, "
                          "a sphere's centre or a torus's centre circle): the closest point is not unique there")
@@ -329,20 +382,15 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
         for i in range(N_HISTORY):
             hn[i] = h[i]
         hn[H_STATUS] = UNRESOLVED
-        return UNRESOLVED, xi3
+        return UNRESOLVED, xi3, NO_STATE
     if pstat == 3 or not xi3 < 0.0:
         raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
                          "the sphere's chart, the polar origin, a cone's apex): choose axis_direction so that the "
                          "path avoids it")
     y = _core.to_local(sp, (x[0], x[1], x[2]))
     vl = _rot_to_local(sp, (v[0], v[1], v[2]))
-    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
-    a1, a2, nu = tangent_frame(r1, r2)
-    n = scale(sp.sign, nu)
-    M11, M12, M22, h11, h12, h22 = _A_inv(r1, r2, r11, r12, r22, n, xi3)
-    # d xi / dx = A^-1 rho^T (rows), local frame
-    X1 = add(scale(M11, r1), scale(M12, r2))
-    X2 = add(scale(M12, r1), scale(M22, r2))
+    # the chart, frame, A^-1 and d xi / dx = A^-1 rho^T (rows X1, X2), local frame
+    r, r1, r2, a1, a2, n, M, X1, X2 = _chart_at(sp, xi1, xi2, xi3)
     # anchor and increment: periodic coordinates to the branch of the predicted increment
     status = STICK
     if active:
@@ -358,22 +406,14 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     tn1, tn2 = anchor_contravariant(sp, xn1, xn2, Tn1, Tn2)
     # the chart, frame and A^-1 at C taken above at the projection's coordinates: the unwrapped ones
     # name the same point (a periodic coordinate another branch, up to round-off)
-    st = _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n,
-                           (M11, M12, M22, h11, h12, h22))
-    vn = dot(n, vl)
-    N = law.eps_N * xi3 + law.d_N * vn
-    loaded = N < 0.0
-    if not loaded:
-        N = 0.0
-    Ttr1 = st[ST_T1] + st[ST_B11] * st[ST_S1] + st[ST_B12] * st[ST_S2]
-    Ttr2 = st[ST_T2] + st[ST_B12] * st[ST_S1] + st[ST_B22] * st[ST_S2]
-    B = (st[ST_B11], st[ST_B12], st[ST_B22])
-    F = (st[ST_F11], st[ST_F12], st[ST_F22])
-    if not tangent and trial_slip(Ttr1, Ttr2, -N, F) <= 0.0:
-        # a force call's sticking point: return_map's result without the call (its test, the same numbers)
+    st = _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n, M)
+    N, loaded, vn = _normal_traction(law, xi3, n, vl)
+    Ttr1, Ttr2, B, F = _trial(st)
+    if trial_slip(Ttr1, Ttr2, -N, F) <= 0.0:
+        # a sticking point: return_map's result without the call (its test, the same numbers)
         T1, T2, state, sl1, sl2 = Ttr1, Ttr2, STICK, 0.0, 0.0
     else:
-        T1, T2, state, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, run_time(tangent))[:5]
+        T1, T2, state, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, run_time(False))[:5]
     if state == SLIP and status != UNRESOLVED:
         status = SLIP
     G1 = (st[ST_G1], st[ST_G1 + 1], st[ST_G1 + 2])
@@ -381,9 +421,6 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     dTd = law.d_T if loaded else 0.0
     fl = sub(add(scale(T1, G1), scale(T2, G2)), scale(N, n))
     fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
-    if tangent:
-        _point_tangent(sp, netB, netF, law, y, vl, r1, r2, a1, a2, n, (M11, M12, M22), (h11, h12, h22), X1, X2,
-                       xi1, xi2, xi3, xn1, xn2, tn1, tn2, active, st, N, loaded, vn, T1, T2, G1, G2, dTd, Kx, Dv, W)
     fg = _core.to_global(sp, fl)
     for i in range(3):
         f[i] = fg[i]
@@ -396,7 +433,8 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     hn[H_SLIP] = h[H_SLIP] + math.sqrt(sl1 * sl1 + sl2 * sl2)
     hn[H_STATUS] = status
     hn[H_NORMAL] = N
-    return status, xi3
+    return status, xi3, (1.0, y[0], y[1], y[2], vl[0], vl[1], vl[2], xi1, xi2, xi3, xn1, xn2, tn1, tn2,
+                         1.0 if active else 0.0)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -405,26 +443,61 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
 CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "law"))
 
 
-@overload(sets_point_law)
-def _point_law_covariant(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
+# The law of a set's kernel: contact_force inlined into one loop over the points, and a Jacobian call's
+# point_tangent in a second loop, in a function of its own compiled once per law (tangent a run-time
+# flag). Inlined into every loop of the set kernels instead (and with derivatives), the law was copied
+# and compiled several times per kernel: the block's first compilation 35 -> 24 s.
+@overload(sets_point_states)
+def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
     if getattr(law, "instance_class", None) is CovariantLaw:
-        def impl(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
-            return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, tangent, f, Kx,
-                                 Dv, hn, S[0:3])[0]
+        def impl(law, Y, H, Hn, first, count, dt, tangent, S):
+            W, saved = S[0:3], S[17, 5, :N_HISTORY]
+            dT = W[0, 0:2, :]
+            sp, netB, netF, lp = law.surface, law.adhesion, law.friction, law.law
+            ncontact = 0
+            unresolved = False
+            for k in range(first, first + count):
+                if tangent:                # a Jacobian call keeps the last residual's candidate
+                    for i in range(N_HISTORY):
+                        saved[i] = Hn[k, i]
+                st, _, state = contact_force(sp, netB, netF, lp, Y[k, Y_X], Y[k, Y_V], H[k], dt, Y[k, Y_F], Hn[k],
+                                             dT)
+                Y[k, Y_INFO, 2] = st
+                ncontact += st > 0
+                unresolved |= st == UNRESOLVED
+                if tangent:                # the state for the second loop, in the rows of df/dx and df/dv
+                    for i in range(N_HISTORY):
+                        Hn[k, i] = saved[i]
+                    _put_state(Y, k, state)
+            if tangent:
+                for k in range(first, first + count):
+                    state = _get_state(Y, k)
+                    Kx, Dv = Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
+                    for i in range(3):
+                        for j in range(3):
+                            Kx[i, j] = 0.0
+                            Dv[i, j] = 0.0
+                    if state[0] > 0.5:
+                        point_tangent(sp, netB, netF, lp, state, Kx, Dv, W)
+            return ncontact, unresolved
         return impl
     return None
 
 
-# inlined into the force loops with tangent a constant: a small copy, since the derivative code is
-# _point_tangent's, called only by the tangent path
-@overload(sets_point_force, inline="always")
-def _point_force_covariant(law, x, v, h, dt, f, hn, S):
-    if getattr(law, "instance_class", None) is CovariantLaw:
-        def impl(law, x, v, h, dt, f, hn, S):
-            return contact_point(law.surface, law.adhesion, law.friction, law.law, x, v, h, dt, False, f,
-                                 S[12, :3, :3], S[13, :3, :3], hn, S[0:3])[0]
-        return impl
-    return None
+@njit(cache=True, inline="always")
+def _put_state(Y, k, state):
+    """contact_force's state of point k (15 numbers) into the 5 rows from Y[k, Y_KX] (df/dx and df/dv's
+    rows, written after it is read)."""
+    for i in range(15):
+        Y[k, Y_KX + i // 3, i % 3] = state[i]
+
+
+@njit(cache=True, inline="always")
+def _get_state(Y, k):
+    """The state _put_state wrote."""
+    r = Y[k]
+    a, b, c, d, e = r[Y_KX], r[Y_KX + 1], r[Y_KX + 2], r[Y_KX + 3], r[Y_KX + 4]
+    return (a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], e[0], e[1], e[2])
 
 
 @njit(cache=True)
@@ -437,41 +510,43 @@ def _remember(mode, q, q_t, X):
 
 
 @njit(cache=True)
-def evaluate_covariant(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, kind):
+def evaluate_covariant(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, kind):
     """kernel.sets.evaluate_set (modes 0 force, 1 Jacobian, 2 history candidate) with the covariant
     kernel at every point. H (K, 9): the converged history (the Exudyn glue passes a view of
     Exudyn's StartOfStep data coordinates: nothing is copied per step); P (3, K, 9): body-local
-    points, a history buffer for callers without one (CovariantSet.H), the candidate; X (2, n): the
-    state (q, q_t) of the last mode-0 call, whose candidate P[2] holds."""
+    points, a history buffer for callers without one (CovariantSet.H), the candidate; Y (K, Y_ROWS, 3):
+    the point buffer (kernel.sets.point_states); X (2, n): the state (q, q_t) of the last mode-0
+    call, whose candidate P[2] holds."""
     nq = q.shape[0]
     _remember(mode, q, q_t, X)
     return evaluate_set(kind, q, q_t, ref, P[0, :, :3], H, law, mode, fq, fv, dt, S[17, 6, :nq],
-                        S[18, :nq, :nq], P[2], S)
+                        S[18, :nq, :nq], P[2], S, Y)
 
 
 @njit(cache=True)
-def evaluate_covariant_group(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, kind, Q, Jb):
+def evaluate_covariant_group(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, kind, Q, Jb):
     """kernel.sets.evaluate_group (the same points on nb rigid nodes) with the covariant kernel; P (3,
     nb * Kb, 9) with the body-local points in the first Kb rows of P[0]; Jb (nb, nq, nq)."""
     _remember(mode, q, q_t, X)
     Kb = P.shape[1] // Jb.shape[0]
-    return evaluate_group(kind, q, q_t, ref, P[0, :Kb, :3], H, law, mode, fq, fv, dt, Q, Jb, P[2], S)
+    return evaluate_group(kind, q, q_t, ref, P[0, :Kb, :3], H, law, mode, fq, fv, dt, Q, Jb, P[2], S, Y)
 
 
 @njit(cache=True)
-def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, idx, Sm, c, Q, J):
+def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, idx, Sm, c, Q, J):
     """kernel.sets.evaluate_linear (a linear slave: mass points, ANCF cables) with the covariant kernel."""
     _remember(mode, q, q_t, X)
-    return evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2], S)
+    return evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2], S, Y)
 
 
 @njit(cache=True)
-def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, X, T, kind, mkind, idx, Sm, c, cols, Q, J):
+def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, T, kind, mkind, idx, Sm, c, cols, Q,
+                            J):
     """kernel.sets.evaluate_pair (a moving master: the surface on a 3D rigid node) with the covariant kernel;
-    P, X as evaluate_covariant."""
+    P, Y, X as evaluate_covariant."""
     _remember(mode, q, q_t, X)
     return evaluate_pair(kind, mkind, q, q_t, ref, P[0, :, :3], idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2],
-                         S, T, cols)
+                         S, T, cols, Y)
 
 
 def law_params(contact_law):
@@ -512,21 +587,22 @@ class CovariantSet:
 
         if self.linear is not None:
             lm = self.linear
-            self._fn, self.tail = evaluate_covariant_linear, (self.ref, self.law, self.P, self.S, self.X, lm.idx,
-                                                                lm.S, lm.c, self.Q, self.J)
+            self._fn, self.tail = evaluate_covariant_linear, (self.ref, self.law, self.P, self.S, self.Y, self.X,
+                                                                lm.idx, lm.S, lm.c, self.Q, self.J)
         else:
-            self._fn, self.tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.X, self.kind)
+            self._fn, self.tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.Y, self.X, self.kind)
         self._entry = None
 
     def _buffers(self, b, n):
         """The packed arrays of K points b (K, 3) over n coordinates: P (3, K, 9) (points, converged
-        history H, candidate Hn), the scratch S and X (2, n), the state (q, q_t) of the last residual
-        (mode 0), whose candidate Hn holds."""
+        history H, candidate Hn), the scratch S, the point buffer Y (K, Y_ROWS, 3) and X (2, n),
+        the state (q, q_t) of the last residual (mode 0), whose candidate Hn holds."""
         from exu_aniso.kernel.sets import SCRATCH_SLOTS
         self.P = np.zeros((3, b.shape[0], 9))
         self.P[0, :, :3] = b
         self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
         self.H, self.Hn = self.P[1], self.P[2]
+        self.Y = np.zeros((b.shape[0], Y_ROWS, 3))
         self.X = np.full((2, n), np.nan)
 
     def evaluate(self, mode, q, q_t, fq, fv, dt):
@@ -584,8 +660,8 @@ class CovariantPairSet(CovariantSet):
         self.cols = np.zeros(m + nm, dtype=np.int64)
         self.Q, self.J = np.zeros(n), np.zeros((n, n))
         self._fn = evaluate_covariant_pair
-        self.tail = (self.ref, self.law, self.P, self.S, self.X, self.T, self.kind, self.mkind, idx, Sm, c, self.cols,
-                     self.Q, self.J)
+        self.tail = (self.ref, self.law, self.P, self.S, self.Y, self.X, self.T, self.kind, self.mkind, idx, Sm, c,
+                     self.cols, self.Q, self.J)
         self._entry = None
 
 
@@ -619,7 +695,7 @@ class CovariantGroupSet(CovariantSet):
                                shape=(n, n), copy=False)
         if not np.shares_memory(self.J.data, self.Jb):                       # scipy copied: J would go stale
             raise RuntimeError("scipy.sparse.csr_matrix copied the Jacobian blocks; the group needs a view")
-        self._fn, self.tail = evaluate_covariant_group, (self.ref, self.law, self.P, self.S, self.X, self.kind, self.Q,
+        self._fn, self.tail = evaluate_covariant_group, (self.ref, self.law, self.P, self.S, self.Y, self.X, self.kind, self.Q,
                                                          self.Jb)
         self._entry = None
 

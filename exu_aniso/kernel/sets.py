@@ -3,7 +3,7 @@ generalized force, Jacobian and history candidate of one contact set in one comp
 
 Why it exists: inside Exudyn the contact law runs in user functions that are called 5-6 times per
 time step; one compiled call per user function evaluates a whole set: positions, velocities and
-point Jacobians of the body-fixed points, the contact law at every point (``point_law``: the
+point Jacobians of the body-fixed points, the contact law at every point (``point_states``: the
 covariant kernel of ``exu_aniso.kernel.point``, bound at compile time by the type of the law bundle) and
 the generalized quantities of the node. ``tests/test_fastpath.py`` holds this route equal to the
 numpy glue (``exudyn_adapter.glue._ContactSet``).
@@ -20,8 +20,9 @@ on the master, the Jacobian over both nodes' coordinates (``tests/test_moving_ma
 The slave's node kinematics are shared helpers (``_node_frame``, ``_rigid_point``,
 ``_point_velocity_column``, ``_rigid_geometric``). A force call (mode 0, and the history candidate,
 mode 2) of a rigid set or a pair takes a lean path of its own (``_set_forces``, ``_pair_forces``):
-no derivatives, the point law inlined without its tangent (``point_force``), the generalized force
-summed as force and moment per body; the tangent path (mode 1) is the rest of each function.
+the points' kinematics into a buffer Y, the point law without its tangent at all of them in one
+call (``point_states``), the generalized force summed as force and moment per body; the tangent
+path (mode 1) is the rest of each function.
 This module needs no Exudyn.
 """
 from __future__ import annotations
@@ -83,16 +84,23 @@ def _ep_derivatives(qt, q_t, dA, Gt):
     Gt[2, 0], Gt[2, 1], Gt[2, 2], Gt[2, 3] = -2 * d3, 2 * d2, -2 * d1, 2 * d0
 
 
-def point_law(law, x, v, h, tangent, dt, f, Kx, Dv, hn, S):
-    """The contact law at one point for the set kernel, resolved at compile time by the type of
-    ``law`` (an overload: the covariant bundle of ``exu_aniso.kernel.point``)."""
-    raise NotImplementedError("point_law is resolved at compile time")
+# the rows of a set's point buffer Y (K, Y_ROWS, 3), a block per point: its position and velocity
+# (master frame, relative to the master), the force on it, (ax, ay, status) (a planar node's lever
+# arm, the law's status), df/dx (3 rows) and df/dv (3 rows)
+Y_X, Y_V, Y_F, Y_INFO, Y_KX, Y_DV = 0, 1, 2, 3, 4, 7
+Y_ROWS = 10
 
 
-def point_force(law, x, v, h, dt, f, hn, S):
-    """point_law without derivatives (f and hn only), inlined into the force loops; resolved at
-    compile time like point_law."""
-    raise NotImplementedError("point_force is resolved at compile time")
+def point_states(law, Y, H, Hn, first, count, dt, tangent, S):
+    """The contact law at the points k = first, ..., first + count - 1 of the buffer Y: at Y[k, Y_X]
+    with velocity Y[k, Y_V] from the converged history H[k] and dt [s] since it, the force into
+    Y[k, Y_F] and the status into Y[k, Y_INFO, 2]; with tangent also df/dx and df/dv into
+    Y[k, Y_KX:Y_KX + 3] and Y[k, Y_DV:Y_DV + 3]; the history candidate into Hn[k] (not with tangent:
+    a Jacobian call leaves the candidate of the last residual). Returns (points in contact, any
+    unresolved). Resolved at compile time by the type of ``law`` (an overload: the covariant kernel
+    of ``exu_aniso.kernel.point``); the one place a set's kernel compiles the law into, so give
+    ``tangent`` as a run-time bool (``mode == 1``), never a literal, or it compiles twice."""
+    raise NotImplementedError("point_states is resolved at compile time")
 
 
 # --- the slave node's kinematics, shared by evaluate_set (ground master) and evaluate_pair -------
@@ -240,16 +248,6 @@ def _rigid_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq):
 
 
 @njit(cache=True, inline="always")
-def _keep_candidate(st, mode, hn, Hn, k):
-    """After the law at point k (status st): the candidate hn goes to Hn[k] (modes 0 and 2);
-    returns (in contact, unresolved) for the set's return value."""
-    if mode != 1:
-        for i in range(N_HISTORY):
-            Hn[k, i] = hn[i]
-    return st > 0, st == UNRESOLVED
-
-
-@njit(cache=True, inline="always")
 def _rigid_motion(kind, qt, q_t, G, nq):
     """What the force paths need of a rigid node's motion, once per call: a planar node's (cos, sin)
     of its angle and its angular velocity, or a 3D node's omega_local = G q_t_rot, as (c, s, w, w0,
@@ -301,13 +299,6 @@ def _rigid_moment(kind, A, F0, F1, F2, bx, by, bz, ax, ay):
 
 
 @njit(cache=True, inline="always")
-def _force_at(law, x, v, H, dt, f, S, Hn, k):
-    """The force paths' law at point k (point_force, f filled), its history candidate written into
-    Hn[k] directly; returns the status."""
-    return point_force(law, x, v, H[k], dt, f, Hn[k], S)
-
-
-@njit(cache=True, inline="always")
 def _rigid_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2):
     """Q of a rigid node from the summed force F and moment M (_rigid_moment): Q_rot = G^T M for a
     3D node (= sum Jp_rot^T f, Jp_rot = -A [b]x G)."""
@@ -322,52 +313,52 @@ def _rigid_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2):
 
 
 @njit(cache=True, inline="always")
-def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S):
-    """evaluate_set without derivatives (modes 0 and 2): the points' positions and velocities
-    from the node's frame, computed once per call, and the generalized force summed without a
-    per-point Jacobian: the force on the translation coordinates and, for a 3D node, the local
-    moment m = sum b x A^T f, mapped once by Q_rot = G^T m (= sum Jp_rot^T f, Jp_rot = -A [b]x G);
-    for a planar node the moment about the rotation axis. The point law is inlined here without its
-    derivatives (point_force: the derivative code is a function of its own, kernel._point_tangent,
-    that only the tangent path calls): on the plane 0.17 -> 0.09 us per point.
+def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
+    """evaluate_set without derivatives (modes 0 and 2), in three passes over the points: their
+    positions and velocities from the node's frame (computed once per call) into Y, the point law
+    at all of them (point_states: the law's one compiled loop), and the
+    generalized force summed without a per-point Jacobian: the force on the translation coordinates
+    and, for a 3D node, the local moment m = sum b x A^T f, mapped once by Q_rot = G^T m (= sum
+    Jp_rot^T f, Jp_rot = -A [b]x G); for a planar node the moment about the rotation axis. A point
+    out of contact has f = 0 and adds nothing.
 
     evaluate_set and this function are inlined (numba IR) into their callers: every compiled unit
-    links what it calls and optimizes it all again, so fewer levels compile faster (block and screw:
-    32 -> 28 s, the same machine code)."""
+    links what it calls and optimizes it all again, so fewer levels compile faster."""
     nq = q.shape[0]
     K = b.shape[0]
     A, G = S[9, :3, :3], S[10, :3, :4]
-    qt, x, v, f = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3]
+    qt, x, v = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3]
     _node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
     motion = _rigid_motion(kind, qt, q_t, G, nq)
-    F0 = F1 = F2 = M0 = M1 = M2 = 0.0
-    ncontact = 0
-    unresolved = False
     for k in range(K):
-        bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-        ax, ay = _rigid_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v)
-        st = _force_at(law, x, v, H, dt, f, S, Hn, k)
-        ncontact += st > 0
-        unresolved |= st == UNRESOLVED
-        if mode == 2 or st == 0:
-            continue
-        F0 += f[0]
-        F1 += f[1]
-        F2 += f[2]
-        m0, m1, m2 = _rigid_moment(kind, A, f[0], f[1], f[2], bx, by, bz, ax, ay)
-        M0 += m0
-        M1 += m1
-        M2 += m2
+        ax, ay = _rigid_point_xv(kind, qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
+        for i in range(3):
+            Y[k, Y_X, i] = x[i]
+            Y[k, Y_V, i] = v[i]
+        Y[k, Y_INFO, 0], Y[k, Y_INFO, 1] = ax, ay
+    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
     if mode == 0:
+        F0 = F1 = F2 = M0 = M1 = M2 = 0.0
+        for k in range(K):
+            f0, f1, f2 = Y[k, Y_F, 0], Y[k, Y_F, 1], Y[k, Y_F, 2]
+            F0 += f0
+            F1 += f1
+            F2 += f2
+            m0, m1, m2 = _rigid_moment(kind, A, f0, f1, f2, b[k, 0], b[k, 1], b[k, 2], Y[k, Y_INFO, 0],
+                                       Y[k, Y_INFO, 1])
+            M0 += m0
+            M1 += m1
+            M2 += m2
         _rigid_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)
     return -1 if unresolved else ncontact
 
 
 @njit(cache=True, inline="always")
-def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
+def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
     reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
-    H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9).
+    H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9), Y (4, K, 3) the
+    force call's point buffer (Y_X, ...).
     mode 0: Q (n,) = generalized force sum Jp^T f;
     mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), complete
             for every node kind: with v = Jp q_t,
@@ -378,13 +369,13 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
             from the last residual, evaluated at the converged state). Returns the number of points
             in contact, or -1 when a point's motion in the step is unresolved (status 3)."""
     if mode != 1:
-        return _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S)
+        return _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y)
     nq = q.shape[0]
     K = b.shape[0]
     # scratch views of S (slots 0-8 belong to contact_point)
-    A, G, Jp, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq], S[12, :3, :3], S[13, :3, :3]
+    A, G, Jp = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq]
     Kq, Dq = S[15, :nq, :nq], S[16, :nq, :nq]
-    qt, x, v, f, wl, hn = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :N_HISTORY]
+    qt, x, v, wl = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 4, :3]
     tangent = mode == 1
     if tangent:
         for i in range(nq):
@@ -402,11 +393,15 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
         _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
-        st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        ncontact += st > 0
-        unresolved |= st == UNRESOLVED
-        if st == 0:
+        for i in range(3):
+            Y[k, Y_X, i] = x[i]
+            Y[k, Y_V, i] = v[i]
+        touching, stuck_step = point_states(law, Y, H, Hn, k, 1, dt, tangent, S)
+        ncontact += touching
+        unresolved |= stuck_step
+        if not touching:
             continue
+        f, Kx, Dv = Y[k, Y_F], Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
         # Kq += Jp^T Kx Jx, Dq += Jp^T Dv Jp
         for a in range(nq):
             for i in range(3):
@@ -436,7 +431,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S):
 
 
 @njit(cache=True)
-def evaluate_group(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, Jb, Hn, S):
+def evaluate_group(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, Jb, Hn, S, Y):
     """One contact set on nb rigid nodes of one kind (a group: the same body-local points b (Kb, 3)
     on every body, one compiled call for all). q, q_t, ref: the nodes' coordinates one after the
     other (nb * nq); H, Hn (nb * Kb, 9): body by body; Q (nb * nq,); Jb (nb, nq, nq): the diagonal
@@ -450,7 +445,7 @@ def evaluate_group(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, Jb, Hn, S)
     for j in range(nb):
         c, p = j * nq, j * Kb
         r = evaluate_set(kind, q[c:c + nq], q_t[c:c + nq], ref[c:c + nq], b, H[p:p + Kb], law, mode, fq, fv, dt,
-                         Q[c:c + nq], Jb[j], Hn[p:p + Kb], S)
+                         Q[c:c + nq], Jb[j], Hn[p:p + Kb], S, Y[p:p + Kb])
         if r < 0:
             unresolved = True
         else:
@@ -469,21 +464,19 @@ def _nonzero(M):
 
 
 @njit(cache=True)
-def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S):
+def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y):
     """A contact set on a linear slave: point k at x_k = c_k + S_k q_total[idx_k], velocity
     v_k = S_k q_t[idx_k], with constant S_k (3, m) over the m set coordinates idx_k (K, m) (a mass
     point: S = I over its own coordinates, c = b; an ANCF cable: the Hermite shape functions of its
     element at the point). q, q_t, ref: the set's coordinates; H (K, 9) converged history; dt time
-    since H; S scratch (SCRATCH_SLOTS, 9, 9), slots 0-8 belong to the point law.
+    since H; S scratch (SCRATCH_SLOTS, 9, 9), slots 0-8 belong to the point law; Y (K, Y_ROWS, 3)
+    the point buffer (point_states).
     mode 0: Q (n,) = sum S_k^T f_k; mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) with
     dQ/dq = sum S^T Kx S and dQ/dq_t = sum S^T Dv S (Jp = S is constant: no geometric terms);
     mode 2: Hn (K, 9) = history candidate (mode 0 too). Returns the number of points in contact, or
     -1 when a point's motion in the step is unresolved."""
     K, m = idx.shape[0], idx.shape[1]
     n = q.shape[0]
-    x, v, f, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 5, :N_HISTORY]
-    Kx, Dv = S[12, :3, :3], S[13, :3, :3]
-    tangent = mode == 1
     if mode == 0:
         for i in range(n):
             Q[i] = 0.0
@@ -491,8 +484,6 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
         for i in range(n):
             for j in range(n):
                 J[i, j] = 0.0
-    ncontact = 0
-    unresolved = False
     for k in range(K):
         for i in range(3):
             xi, vi = c[k, i], 0.0
@@ -500,11 +491,11 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
                 g = idx[k, a]
                 xi += Sm[k, i, a] * (ref[g] + q[g])
                 vi += Sm[k, i, a] * q_t[g]
-            x[i], v[i] = xi, vi
-        st = point_law(law, x, v, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        touching, stuck_step = _keep_candidate(st, mode, hn, Hn, k)
-        ncontact += touching
-        unresolved |= stuck_step
+            Y[k, Y_X, i], Y[k, Y_V, i] = xi, vi
+    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
+    for k in range(K):
+        st = Y[k, Y_INFO, 2]
+        f, Kx, Dv = Y[k, Y_F], Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
         if mode == 0:
             for a in range(m):
                 Q[idx[k, a]] += Sm[k, 0, a] * f[0] + Sm[k, 1, a] * f[1] + Sm[k, 2, a] * f[2]
@@ -602,19 +593,18 @@ def _master_frame(mkind, qm, qm_t, refm, tangent, qtm, A, G, dA, Gt, wl, w):
 
 
 @njit(cache=True, inline="always")
-def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S):
+def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S, Y):
     """evaluate_pair without derivatives (modes 0 and 2), as _set_forces for a fixed master: both
-    frames once per call, the law inlined without its tangent (point_force), and the generalized
-    force summed without a Jacobian per point. The slave gets F = A f: a rigid slave as force and
-    moment (_set_forces), a linear slave through its constant S_k; the master the reaction, -sum F
-    and -G^T sum (x_rel x A^T F) at its material points x_rel."""
+    frames once per call, the points relative to the master into Y, the law at all of them
+    (point_states), and the generalized force summed without a Jacobian per point. The slave gets
+    F = A f: a rigid slave as force and moment (_set_forces), a linear slave through its constant
+    S_k; the master the reaction, -sum F and -G^T sum (x_rel x A^T F) at its material points x_rel."""
     n = q.shape[0]
     nm = 6 if mkind == 2 else 7
     ns = n - nm
     linear = kind < 0
     As, Gs = S[9, :3, :3], S[10, :3, :4]
-    x, v, f = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3]
-    xr, vr = S[17, 6, :3], S[17, 7, :3]
+    x, v = S[17, 1, :3], S[17, 2, :3]
     qts = S[15, 0, :(0 if linear else ns)]
     qtm, wlm, w = S[15, 1, :nm], S[15, 2, :3], S[15, 3, :3]
     Am, Gm = S[16, :3, :3], S[16, 3:6, :4]
@@ -623,15 +613,9 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], False, qtm, Am, Gm, Am, Gm, wlm, w)
     vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
     motion = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0) if linear else _rigid_motion(kind, qts, q_t, Gs, ns)
-    for i in range(n):
-        Q[i] = 0.0
-    FS0 = FS1 = FS2 = MS0 = MS1 = MS2 = 0.0          # on the slave (the master gets -F): force, moment
-    Y0 = Y1 = Y2 = 0.0                               # on the master: sum x_rel x A^T F
-    ax = ay = 0.0
-    ncontact = 0
-    unresolved = False
-    for k in range(H.shape[0]):
-        bx = by = bz = 0.0
+    K = H.shape[0]
+    for k in range(K):
+        ax = ay = 0.0
         if linear:
             for i in range(3):
                 xi, vi = c[k, i], 0.0
@@ -641,42 +625,46 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
                     vi += Sm[k, i, a] * q_t[g]
                 x[i], v[i] = xi, vi
         else:
-            bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-            ax, ay = _rigid_point_xv(kind, qts, q_t, As, motion, bx, by, bz, x, v)
+            ax, ay = _rigid_point_xv(kind, qts, q_t, As, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
         # relative to the master, in its frame (as evaluate_pair)
         d0, d1, d2 = x[0] - qtm[0], x[1] - qtm[1], x[2] - qtm[2]
         e0 = v[0] - vp0 - (w[1] * d2 - w[2] * d1)
         e1 = v[1] - vp1 - (w[2] * d0 - w[0] * d2)
         e2 = v[2] - vp2 - (w[0] * d1 - w[1] * d0)
         for j in range(3):
-            xr[j] = Am[0, j] * d0 + Am[1, j] * d1 + Am[2, j] * d2
-            vr[j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
-        st = _force_at(law, xr, vr, H, dt, f, S, Hn, k)
-        ncontact += st > 0
-        unresolved |= st == UNRESOLVED
-        if mode == 2 or st == 0:
-            continue
-        F0 = Am[0, 0] * f[0] + Am[0, 1] * f[1] + Am[0, 2] * f[2]            # F = A f
-        F1 = Am[1, 0] * f[0] + Am[1, 1] * f[1] + Am[1, 2] * f[2]
-        F2 = Am[2, 0] * f[0] + Am[2, 1] * f[1] + Am[2, 2] * f[2]
-        g0 = Am[0, 0] * F0 + Am[1, 0] * F1 + Am[2, 0] * F2                   # A^T F
-        g1 = Am[0, 1] * F0 + Am[1, 1] * F1 + Am[2, 1] * F2
-        g2 = Am[0, 2] * F0 + Am[1, 2] * F1 + Am[2, 2] * F2
-        Y0 += xr[1] * g2 - xr[2] * g1
-        Y1 += xr[2] * g0 - xr[0] * g2
-        Y2 += xr[0] * g1 - xr[1] * g0
-        FS0 += F0
-        FS1 += F1
-        FS2 += F2
-        if linear:
-            for a in range(idx.shape[1]):
-                Q[idx[k, a]] += Sm[k, 0, a] * F0 + Sm[k, 1, a] * F1 + Sm[k, 2, a] * F2
-        else:
-            m0, m1, m2 = _rigid_moment(kind, As, F0, F1, F2, bx, by, bz, ax, ay)
-            MS0 += m0
-            MS1 += m1
-            MS2 += m2
+            Y[k, Y_X, j] = Am[0, j] * d0 + Am[1, j] * d1 + Am[2, j] * d2
+            Y[k, Y_V, j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
+        Y[k, Y_INFO, 0], Y[k, Y_INFO, 1] = ax, ay
+    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
     if mode == 0:
+        for i in range(n):
+            Q[i] = 0.0
+        FS0 = FS1 = FS2 = MS0 = MS1 = MS2 = 0.0          # on the slave (the master gets -F): force, moment
+        Y0 = Y1 = Y2 = 0.0                               # on the master: sum x_rel x A^T F
+        for k in range(K):
+            f0, f1, f2 = Y[k, Y_F, 0], Y[k, Y_F, 1], Y[k, Y_F, 2]
+            xr0, xr1, xr2 = Y[k, Y_X, 0], Y[k, Y_X, 1], Y[k, Y_X, 2]
+            F0 = Am[0, 0] * f0 + Am[0, 1] * f1 + Am[0, 2] * f2            # F = A f
+            F1 = Am[1, 0] * f0 + Am[1, 1] * f1 + Am[1, 2] * f2
+            F2 = Am[2, 0] * f0 + Am[2, 1] * f1 + Am[2, 2] * f2
+            g0 = Am[0, 0] * F0 + Am[1, 0] * F1 + Am[2, 0] * F2                   # A^T F
+            g1 = Am[0, 1] * F0 + Am[1, 1] * F1 + Am[2, 1] * F2
+            g2 = Am[0, 2] * F0 + Am[1, 2] * F1 + Am[2, 2] * F2
+            Y0 += xr1 * g2 - xr2 * g1
+            Y1 += xr2 * g0 - xr0 * g2
+            Y2 += xr0 * g1 - xr1 * g0
+            FS0 += F0
+            FS1 += F1
+            FS2 += F2
+            if linear:
+                for a in range(idx.shape[1]):
+                    Q[idx[k, a]] += Sm[k, 0, a] * F0 + Sm[k, 1, a] * F1 + Sm[k, 2, a] * F2
+            else:
+                m0, m1, m2 = _rigid_moment(kind, As, F0, F1, F2, b[k, 0], b[k, 1], b[k, 2], Y[k, Y_INFO, 0],
+                                           Y[k, Y_INFO, 1])
+                MS0 += m0
+                MS1 += m1
+                MS2 += m2
         if not linear:
             _rigid_forces(kind, Gs, ns, Q, FS0, FS1, FS2, MS0, MS1, MS2)
         Q[ns], Q[ns + 1], Q[ns + 2] = Q[ns] - FS0, Q[ns + 1] - FS1, Q[ns + 2] - FS2
@@ -686,7 +674,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
 
 
 @njit(cache=True)
-def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, T, cols):
+def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, T, cols, Y):
     """One contact set between a slave and a moving master: the surface carried by a 3D rigid node
     (mkind 2 NodeRigidBodyRotVecLG, 3 NodeRigidBodyEP). Coordinates q, q_t, ref (n,) are the
     slave's (ns) then the master's (nm = 6 or 7), as the contact's ObjectGenericODE2 lists its nodes.
@@ -712,7 +700,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     increment (A -> A (I + [dtheta]x)), Euler parameters by e. Returns the number of points in
     contact, or -1 when a point's motion in the step is unresolved (as evaluate_set)."""
     if mode != 1:
-        return _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S)
+        return _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S, Y)
     n = q.shape[0]
     nm = 6 if mkind == 2 else 7
     ns = n - nm
@@ -723,9 +711,9 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     na = m + nm
     tangent = mode == 1
     # the slave's views (evaluate_set's slots) and the law's outputs
-    As, Gs, Kx, Dv = S[9, :3, :3], S[10, :3, :4], S[12, :3, :3], S[13, :3, :3]
+    As, Gs = S[9, :3, :3], S[10, :3, :4]
     dAs, Gts = S[14, 3:7, :9], S[10, 3:6, :4]
-    x, v, f, wls, hn = S[17, 1, :3], S[17, 2, :3], S[17, 3, :3], S[17, 4, :3], S[17, 5, :N_HISTORY]
+    x, v, wls = S[17, 1, :3], S[17, 2, :3], S[17, 4, :3]
     qts = S[15, 0, :(0 if linear else ns)]
     qs, qs_t, refs = q[:ns], q_t[:ns], ref[:ns]
     # the pair's views: slave point Jacobians (compact columns), derivatives, tangent blocks, master
@@ -786,11 +774,14 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
         for j in range(3):
             xr[j] = Am[0, j] * d[0] + Am[1, j] * d[1] + Am[2, j] * d[2]
             vr[j] = Am[0, j] * u[0] + Am[1, j] * u[1] + Am[2, j] * u[2]
-        st = point_law(law, xr, vr, H[k], tangent, dt, f, Kx, Dv, hn, S)
-        ncontact += st > 0
-        unresolved |= st == UNRESOLVED
-        if st == 0:
+        for i in range(3):
+            Y[k, Y_X, i], Y[k, Y_V, i] = xr[i], vr[i]
+        touching, stuck_step = point_states(law, Y, H, Hn, k, 1, dt, tangent, S)
+        ncontact += touching
+        unresolved |= stuck_step
+        if not touching:
             continue
+        f, Kx, Dv = Y[k, Y_F], Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
         # F = A f (global), g = A^T F, y = b x g at the master's material point b = x_rel
         for i in range(3):
             F[i] = Am[i, 0] * f[0] + Am[i, 1] * f[1] + Am[i, 2] * f[2]

@@ -393,8 +393,8 @@ TARGETS = [
     Target("moving master (full block, 4 corners, on a free plate)", MOVING, BLOCK4, 1.2),
     Target("user's 4-point body in a spherical bowl (Sphere)", SPHERE, CUBE4, 4.0),
     Target("user's 4-point body down a conical trough (Cone)", CONE, CUBE4, 4.0),
-    Target("compiled call on the plane: fixed part [us]", CallFit("fixed"), None, 0.5),
-    Target("compiled call on the plane: per point [us]", CallFit("per_point"), None, 0.05),
+    Target("compiled call on the plane, as Exudyn makes it: fixed part [us]", CallFit("fixed"), None, 0.5),
+    Target("compiled call on the plane, as Exudyn makes it: per point [us]", CallFit("per_point"), None, 0.05),
 ]
 
 # the compiled call: the full block's contact set on K points
@@ -427,8 +427,10 @@ def _solve(model):
 class CallBench:
     """The compiled call of the full block's contact set on each layout of CALL_LAYOUTS, after 20
     steps of sliding: ``time()`` gives, per layout, the CPU time of one force callback as Exudyn calls
-    it (q, q_t as lists) and of the compiled entry alone with the force's packed arguments (mode 0),
-    each over a batch of ``calls`` calls."""
+    it in Python (q, q_t as lists), of the compiled entry alone with the force's packed arguments
+    (mode 0), and of the native force callback (the package's default: Exudyn calls a C++ function
+    that calls the compiled kernel, ``_native.call_force`` calling it as Exudyn does), each over a
+    batch of ``calls`` calls; NaN for the native call where the extension is not built."""
 
     def __init__(self, calls, layouts=CALL_LAYOUTS):
         from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
@@ -449,14 +451,25 @@ class CallBench:
             def entry(cs=cs):
                 cs._entry(*cs._force_args)                          # mode 0: the force, unboxing + kernel
 
+            def native_call(calls, cs=cs, mbs=mbs, t=t, q=q, q_t=q_t):
+                from exu_aniso.engines.exudyn_adapter import _native
+                clock = cs._native.clock                            # armed in the step of the last residual
+                saved = clock.copy()
+                clock[:2] = (t - cs._dt, 1.0)
+                _native.call_force(mbs, cs.oContact, t, q, q_t, calls)
+                clock[:] = saved
+
+            native = native_call if cs._native is not None else None
+            if native is not None:
+                native(1)
             assert cs._force_args[0] == 0
             callback()
             entry()
             self.items.append(dict(points=points, K=cs.K, in_contact=int(np.sum(cs.pk.Hn[:, 7] > 0)),
-                                   callback=callback, entry=entry, model=model))
+                                   callback=callback, entry=entry, native=native, model=model))
 
     def time(self):
-        """One repeat: {points: (callback_s, entry_s)} per call, CPU time."""
+        """One repeat: {points: (callback_s, entry_s, native_s)} per call, CPU time."""
         out = {}
         for it in self.items:
             res = []
@@ -464,6 +477,12 @@ class CallBench:
                 c0 = time.process_time()
                 for _ in range(self.calls):
                     fn()
+                res.append((time.process_time() - c0) / self.calls)
+            if it["native"] is None:
+                res.append(float("nan"))
+            else:
+                c0 = time.process_time()
+                it["native"](self.calls)
                 res.append((time.process_time() - c0) / self.calls)
             out[it["points"]] = tuple(res)
         return out
@@ -506,29 +525,36 @@ def measure(quick=False, repeats=5, targets=None, t_end=None, calls=None, layout
 
 
 def _call_rows(bench, call_times):
-    """Per layout: callback and entry medians [min, max] [us]; per repeat a least-squares fit of the
-    entry's time over K: fixed + per-point cost."""
+    """Per layout: callback, entry and native medians [min, max] [us]; per repeat a least-squares fit
+    of the entry's and of the native call's time over K: fixed + per-point cost. The targets take the
+    native call's fit (the call Exudyn makes at the package's default), the entry's without the
+    extension."""
     K = np.array([it["K"] for it in bench.items], dtype=float)
-    fits = []
-    for rep in call_times:
-        y = np.array([rep[it["points"]][1] for it in bench.items]) * 1e6
-        b, a = np.polyfit(K, y, 1) if len(K) > 1 else (float("nan"), y[0])
-        fits.append((a, b))
-    fits = np.array(fits, dtype=float)
+
+    def fit(col):
+        out = []
+        for rep in call_times:
+            y = np.array([rep[it["points"]][col] for it in bench.items]) * 1e6
+            b, a = np.polyfit(K, y, 1) if len(K) > 1 and np.all(np.isfinite(y)) else (float("nan"), y[0])
+            out.append((a, b))
+        return np.array(out, dtype=float)
+
+    fits = {"entry": fit(1), "native": fit(2)}
     rows = []
     for it in bench.items:
-        cb = [rep[it["points"]][0] * 1e6 for rep in call_times]
-        en = [rep[it["points"]][1] * 1e6 for rep in call_times]
-        (cm, c0, c1), (em, e0, e1) = _stats(cb), _stats(en)
-        rows.append(dict(points=it["points"], K=it["K"], in_contact=it["in_contact"], callback_us=cm,
-                         callback_min_us=c0, callback_max_us=c1, entry_us=em, entry_min_us=e0,
-                         entry_max_us=e1))
-    fixed, per_point = _stats(fits[:, 0]), _stats(fits[:, 1])
-    for r in rows:
-        r.update(entry_fixed_us=fixed[0], entry_fixed_min_us=fixed[1], entry_fixed_max_us=fixed[2],
-                 entry_per_point_us=per_point[0], entry_per_point_min_us=per_point[1],
-                 entry_per_point_max_us=per_point[2])
-    return rows, dict(fixed=fits[:, 0], per_point=fits[:, 1])
+        r = dict(points=it["points"], K=it["K"], in_contact=it["in_contact"])
+        for col, name in enumerate(("callback", "entry", "native")):
+            m, lo, hi = _stats([rep[it["points"]][col] * 1e6 for rep in call_times])
+            r.update({f"{name}_us": m, f"{name}_min_us": lo, f"{name}_max_us": hi})
+        rows.append(r)
+    for name, f in fits.items():
+        fixed, per_point = _stats(f[:, 0]), _stats(f[:, 1])
+        for r in rows:
+            r.update({f"{name}_fixed_us": fixed[0], f"{name}_fixed_min_us": fixed[1],
+                      f"{name}_fixed_max_us": fixed[2], f"{name}_per_point_us": per_point[0],
+                      f"{name}_per_point_min_us": per_point[1], f"{name}_per_point_max_us": per_point[2]})
+    use = fits["native"] if np.all(np.isfinite(fits["native"])) else fits["entry"]
+    return rows, dict(fixed=use[:, 0], per_point=use[:, 1])
 
 
 def _row(t, T, nominal, t_end, repeats, fits):
@@ -656,28 +682,32 @@ def markdown(res):
         fixed = _spread(c["entry_fixed_us"], c["entry_fixed_min_us"], c["entry_fixed_max_us"], "{:.3f}")
         slope = _spread(c["entry_per_point_us"], c["entry_per_point_min_us"], c["entry_per_point_max_us"],
                         "{:.4f}")
+        nfixed = _spread(c["native_fixed_us"], c["native_fixed_min_us"], c["native_fixed_max_us"], "{:.3f}")
+        nslope = _spread(c["native_per_point_us"], c["native_per_point_min_us"], c["native_per_point_max_us"],
+                         "{:.4f}")
         text += ("\nThe compiled call on the plane (the full block's contact set after 20 steps of sliding): "
-                 "CPU time of one force callback as Exudyn calls it (q, q_t as lists) and of the compiled "
-                 "entry alone (mode 0: unboxing its packed arguments and the kernel), median [min-max] over "
-                 f"the repeats, each a batch of calls; least-squares fit per repeat: entry = {fixed} us + "
-                 f"{slope} us per point.\n\n"
-                 + markdown_table(["points", "K", "in contact", "callback us", "compiled call us"],
-                                  [[r["points"], r["K"], r["in_contact"],
-                                    _spread(r["callback_us"], r["callback_min_us"], r["callback_max_us"],
-                                            "{:.3f}"),
-                                    _spread(r["entry_us"], r["entry_min_us"], r["entry_max_us"], "{:.3f}")]
+                 "CPU time of one force callback as Exudyn calls it in Python (q, q_t as lists), of the "
+                 "compiled entry called from Python (mode 0: unboxing its packed arguments and the kernel), "
+                 "and of the native force callback as Exudyn calls it (the package's default: a C++ function "
+                 "that calls the compiled kernel on its stored arguments; the targets' rows), median "
+                 "[min-max] over the repeats, each a batch of calls; least-squares fit per repeat: native = "
+                 f"{nfixed} us + {nslope} us per point; entry from Python = {fixed} us + {slope} us per "
+                 "point.\n\n"
+                 + markdown_table(["points", "K", "in contact", "Python callback us", "entry from Python us",
+                                   "native call us"],
+                                  [[r["points"], r["K"], r["in_contact"]]
+                                   + [_spread(r[f"{n}_us"], r[f"{n}_min_us"], r[f"{n}_max_us"], "{:.3f}")
+                                      for n in ("callback", "entry", "native")]
                                    for r in calls]))
     return text
 
 
-FORCE_CALL_COLUMNS = ["points [-]", "K [-]", "in_contact [-]", "callback [us]", "callback_min [us]",
-                      "callback_max [us]", "entry [us]", "entry_min [us]", "entry_max [us]",
-                      "entry_fixed [us]", "entry_fixed_min [us]", "entry_fixed_max [us]",
-                      "entry_per_point [us]", "entry_per_point_min [us]", "entry_per_point_max [us]"]
+_CALL_FIELDS = ["callback", "callback_min", "callback_max", "entry", "entry_min", "entry_max", "entry_fixed",
+                "entry_fixed_min", "entry_fixed_max", "entry_per_point", "entry_per_point_min",
+                "entry_per_point_max", "native", "native_min", "native_max", "native_fixed", "native_fixed_min",
+                "native_fixed_max", "native_per_point", "native_per_point_min", "native_per_point_max"]
+FORCE_CALL_COLUMNS = ["points [-]", "K [-]", "in_contact [-]"] + [f"{f} [us]" for f in _CALL_FIELDS]
 
 
 def force_call_table_rows(rows):
-    return [[r["points"], r["K"], r["in_contact"], r["callback_us"], r["callback_min_us"],
-             r["callback_max_us"], r["entry_us"], r["entry_min_us"], r["entry_max_us"], r["entry_fixed_us"],
-             r["entry_fixed_min_us"], r["entry_fixed_max_us"], r["entry_per_point_us"],
-             r["entry_per_point_min_us"], r["entry_per_point_max_us"]] for r in rows]
+    return [[r["points"], r["K"], r["in_contact"]] + [r[f + "_us"] for f in _CALL_FIELDS] for r in rows]

@@ -172,6 +172,14 @@ PYBIND11_MODULE(_native, m) {
           },
           "(native, Python) post-Newton calls of a system");
     m.def("system_address", &instance_address, "address of the C++ MainSystem behind an exudyn.MainSystem");
+    m.def("call_force",
+          [](py::handle mbs, int item, double t, const StdVector& q, const StdVector& q_t, long calls) {
+              const auto* system = reinterpret_cast<const MainSystem*>(instance_address(mbs));
+              StdVector Q;
+              for (long i = 0; i < calls; ++i) Q = force(*system, t, item, q, q_t);   // by value, as Exudyn passes them
+              return Q;
+          },
+          "call the native force of (mbs, item) calls times as Exudyn calls it (benchmarks); returns the last Q");
     m.def("register_set",
           [](py::handle mbs, int item, uintptr_t kernel, int64_t block, int64_t stage, uintptr_t Q, int64_t n,
              uintptr_t clock, py::object delegate) {
