@@ -203,7 +203,15 @@ def project(p, x, xi1, xi2):
     the closest point is not unique or not a minimum); 3: the chart is singular at the projection
     (rho_1 x rho_2 = 0: a pole, an axis, an apex), where the normal and the basis are undefined.
     xi1, xi2 in: the last projection as a hint (NaN: none)."""
-    y = to_local(p, x)
+    g1, g2, gap, status, _ = project_local(p, to_local(p, x), xi1, xi2)
+    return g1, g2, gap, status
+
+
+@njit(cache=True)
+def project_local(p, y, xi1, xi2):
+    """project for the point y given in the surface's local frame (to_local), also returning the
+    local chart (rho, rho_1, rho_2, rho_11, rho_12, rho_22) at the closest point, which a caller
+    then need not evaluate again: (xi1, xi2, xi3, status, chart)."""
     g1, g2, exact = local_guess(p, y, xi1, xi2)
     status = 0
     if not exact:
@@ -227,11 +235,12 @@ def project(p, x, xi1, xi2):
             if math.sqrt(dot(moved, moved)) <= PROJECTION_TOL * (math.sqrt(dot(y, y)) + math.sqrt(dot(r, r))):
                 status = 0
                 break
-    r, r1, r2, r11, r12, r22 = local_chart(p, g1, g2)
+    ch = local_chart(p, g1, g2)
+    r, r1, r2, r11, r12, r22 = ch
     c = cross(r1, r2)
     cc = math.sqrt(dot(c, c))
     if not cc > 1e-300:
-        return g1, g2, math.nan, 3
+        return g1, g2, math.nan, 3, ch
     if status == 0:     # closed forms too: the projection must be a regular minimum, A > 0
         d = sub(r, y)
         a11 = dot(r1, r1) + dot(d, r11)
@@ -240,7 +249,7 @@ def project(p, x, xi1, xi2):
         m11, m22 = dot(r1, r1), dot(r2, r2)
         if not (a11 > 0.0 and a11 * a22 - a12 * a12 > SINGULAR_A * (m11 * m22)):
             status = 2
-    return g1, g2, p.sign * dot(sub(y, r), c) / cc, status
+    return g1, g2, p.sign * dot(sub(y, r), c) / cc, status, ch
 
 
 @njit(cache=True)

@@ -51,7 +51,7 @@ from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
 from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
                                       H_XI2, N_HISTORY, OPEN, SLIP, STICK, UNRESOLVED)
 from exu_aniso.law.return_maps import MAP_CODES, return_map, trial_slip
-from exu_aniso.fields.nets import physical, tangent_frame
+from exu_aniso.fields.nets import physical, physical_pair, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
 # central difference step of the surface quantities in xi, relative to the local length scale
@@ -137,8 +137,7 @@ def _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a
     s1, s2 = _core.transport(sp, xn1 + 0.5 * d1, xn2 + 0.5 * d2, 0.5 * d1, 0.5 * d2, d1, d2)
     w = add(scale(s1, r1), scale(s2, r2))
     S1, S2 = dot(w, a1), dot(w, a2)
-    c11, c12, c22 = physical(netB, xi1, xi2, r, r1, r2, a1, a2)
-    f11, f12, f22 = physical(netF, xi1, xi2, r, r1, r2, a1, a2)
+    (c11, c12, c22), (f11, f12, f22) = physical_pair(netB, netF, xi1, xi2, r, r1, r2, a1, a2)
     # G = E^T rho A^-1 rho^T
     M11, M12, M22 = M[0], M[1], M[2]
     e11, e12 = dot(a1, r1), dot(a1, r2)
@@ -194,7 +193,13 @@ def _chart_at(sp, xi1, xi2, xi3):
     """What the kernel needs of the chart at the contact point C (local frame): rho, rho_1, rho_2, the
     frame a_1, a_2, n (on the slave's side), A^-1 and h_ij as (A^-1_11, A^-1_12, A^-1_22, h11, h12,
     h22), and the rows X1, X2 of d xi / dx = A^-1 rho^T."""
-    r, r1, r2, r11, r12, r22 = local_chart(sp, xi1, xi2)
+    return _frame_at(sp, local_chart(sp, xi1, xi2), xi3)
+
+
+@njit(cache=True, inline="always")
+def _frame_at(sp, chart, xi3):
+    """_chart_at from the local chart at C (the projection's)."""
+    r, r1, r2, r11, r12, r22 = chart
     a1, a2, nu = tangent_frame(r1, r2)
     n = scale(sp.sign, nu)
     M = _A_inv(r1, r2, r11, r12, r22, n, xi3)
@@ -358,17 +363,18 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
     (a force call's return map does not write it). Returns (status, xi3, state): state, what
     point_tangent needs, (reached, y (3), v (3) in the surface's local frame, xi1, xi2, xi3, xn1, xn2,
     tn1, tn2, active), reached = 1 for a point that got to the law (NO_STATE otherwise)."""
-    for i in range(N_HISTORY):
-        hn[i] = h[i]
-    for i in (H_T1, H_T2, H_XI1, H_XI2, H_ACTIVE, H_STATUS, H_NORMAL):     # kept: the accumulated columns
-        hn[i] = 0.0
-    for i in range(3):
-        f[i] = 0.0
     active = h[H_ACTIVE] > 0.5
     hint1, hint2 = (h[H_XI1], h[H_XI2]) if active else (math.nan, math.nan)
-    xi1, xi2, xi3, pstat = _core.project(sp, (x[0], x[1], x[2]), hint1, hint2)
+    y = _core.to_local(sp, (x[0], x[1], x[2]))
+    xi1, xi2, xi3, pstat, chart = _core.project_local(sp, y, hint1, hint2)
     if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
         if xi3 >= 0.0:
+            for i in range(3):
+                f[i] = 0.0
+            for i in range(N_HISTORY):     # the accumulated columns kept, the rest reset
+                hn[i] = h[i]
+            for i in (H_T1, H_T2, H_XI1, H_XI2, H_ACTIVE, H_STATUS, H_NORMAL):
+                hn[i] = 0.0
             _release(sp, netB, h, hn)
             return OPEN, xi3, NO_STATE
     if pstat == 2 and not active:
@@ -379,6 +385,8 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
         # curvature: a Newton iterate put it far off the surface. It gives no force in this iterate and
         # keeps its history; if the converged state is still so, the engine rejects the step and repeats
         # it with a smaller one (UNRESOLVED). A new point at a centre of curvature is an error (above).
+        for i in range(3):
+            f[i] = 0.0
         for i in range(N_HISTORY):
             hn[i] = h[i]
         hn[H_STATUS] = UNRESOLVED
@@ -387,10 +395,9 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
         raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
                          "the sphere's chart, the polar origin, a cone's apex): choose axis_direction so that the "
                          "path avoids it")
-    y = _core.to_local(sp, (x[0], x[1], x[2]))
     vl = _rot_to_local(sp, (v[0], v[1], v[2]))
-    # the chart, frame, A^-1 and d xi / dx = A^-1 rho^T (rows X1, X2), local frame
-    r, r1, r2, a1, a2, n, M, X1, X2 = _chart_at(sp, xi1, xi2, xi3)
+    # the frame, A^-1 and d xi / dx = A^-1 rho^T (rows X1, X2) from the projection's chart, local frame
+    r, r1, r2, a1, a2, n, M, X1, X2 = _frame_at(sp, chart, xi3)
     # anchor and increment: periodic coordinates to the branch of the predicted increment
     status = STICK
     if active:
@@ -766,5 +773,7 @@ def plain_python():
         nets_python = _plain_python(nets, own_only=True)
         _PLAIN = _plain_python(sys.modules[__name__], own_only=True,
                                overrides={"_core": _CORE_PYTHON, "local_chart": _CORE_PYTHON.local_chart,
-                                          "physical": nets_python.physical, "tangent_frame": nets_python.tangent_frame})
+                                          "physical": nets_python.physical,
+                                          "physical_pair": nets_python.physical_both,
+                                          "tangent_frame": nets_python.tangent_frame})
     return _PLAIN
