@@ -130,3 +130,46 @@ def test_history_sensor_only_when_asked_for():
                                  surface=Plane(), adhesion=Adhesion.isotropic(1e3), friction=Friction.isotropic(0.3),
                                  normalStiffness=1e4, storeSensors=False, storeHistory=store)
         assert mbs.systemData.NumberOfSensors() == n + store
+
+
+@pytest.mark.parametrize("implementation", ["compiled", "numpy"])
+def test_generalized_force_is_the_sum_of_the_point_forces(implementation):
+    """The returned dict's generalizedForce(q, q_t, history) on the planar block (x, y, theta) is
+    (sum f_x, sum f_y, sum (A b x f)_z) of ContactLaw.evaluate at the block's points moved with the
+    body (dt = 0), and leaves the set's own state alone (the solve continues unchanged)."""
+    from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
+    from exu_aniso.models.block import BuildBlock
+    from exu_aniso.scenes.block import BlockParams
+    m = BuildBlock(BlockParams(t_end=0.05, points="corners"), implementation=implementation)
+    mbs, contact = m["mbs"], m["contact"]
+    SolveTimed(mbs, m["simulationSettings"], m["solverType"])
+    q = np.array(mbs.GetNodeOutput(m["nBlock"], exu.OutputVariableType.Coordinates))
+    q_t = np.array(mbs.GetNodeOutput(m["nBlock"], exu.OutputVariableType.Coordinates_t))
+    H = contact["historyAt"](mbs, exu.ConfigurationType.Current)
+    assert np.count_nonzero(H[:, HISTORY_FIELDS.index("active")]) == 4
+    ref = np.array(mbs.GetNodeParameter(m["nBlock"], "referenceCoordinates"))
+    x0, y0, th = ref + q
+    c, s = np.cos(th), np.sin(th)
+    b = np.asarray(contact["points"], dtype=float)
+    arm = np.column_stack([c * b[:, 0] - s * b[:, 1], s * b[:, 0] + c * b[:, 1], np.zeros(len(b))])
+    x = arm + [x0, y0, 0.0]
+    x[:, 2] = b[:, 2]
+    v = np.column_stack([q_t[0] - q_t[2] * arm[:, 1], q_t[1] + q_t[2] * arm[:, 0], np.zeros(len(b))])
+    f = contact["law"].evaluate(x, v, H, tangent=False, dt=0.0).force
+    expected = [f[:, 0].sum(), f[:, 1].sum(), np.sum(arm[:, 0] * f[:, 1] - arm[:, 1] * f[:, 0])]
+    Q = contact["generalizedForce"](q, q_t, H)
+    assert np.max(np.abs(Q - expected)) <= 1e-12 * np.max(np.abs(expected))
+    assert np.max(np.abs(expected)) > 0.1                    # a loaded contact, not zeros
+
+
+def test_initial_history_of_the_compiled_set_equals_the_numpy_set():
+    """Points in contact at t = 0 start sticking there: the compiled set takes the initial history
+    from its own kernel, the numpy set from ContactLaw.evaluate; the same rows."""
+    from exu_aniso.models.block import BuildBlock
+    from exu_aniso.scenes.block import BlockParams
+    rows = []
+    for implementation in ("compiled", "numpy"):
+        m = BuildBlock(BlockParams(model="full", points="grid:3"), implementation=implementation)
+        rows.append(np.array(m["mbs"].GetNodeParameter(m["contact"]["nData"], "initialCoordinates")))
+    assert np.count_nonzero(rows[0][HISTORY_FIELDS.index("active")::len(HISTORY_FIELDS)]) == 9
+    assert np.max(np.abs(rows[0] - rows[1])) <= 1e-14 * np.max(np.abs(rows[1]))
