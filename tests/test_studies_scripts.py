@@ -6,6 +6,7 @@ others (bench_kernels, baseline, run_all: seconds each) and checks that the list
 from __future__ import annotations
 
 import importlib.machinery
+import math
 import importlib.util
 import operator
 import os
@@ -69,7 +70,8 @@ def test_every_script_runs_quick_in_the_suite():
     assert set(COVERED) <= set(SCRIPTS), set(COVERED) - set(SCRIPTS)
     for name, module in COVERED.items():
         assert f'quick_study("{name}"' in (ROOT / "tests" / module).read_text(), (name, module)
-    assert set(RUN_HERE) == {"bench_kernels", "baseline", "native_callbacks", "newton_settings", "run_all"}, RUN_HERE
+    assert set(RUN_HERE) == {"bench_kernels", "baseline", "cli_cost", "native_callbacks", "newton_settings",
+                             "run_all"}, RUN_HERE
 
 
 # ----------------------------------------------------------------------------------------------
@@ -252,3 +254,16 @@ def test_sweep_mpi_goes_through_mpipoolexecutor(monkeypatch, capsys):
     assert studylib.sweep(operator.itemgetter("x"), CASES, _args(mpi=True)) == [3, 1, 2]
     assert used == [3]
     assert "t: case 2/3 done (x=1)" in capsys.readouterr().err     # MPI workers share no counter
+
+
+def test_cli_cost_quick(tmp_path, quick_study):
+    """The scenes through the command line at two lengths: every case ran both (more steps in the
+    long run, as the summary line counts them), a finite per-step figure with its spread, and the
+    benchmark's figure of the same model read from the committed speed targets."""
+    quick_study("cli_cost", tmp_path, timeout=240)
+    T = read_table(tmp_path / "cli_cost.csv")
+    assert T["scene [-]"] == ["block", "block", "screw"]
+    assert all(lo > s for lo, s in zip(T["steps_long [-]"], T["steps_short [-]"]))
+    assert all(math.isfinite(v) for v in T["cli_per_step [us]"])
+    assert all(lo <= med <= hi for lo, med, hi in zip(T["cli_min [us]"], T["cli_per_step [us]"], T["cli_max [us]"]))
+    assert all(b > 0 for b in T["benchmark [us]"])
