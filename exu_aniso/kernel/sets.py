@@ -357,8 +357,8 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
 def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
     reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
-    H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9), Y (4, K, 3) the
-    force call's point buffer (Y_X, ...).
+    H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9), Y (K, Y_ROWS, 3) the
+    point buffer (point_states).
     mode 0: Q (n,) = generalized force sum Jp^T f;
     mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), complete
             for every node kind: with v = Jp q_t,
