@@ -29,7 +29,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, table  # noqa: E402
+from _lib.studylib import Timer, finish, markdown_table, read_table, table, timing_args  # noqa: E402
 
 NAME = "cli_cost"
 ROOT = os.path.dirname(HERE)
@@ -94,11 +94,8 @@ def measure(t_short, t_long, repeats):
 
 
 def main(argv=None):
-    def extra(ap):
-        ap.add_argument("--repeats", type=int, default=None, help="repeats (default 1 quick, 5 full)")
-    args = parse_args(NAME, __doc__.splitlines()[0], argv, extra, parallel=False, results_doc=False)
+    args, reps = timing_args(NAME, __doc__.splitlines()[0], argv, quick_repeats=1)
     timer = Timer()
-    reps = args.repeats or (1 if args.quick else 5)
     # 5000 steps apart: a fresh process's own CPU time varies by ~0.1 s, 20 us per step over them
     t_short, t_long = (0.02, 0.12) if args.quick else (0.5, 5.5)
     rows = measure(t_short, t_long, reps)

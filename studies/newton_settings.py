@@ -35,7 +35,7 @@ if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
 from _lib import baseline  # noqa: E402
-from _lib.studylib import Timer, finish, markdown_table, parse_args, sweep, table  # noqa: E402
+from _lib.studylib import Timer, finish, markdown_table, sweep, table, timing_args  # noqa: E402
 
 NAME = "newton_settings"
 REFERENCE = "full_newton_1e-10"
@@ -90,11 +90,8 @@ def run_case(case):
 
 
 def main(argv=None):
-    def extra(ap):
-        ap.add_argument("--repeats", type=int, default=None, help="timing repeats (default 3 quick, 5 full)")
-    args = parse_args(NAME, __doc__.splitlines()[0], argv, extra, parallel=False, results_doc=False)
+    args, reps = timing_args(NAME, __doc__.splitlines()[0], argv, quick_repeats=3)
     timer = Timer()
-    reps = args.repeats or (3 if args.quick else 5)
     t_end = 0.1 if args.quick else 0.5
     cases = [dict(scene=sc, params=dict(t_end=t_end, **ov), repeats=reps) for sc, ov in SCENES]
     rows = [r for res in sweep(run_case, cases, args) for r in res]

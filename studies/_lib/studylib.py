@@ -37,13 +37,24 @@ HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))     # the fol
 ROOT = os.path.dirname(HERE)
 __all__ = ["HERE", "ROOT", "parse_args", "sweep", "table", "read_table", "write_json", "write_text", "Timer",
            "median_call_time",
-           "machine", "markdown_table", "finish", "mpi_problem", "MPI_EXIT"]
+           "machine", "markdown_table", "finish", "mpi_problem", "MPI_EXIT", "timing_args"]
 
 MPI_EXIT = 2            # exit code of a study started with --mpi the wrong way (as argparse's usage errors)
 
 
 # ----------------------------------------------------------------------------------------------
 # command line
+
+def timing_args(name, description, argv, quick_repeats, full_repeats=5):
+    """parse_args of a serial timing study whose results stay out of docs/RESULTS.md, with its
+    ``--repeats`` option; returns (args, repeats): the given number, else quick_repeats with
+    ``--quick`` and full_repeats without."""
+    def extra(ap):
+        ap.add_argument("--repeats", type=int, default=None,
+                        help=f"timing repeats (default {quick_repeats} quick, {full_repeats} full)")
+    args = parse_args(name, description, argv, extra, parallel=False, results_doc=False)
+    return args, args.repeats or (quick_repeats if args.quick else full_repeats)
+
 
 def parse_args(name, description, argv=None, extra=None, parallel=True, results_doc=True):
     """Common study command line; ``extra(parser)`` may add study-specific options.
