@@ -376,6 +376,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     A, G, Jp = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq]
     Kq, Dq = S[15, :nq, :nq], S[16, :nq, :nq]
     qt, x, v, wl = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 4, :3]
+    KJ = S[12, :3, :nq]               # Kx Jx, then Dv Jp (3 x nq)
     tangent = mode == 1
     if tangent:
         for i in range(nq):
@@ -402,19 +403,25 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
         if not touching:
             continue
         f, Kx, Dv = Y[k, Y_F], Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
-        # Kq += Jp^T Kx Jx, Dq += Jp^T Dv Jp
+        damped = _nonzero(Dv)
+        # Kq += Jp^T (Kx Jx), Dq += Jp^T (Dv Jp): the 3 x nq products first
+        for i in range(3):
+            for c2 in range(nq):
+                KJ[i, c2] = Kx[i, 0] * Jx[0, c2] + Kx[i, 1] * Jx[1, c2] + Kx[i, 2] * Jx[2, c2]
         for a in range(nq):
+            p0, p1, p2 = Jp[0, a], Jp[1, a], Jp[2, a]
+            for c2 in range(nq):
+                Kq[a, c2] += p0 * KJ[0, c2] + p1 * KJ[1, c2] + p2 * KJ[2, c2]
+        if damped:
             for i in range(3):
-                if Jp[i, a] == 0.0:
-                    continue
-                for j in range(3):
-                    ka = Jp[i, a] * Kx[i, j]
-                    da = Jp[i, a] * Dv[i, j]
-                    for c2 in range(nq):
-                        Kq[a, c2] += ka * Jx[j, c2]
-                        Dq[a, c2] += da * Jp[j, c2]
+                for c2 in range(nq):
+                    KJ[i, c2] = Dv[i, 0] * Jp[0, c2] + Dv[i, 1] * Jp[1, c2] + Dv[i, 2] * Jp[2, c2]
+            for a in range(nq):
+                p0, p1, p2 = Jp[0, a], Jp[1, a], Jp[2, a]
+                for c2 in range(nq):
+                    Dq[a, c2] += p0 * KJ[0, c2] + p1 * KJ[1, c2] + p2 * KJ[2, c2]
         # velocity of the points turning with the body: Kq[:, c] += Jp^T Dv dv/dq_c (Dv = 0 without damping)
-        if _nonzero(Dv):
+        if damped:
             for c in range(c0, c0 + nc):
                 d0, d1, d2 = _point_velocity_column(kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz)
                 e0 = Dv[0, 0] * d0 + Dv[0, 1] * d1 + Dv[0, 2] * d2
