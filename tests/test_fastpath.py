@@ -19,6 +19,7 @@ from exu_aniso import Adhesion, Friction
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.kernel import point as kernel
+from exu_aniso.law.return_maps import MAPS
 
 
 def _laws():
@@ -76,7 +77,7 @@ def test_compiled_point_kernel_equals_its_plain_python_source(name, law):
     round-off: fused multiply-adds and libm may differ in the last bits)."""
     rng = np.random.default_rng(zlib.crc32(name.encode()))
     py = kernel.plain_python()
-    lp = kernel.LawParams(law.eps_N, law.d_N, law.d_T, kernel.MAP_CODES[law.return_map])
+    lp = kernel.LawParams(law.eps_N, law.d_N, law.d_T, MAPS[law.return_map])
     args = (law.surface.params, law._nets[0], law._nets[1], lp)
     statuses = set()
     for x, v, h in _states(law, rng):

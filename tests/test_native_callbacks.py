@@ -112,12 +112,16 @@ def test_argument_types_are_spelled_out_only_when_they_are_for_good():
 
     from exu_aniso.kernel.native import _type_key
     from exu_aniso.kernel.point import LawParams
-    law = LawParams(1.0, 0.0, 0.0, 2)
+    from exu_aniso.law.return_maps import Radial
+    law = LawParams(1.0, 0.0, 0.0, Radial())
     assert _type_key(typeof((np.zeros((2, 9)), law, 3))) == (
-        "(array(float64, 2d, C), exu_aniso.kernel.point.LawParams(float64, float64, float64, int64), int64)")
+        "(array(float64, 2d, C), exu_aniso.kernel.point.LawParams(float64, float64, float64, "
+        "exu_aniso.law.return_maps.Radial()), int64)")
     Local = namedtuple("LawParams", LawParams._fields)           # same name and fields, another class
-    assert _type_key(typeof(Local(1.0, 0.0, 0.0, 2))) is None
-    assert _type_key(typeof((np.zeros(2), Local(1.0, 0.0, 0.0, 2)))) is None
+    assert _type_key(typeof(Local(1.0, 0.0, 0.0, Radial()))) is None
+    assert _type_key(typeof((np.zeros(2), Local(1.0, 0.0, 0.0, Radial())))) is None
+    Mine = namedtuple("Radial", ())                              # a map type made at run time
+    assert _type_key(typeof(LawParams(1.0, 0.0, 0.0, Mine()))) is None
 
 
 def test_a_system_with_a_python_set_commits_in_python():

@@ -43,6 +43,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
+from exu_aniso.kernel.nodes import NODE_KINDS, LinearSlave, node_coordinates_of
 from exu_aniso.kernel.sets import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
 from exu_aniso.kernel.sets import Y_DV, Y_F, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
 from exu_aniso.kernel.sets import point_states as sets_point_states
@@ -50,7 +51,7 @@ from exu_aniso.geometry import _core
 from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
 from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
                                       H_XI2, N_HISTORY, OPEN, SLIP, STICK, UNRESOLVED)
-from exu_aniso.law.return_maps import MAP_CODES, return_map, trial_slip
+from exu_aniso.law.return_maps import MAPS, return_map, trial_slip
 from exu_aniso.fields.nets import physical, physical_pair, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
@@ -557,9 +558,10 @@ def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, T
 
 
 def law_params(contact_law):
-    """The law parameters of a ContactLaw for the kernel (LawParams: penalty, dashpots, map code)."""
+    """The law parameters of a ContactLaw for the kernel (LawParams: penalty, dashpots, the return map
+    as its type, law.return_maps.MAPS)."""
     return LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
-                     MAP_CODES[contact_law.return_map])
+                     MAPS[contact_law.return_map])
 
 
 def _law_bundle(contact_law):
@@ -573,16 +575,15 @@ class CovariantSet:
     history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
 
     def __init__(self, contact_law, node_kind, ref, points):
-        from exu_aniso.kernel.sets import NODE_COORDINATES, NODE_KINDS
         announce_compile(entry=evaluate_covariant_linear if isinstance(node_kind, LinearMap) else evaluate_covariant)
         self.law = _law_bundle(contact_law)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
         if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
-            self.kind, nq = -1, self.linear.n
+            self.kind, nq = LinearSlave(), self.linear.n
             b = np.zeros((self.linear.idx.shape[0], 3))
         else:
             self.kind = NODE_KINDS[node_kind]
-            nq = NODE_COORDINATES[self.kind]
+            nq = node_coordinates_of(self.kind)
             b = np.asarray(points, dtype=float)
         self.ref = np.asarray(ref, dtype=float)
         self._buffers(b, nq)
@@ -639,22 +640,22 @@ class CovariantPairSet(CovariantSet):
     evaluate, entry."""
 
     def __init__(self, contact_law, node_kind, ref, points, master_kind, master_ref):
-        from exu_aniso.kernel.sets import NODE_COORDINATES, NODE_KINDS, PAIR_SLOTS
+        from exu_aniso.kernel.sets import PAIR_SLOTS
         announce_compile(entry=evaluate_covariant_pair)
         if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
             raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
         self.law = _law_bundle(contact_law)
         self.mkind = NODE_KINDS[master_kind]
-        nm = NODE_COORDINATES[self.mkind]
+        nm = node_coordinates_of(self.mkind)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
         if self.linear is not None:
             lm = self.linear
-            self.kind, ns, m = -1, lm.n, lm.idx.shape[1]
+            self.kind, ns, m = LinearSlave(), lm.n, lm.idx.shape[1]
             b = np.zeros((lm.idx.shape[0], 3))
             idx, Sm, c = lm.idx, lm.S, lm.c
         else:
             self.kind = NODE_KINDS[node_kind]
-            ns = m = NODE_COORDINATES[self.kind]
+            ns = m = node_coordinates_of(self.kind)
             b = np.asarray(points, dtype=float)
             idx, Sm, c = np.zeros((b.shape[0], 0), dtype=np.int64), np.zeros((b.shape[0], 3, 0)), np.zeros((b.shape[0], 3))
         n = ns + nm
@@ -682,12 +683,11 @@ class CovariantGroupSet(CovariantSet):
     def __init__(self, contact_law, node_kind, ref, points, nb):
         import scipy.sparse as sp
 
-        from exu_aniso.kernel.sets import NODE_COORDINATES, NODE_KINDS
         announce_compile(entry=evaluate_covariant_group)
         self.law = _law_bundle(contact_law)
         self.linear = None
         self.kind = NODE_KINDS[node_kind]
-        nq = NODE_COORDINATES[self.kind]
+        nq = node_coordinates_of(self.kind)
         n = nb * nq
         b = np.asarray(points, dtype=float)
         self.ref = np.ascontiguousarray(ref, dtype=float)

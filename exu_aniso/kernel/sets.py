@@ -8,17 +8,18 @@ covariant kernel of ``exu_aniso.kernel.point``, bound at compile time by the typ
 the generalized quantities of the node. ``tests/test_fastpath.py`` holds this route equal to the
 numpy glue (``exudyn_adapter.glue._ContactSet``).
 
-Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): 0 ``NodeRigidBody2D``,
-1 screw joint (``NodeGenericODE2`` with (psi, z)), 2 ``NodeRigidBodyRotVecLG``, 3 ``NodeRigidBodyEP``.
+Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): types of
+``exu_aniso.kernel.nodes`` (``RigidBody2D()``, ``ScrewJoint()`` for a ``NodeGenericODE2`` with (psi,
+z), ``RotationVector()``, ``EulerParameters()``), whose functions (``node_frame``, ``node_point``,
+...) a kernel resolves at compile time: it holds the code of its own node kind only.
 Linear slaves (``evaluate_linear``): every point linear in the coordinates, x = c + S q_total with
 a constant S (mass points: S = I; ANCF cables: Hermite shape functions), so Jp = S and dJp/dq = 0.
 A group (``evaluate_group``): the same points on several rigid nodes of one kind in one call, the
 Jacobian as its diagonal blocks (many parts on one surface).
-A moving master (``evaluate_pair``): the surface carried by a 3D rigid node (kind 2 or 3), any
-slave of the two functions above; the law at the slave point relative to the master, the reaction
-on the master, the Jacobian over both nodes' coordinates (``tests/test_moving_master_compiled.py``).
-The slave's node kinematics are shared helpers (``_node_frame``, ``_rigid_point``,
-``_point_velocity_column``, ``_rigid_geometric``). A force call (mode 0, and the history candidate,
+A moving master (``evaluate_pair``): the surface carried by a 3D rigid node (``RotationVector()`` or
+``EulerParameters()``), any slave of the two functions above (a linear one as ``LinearSlave()``);
+the law at the slave point relative to the master, the reaction on the master, the Jacobian over
+both nodes' coordinates (``tests/test_moving_master_compiled.py``). A force call (mode 0, and the history candidate,
 mode 2) of a rigid set or a pair takes a lean path of its own (``_set_forces``, ``_pair_forces``):
 the points' kinematics into a buffer Y, the point law without its tangent at all of them in one
 call (``point_states``), the generalized force summed as force and moment per body; the tangent
@@ -32,56 +33,14 @@ import math
 import numpy as np
 from numba import njit
 
+from exu_aniso.kernel.nodes import (master_derivatives, master_normalisation, master_rate, node_coordinates,
+                                    node_forces, node_frame, node_geometric, node_moment, node_motion, node_point,
+                                    node_point_xv, node_position_jacobian, node_rotation_columns,
+                                    node_velocity_column, slave_is_linear, slave_point, slave_point_force,
+                                    slave_point_xv)
 from exu_aniso.law.history import H_DISSIPATED, H_STATUS, N_HISTORY, UNRESOLVED
 
-NODE_KINDS = {"RigidBody2D": 0, "GenericODE2": 1, "RigidBodyRotVecLG": 2, "RigidBodyEP": 3}
-NODE_COORDINATES = (3, 2, 6, 7)
 SCRATCH_SLOTS = 19   # (slots, 9, 9) scratch: 0-8 point kernel, 9-17 set kernel, 18 Jacobian
-
-
-@njit(cache=True)
-def _rotation(kind, qt, A, G):
-    """Rotation matrix A and G (omega_local = G d(rotation coordinates)/dt) at total coordinates."""
-    if kind == 2:
-        t0, t1, t2 = qt[3], qt[4], qt[5]
-        a = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-        K = ((0.0, -t2, t1), (t2, 0.0, -t0), (-t1, t0, 0.0))
-        if a < 1e-8:
-            c1, c2 = 1.0, 0.5
-        else:
-            c1, c2 = math.sin(a) / a, (1.0 - math.cos(a)) / (a * a)
-        for i in range(3):
-            for j in range(3):
-                K2ij = K[i][0] * K[0][j] + K[i][1] * K[1][j] + K[i][2] * K[2][j]
-                A[i, j] = c1 * K[i][j] + c2 * K2ij + (1.0 if i == j else 0.0)
-                G[i, j] = 1.0 if i == j else 0.0
-        return
-    e0, e1, e2, e3 = qt[3], qt[4], qt[5], qt[6]
-    A[0, 0], A[0, 1], A[0, 2] = e0 * e0 + e1 * e1 - e2 * e2 - e3 * e3, 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)
-    A[1, 0], A[1, 1], A[1, 2] = 2 * (e1 * e2 + e0 * e3), e0 * e0 - e1 * e1 + e2 * e2 - e3 * e3, 2 * (e2 * e3 - e0 * e1)
-    A[2, 0], A[2, 1], A[2, 2] = 2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3
-    G[0, 0], G[0, 1], G[0, 2], G[0, 3] = -2 * e1, 2 * e0, 2 * e3, -2 * e2
-    G[1, 0], G[1, 1], G[1, 2], G[1, 3] = -2 * e2, -2 * e3, 2 * e0, 2 * e1
-    G[2, 0], G[2, 1], G[2, 2], G[2, 3] = -2 * e3, 2 * e2, -2 * e1, 2 * e0
-
-
-@njit(cache=True)
-def _ep_derivatives(qt, q_t, dA, Gt):
-    """Derivatives of the Euler-parameter kinematics of _rotation at total coordinates qt (e =
-    qt[3:7], not normalised): dA[m, 3 i + j] = dA_ij/de_m (A is quadratic in e) and Gt (3, 4) =
-    G(de/dt). G is linear in e with G(e) e_t = -G(e_t) e, so d(omega_local)/de = -G(e_t)."""
-    e0, e1, e2, e3 = qt[3], qt[4], qt[5], qt[6]
-    rows = ((e0, -e3, e2, e3, e0, -e1, -e2, e1, e0),
-            (e1, e2, e3, e2, -e1, -e0, e3, e0, -e1),
-            (-e2, e1, e0, e1, e2, e3, -e0, e3, -e2),
-            (-e3, -e0, e1, e0, -e3, e2, e1, e2, e3))
-    for m in range(4):
-        for c in range(9):
-            dA[m, c] = 2.0 * rows[m][c]
-    d0, d1, d2, d3 = q_t[3], q_t[4], q_t[5], q_t[6]
-    Gt[0, 0], Gt[0, 1], Gt[0, 2], Gt[0, 3] = -2 * d1, 2 * d0, 2 * d3, -2 * d2
-    Gt[1, 0], Gt[1, 1], Gt[1, 2], Gt[1, 3] = -2 * d2, -2 * d3, 2 * d0, 2 * d1
-    Gt[2, 0], Gt[2, 1], Gt[2, 2], Gt[2, 3] = -2 * d3, 2 * d2, -2 * d1, 2 * d0
 
 
 # the rows of a set's point buffer Y (K, Y_ROWS, 3), a block per point: its position and velocity
@@ -103,215 +62,6 @@ def point_states(law, Y, H, Hn, first, count, dt, tangent, S):
     raise NotImplementedError("point_states is resolved at compile time")
 
 
-# --- the slave node's kinematics, shared by evaluate_set (ground master) and evaluate_pair -------
-
-@njit(cache=True)
-def _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt):
-    """Total coordinates qt = ref + q of a rigid node and, for the 3D kinds, A and G (_rotation);
-    with tangent, for Euler parameters also dA/de and G(e_t) (_ep_derivatives)."""
-    for i in range(q.shape[0]):
-        qt[i] = ref[i] + q[i]
-    if kind == 2 or kind == 3:
-        _rotation(kind, qt, A, G)
-    if tangent and kind == 3:
-        _ep_derivatives(qt, q_t, dA, Gt)
-
-
-# inlined (numba IR level): a call per point passed 10 arrays, and their reference counting cost more
-# than the point's kinematics (64 points, mode 0, 340 -> 252 ns per point; inlining the point
-# law as well gave 228 ns but doubled the compile time of every kernel, 32 -> 55 s for block and screw)
-@njit(cache=True, inline="always")
-def _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):
-    """Position x, velocity v and virtual-work Jacobian Jp (3, nq) of the body-local point b of a
-    rigid node (kinds 0-3) at total coordinates qt; with tangent, for Euler parameters also the
-    position Jacobian Jx = dx/dq (dx/de_m = dA/de_m b, not Jp along e; see exudyn_adapter.glue._PointTangent);
-    wl (3): the local angular velocity of a 3D node."""
-    nq = Jp.shape[1]
-    nr = nq - 3
-    if kind == 0 or kind == 1:
-        r = 2 if kind == 0 else 0
-        c, s = math.cos(qt[r]), math.sin(qt[r])
-        ax, ay = c * bx - s * by, s * bx + c * by
-        w = q_t[r]
-        for i in range(3):
-            for j in range(nq):
-                Jp[i, j] = 0.0
-        if kind == 0:
-            x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
-            v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
-            Jp[0, 0] = 1.0
-            Jp[1, 1] = 1.0
-            Jp[0, 2] = -ay
-            Jp[1, 2] = ax
-        else:
-            x[0], x[1], x[2] = ax, ay, bz + qt[1]
-            v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
-            Jp[0, 0] = -ay
-            Jp[1, 0] = ax
-            Jp[2, 1] = 1.0
-        return
-    # omega_local = G q_t_rot; x = p + A b; v = p_t + A (omega_local x b); Jp_rot = -A [b]x G
-    for i in range(3):
-        wl[i] = 0.0
-        for j in range(nr):
-            wl[i] += G[i, j] * q_t[3 + j]
-    cb = (wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx)
-    for i in range(3):
-        x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
-        v[i] = q_t[i] + A[i, 0] * cb[0] + A[i, 1] * cb[1] + A[i, 2] * cb[2]
-    # [b]x G
-    for j in range(nr):
-        s0 = -bz * G[1, j] + by * G[2, j]
-        s1 = bz * G[0, j] - bx * G[2, j]
-        s2 = -by * G[0, j] + bx * G[1, j]
-        for i in range(3):
-            Jp[i, 3 + j] = -(A[i, 0] * s0 + A[i, 1] * s1 + A[i, 2] * s2)
-    for i in range(3):
-        for j in range(3):
-            Jp[i, j] = 1.0 if i == j else 0.0
-    if tangent and kind == 3:          # dx/de_m = dA/de_m b (Euler parameters: not Jp along e)
-        for i in range(3):
-            for j in range(3):
-                Jx[i, j] = Jp[i, j]
-            for m in range(4):
-                Jx[i, 3 + m] = dA[m, 3 * i] * bx + dA[m, 3 * i + 1] * by + dA[m, 3 * i + 2] * bz
-
-
-@njit(cache=True)
-def _rotation_columns(kind, nq):
-    """(first, number) of the rotation coordinates of a rigid node of kind with nq coordinates."""
-    if kind == 0:
-        return 2, 1
-    if kind == 1:
-        return 0, 1
-    return 3, nq - 3
-
-
-@njit(cache=True)
-def _point_velocity_column(kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz):
-    """dv/dq_c at fixed q_t of the body-local point b (c a rotation coordinate of _rotation_columns;
-    the velocity does not depend on the translation coordinates): the point velocity turning with
-    the body. Since v = Jp q_t, this is (dJp/dq_c) q_t (exudyn_adapter.glue._BodyKinematics.point_derivatives)."""
-    if kind <= 1:                      # d(w (-a_y, a_x))/drot = w (-a_x, -a_y), a_x = Jp[1, r], a_y = -Jp[0, r]
-        w = q_t[c]
-        return -w * Jp[1, c], w * Jp[0, c], 0.0
-    u0, u1, u2 = wl[1] * bz - wl[2] * by, wl[2] * bx - wl[0] * bz, wl[0] * by - wl[1] * bx   # omega_local x b
-    m = c - 3
-    if kind == 2:                      # -A (u x e_c)
-        x0 = 0.0 if m == 0 else (-u2 if m == 1 else u1)
-        x1 = u2 if m == 0 else (0.0 if m == 1 else -u0)
-        x2 = -u1 if m == 0 else (u0 if m == 1 else 0.0)
-        return (-(A[0, 0] * x0 + A[0, 1] * x1 + A[0, 2] * x2), -(A[1, 0] * x0 + A[1, 1] * x1 + A[1, 2] * x2),
-                -(A[2, 0] * x0 + A[2, 1] * x1 + A[2, 2] * x2))
-    # Euler parameters: dA/de_m u + A (b x G(e_t) e_m)
-    g0, g1, g2 = Gt[0, m], Gt[1, m], Gt[2, m]
-    y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
-    return (dA[m, 0] * u0 + dA[m, 1] * u1 + dA[m, 2] * u2 + A[0, 0] * y0 + A[0, 1] * y1 + A[0, 2] * y2,
-            dA[m, 3] * u0 + dA[m, 4] * u1 + dA[m, 5] * u2 + A[1, 0] * y0 + A[1, 1] * y1 + A[1, 2] * y2,
-            dA[m, 6] * u0 + dA[m, 7] * u1 + dA[m, 8] * u2 + A[2, 0] * y0 + A[2, 1] * y1 + A[2, 2] * y2)
-
-
-@njit(cache=True)
-def _rigid_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq):
-    """Kq += f . dJp/dq of the body-local point b at a fixed global point force f: the lever arm
-    turning with the body (the first nq x nq block of Kq; exudyn_adapter.glue._ContactSet._add_geometric)."""
-    if kind == 0:
-        Kq[2, 2] -= Jp[1, 2] * f[0] - Jp[0, 2] * f[1]
-    elif kind == 1:
-        Kq[0, 0] -= Jp[1, 0] * f[0] - Jp[0, 0] * f[1]
-    elif kind == 2:
-        # by the local increment: d(Jp_rot e_a)/dtheta_c . f = -(A (b delta_ac - e_a b_c)) . f
-        fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]
-        fb1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
-        fb2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
-        fbv = (fb0, fb1, fb2)
-        bv = (bx, by, bz)
-        bf = bx * fb0 + by * fb1 + bz * fb2
-        for i in range(3):
-            for j in range(3):
-                Kq[3 + i, 3 + j] += fbv[i] * bv[j] - (bf if i == j else 0.0)
-    elif kind == 3:
-        # EP: Q_rot = G^T (b x A^T f); d/de_m at fixed f = dG/de_m^T c + G^T (b x dA/de_m^T f),
-        # c = b x A^T f; G is linear in e, G(e)^T c = 2 Mc e with Mc = [[0, -c^T], [c, -[c]x]]
-        fb0 = A[0, 0] * f[0] + A[1, 0] * f[1] + A[2, 0] * f[2]
-        fb1 = A[0, 1] * f[0] + A[1, 1] * f[1] + A[2, 1] * f[2]
-        fb2 = A[0, 2] * f[0] + A[1, 2] * f[1] + A[2, 2] * f[2]
-        cc0, cc1, cc2 = by * fb2 - bz * fb1, bz * fb0 - bx * fb2, bx * fb1 - by * fb0
-        Mc = ((0.0, -cc0, -cc1, -cc2), (cc0, 0.0, cc2, -cc1), (cc1, -cc2, 0.0, cc0), (cc2, cc1, -cc0, 0.0))
-        for m in range(4):
-            g0 = dA[m, 0] * f[0] + dA[m, 3] * f[1] + dA[m, 6] * f[2]     # dA_m^T f
-            g1 = dA[m, 1] * f[0] + dA[m, 4] * f[1] + dA[m, 7] * f[2]
-            g2 = dA[m, 2] * f[0] + dA[m, 5] * f[1] + dA[m, 8] * f[2]
-            y0, y1, y2 = by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
-            for a in range(4):
-                Kq[3 + a, 3 + m] += 2.0 * Mc[a][m] + G[0, a] * y0 + G[1, a] * y1 + G[2, a] * y2
-
-
-@njit(cache=True, inline="always")
-def _rigid_motion(kind, qt, q_t, G, nq):
-    """What the force paths need of a rigid node's motion, once per call: a planar node's (cos, sin)
-    of its angle and its angular velocity, or a 3D node's omega_local = G q_t_rot, as (c, s, w, w0,
-    w1, w2) (the unused entries 0)."""
-    c = s = w = w0 = w1 = w2 = 0.0
-    if kind == 0 or kind == 1:
-        r = 2 if kind == 0 else 0                    # rotation coordinate of a planar node
-        c, s, w = math.cos(qt[r]), math.sin(qt[r]), q_t[r]
-    else:
-        for j in range(nq - 3):
-            w0 += G[0, j] * q_t[3 + j]
-            w1 += G[1, j] * q_t[3 + j]
-            w2 += G[2, j] * q_t[3 + j]
-    return c, s, w, w0, w1, w2
-
-
-@njit(cache=True, inline="always")
-def _rigid_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v):
-    """Position x and velocity v of the body-local point b of a rigid node (no Jacobian: the force
-    paths); motion from _rigid_motion. Returns a planar node's rotated b (ax, ay), the lever arm of
-    its moment (0, 0 for a 3D node)."""
-    c, s, w, w0, w1, w2 = motion
-    if kind == 0 or kind == 1:
-        ax, ay = c * bx - s * by, s * bx + c * by
-        if kind == 0:
-            x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
-            v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
-        else:
-            x[0], x[1], x[2] = ax, ay, bz + qt[1]
-            v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
-        return ax, ay
-    u0, u1, u2 = w1 * bz - w2 * by, w2 * bx - w0 * bz, w0 * by - w1 * bx
-    for i in range(3):
-        x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
-        v[i] = q_t[i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
-    return 0.0, 0.0
-
-
-@njit(cache=True, inline="always")
-def _rigid_moment(kind, A, F0, F1, F2, bx, by, bz, ax, ay):
-    """The moment of the global force F at the body-local point b: a planar node's about its axis
-    (third entry; lever arm (ax, ay) from _rigid_point_xv), a 3D node's local b x A^T F."""
-    if kind == 0 or kind == 1:
-        return 0.0, 0.0, ax * F1 - ay * F0
-    g0 = A[0, 0] * F0 + A[1, 0] * F1 + A[2, 0] * F2                  # A^T F
-    g1 = A[0, 1] * F0 + A[1, 1] * F1 + A[2, 1] * F2
-    g2 = A[0, 2] * F0 + A[1, 2] * F1 + A[2, 2] * F2
-    return by * g2 - bz * g1, bz * g0 - bx * g2, bx * g1 - by * g0
-
-
-@njit(cache=True, inline="always")
-def _rigid_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2):
-    """Q of a rigid node from the summed force F and moment M (_rigid_moment): Q_rot = G^T M for a
-    3D node (= sum Jp_rot^T f, Jp_rot = -A [b]x G)."""
-    if kind == 0:
-        Q[0], Q[1], Q[2] = F0, F1, M2
-    elif kind == 1:
-        Q[0], Q[1] = M2, F2
-    else:
-        Q[0], Q[1], Q[2] = F0, F1, F2
-        for j in range(nq - 3):
-            Q[3 + j] = G[0, j] * M0 + G[1, j] * M1 + G[2, j] * M2
-
-
 @njit(cache=True, inline="always")
 def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
     """evaluate_set without derivatives (modes 0 and 2), in three passes over the points: their
@@ -328,10 +78,10 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
     K = b.shape[0]
     A, G = S[9, :3, :3], S[10, :3, :4]
     qt, x, v = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3]
-    _node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
-    motion = _rigid_motion(kind, qt, q_t, G, nq)
+    node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
+    motion = node_motion(kind, qt, q_t, G, nq)
     for k in range(K):
-        ax, ay = _rigid_point_xv(kind, qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
+        ax, ay = node_point_xv(kind, qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
         for i in range(3):
             Y[k, Y_X, i] = x[i]
             Y[k, Y_V, i] = v[i]
@@ -344,12 +94,12 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
             F0 += f0
             F1 += f1
             F2 += f2
-            m0, m1, m2 = _rigid_moment(kind, A, f0, f1, f2, b[k, 0], b[k, 1], b[k, 2], Y[k, Y_INFO, 0],
+            m0, m1, m2 = node_moment(kind, A, f0, f1, f2, b[k, 0], b[k, 1], b[k, 2], Y[k, Y_INFO, 0],
                                        Y[k, Y_INFO, 1])
             M0 += m0
             M1 += m1
             M2 += m2
-        _rigid_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)
+        node_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)
     return -1 if unresolved else ncontact
 
 
@@ -385,15 +135,15 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
                 Dq[i, j] = 0.0
     # EP derivatives (mode 1): dA/de_m in rows 3-6 of slot 14, G(e_t) in rows 3-5 of slot 10
     dA, Gt = S[14, 3:7, :9], S[10, 3:6, :4]
-    _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt)
+    node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt)
     # dx/dq: Jp except for Euler parameters (rows 6-8 of slot 17; see exudyn_adapter.glue._PointTangent)
-    Jx = S[17, 6:9, :nq] if kind == 3 else Jp
-    c0, nc = _rotation_columns(kind, nq)
+    Jx = node_position_jacobian(kind, S[17, 6:9, :nq], Jp)
+    c0, nc = node_rotation_columns(kind, nq)
     ncontact = 0
     unresolved = False
     for k in range(K):
         bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-        _rigid_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
+        node_point(kind, qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
         for i in range(3):
             Y[k, Y_X, i] = x[i]
             Y[k, Y_V, i] = v[i]
@@ -423,13 +173,13 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
         # velocity of the points turning with the body: Kq[:, c] += Jp^T Dv dv/dq_c (Dv = 0 without damping)
         if damped:
             for c in range(c0, c0 + nc):
-                d0, d1, d2 = _point_velocity_column(kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz)
+                d0, d1, d2 = node_velocity_column(kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz)
                 e0 = Dv[0, 0] * d0 + Dv[0, 1] * d1 + Dv[0, 2] * d2
                 e1 = Dv[1, 0] * d0 + Dv[1, 1] * d1 + Dv[1, 2] * d2
                 e2 = Dv[2, 0] * d0 + Dv[2, 1] * d1 + Dv[2, 2] * d2
                 for a in range(nq):
                     Kq[a, c] += Jp[0, a] * e0 + Jp[1, a] * e1 + Jp[2, a] * e2
-        _rigid_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq)
+        node_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq)
     if mode == 1:
         for i in range(nq):
             for j in range(nq):
@@ -571,15 +321,13 @@ PAIR_SLOTS = 8   # pair scratch T (PAIR_SLOTS, w, w), w = max(9, coordinates of 
 
 @njit(cache=True)
 def _master_frame(mkind, qm, qm_t, refm, tangent, qtm, A, G, dA, Gt, wl, w):
-    """The master's node (kind 2 rotation vector or 3 Euler parameters): total coordinates qtm, A, G,
-    local and global angular velocity wl = G q_t_rot, w = A wl; with tangent dA[c, 3 i + j] =
-    dA_ij/dq_c over its rotation coordinates c (rotation vector by the local increment, dA_c =
-    A [e_c]x, as _rigid_geometric; Euler parameters by e_c itself) and, for Euler parameters,
-    Gt = G(e_t)."""
+    """The master's node (a 3D kind: RotationVector() or EulerParameters()): total coordinates qtm,
+    A, G, local and global angular velocity wl = G q_t_rot, w = A wl; with tangent dA[c, 3 i + j] =
+    dA_ij/dq_c over its rotation coordinates c and what its kind needs besides (master_derivatives:
+    a rotation vector by the local increment, dA_c = A [e_c]x; Euler parameters by e_c itself, and
+    Gt = G(e_t))."""
     nm = qm.shape[0]
-    for i in range(nm):
-        qtm[i] = refm[i] + qm[i]
-    _rotation(mkind, qtm, A, G)
+    node_frame(mkind, qm, qm_t, refm, False, qtm, A, G, dA, Gt)
     for i in range(3):
         s = 0.0
         for j in range(nm - 3):
@@ -587,16 +335,8 @@ def _master_frame(mkind, qm, qm_t, refm, tangent, qtm, A, G, dA, Gt, wl, w):
         wl[i] = s
     for i in range(3):
         w[i] = A[i, 0] * wl[0] + A[i, 1] * wl[1] + A[i, 2] * wl[2]
-    if not tangent:
-        return
-    if mkind == 3:
-        _ep_derivatives(qtm, qm_t, dA, Gt)
-        return
-    for i in range(3):                 # dA_c e_j = A (e_c x e_j)
-        a0, a1, a2 = A[i, 0], A[i, 1], A[i, 2]
-        dA[0, 3 * i], dA[0, 3 * i + 1], dA[0, 3 * i + 2] = 0.0, a2, -a1
-        dA[1, 3 * i], dA[1, 3 * i + 1], dA[1, 3 * i + 2] = -a2, 0.0, a0
-        dA[2, 3 * i], dA[2, 3 * i + 1], dA[2, 3 * i + 2] = a1, -a0, 0.0
+    if tangent:
+        master_derivatives(mkind, qtm, qm_t, A, dA, Gt)
 
 
 @njit(cache=True, inline="always")
@@ -607,32 +347,20 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     F = A f: a rigid slave as force and moment (_set_forces), a linear slave through its constant
     S_k; the master the reaction, -sum F and -G^T sum (x_rel x A^T F) at its material points x_rel."""
     n = q.shape[0]
-    nm = 6 if mkind == 2 else 7
+    nm = node_coordinates(mkind)
     ns = n - nm
-    linear = kind < 0
     As, Gs = S[9, :3, :3], S[10, :3, :4]
     x, v = S[17, 1, :3], S[17, 2, :3]
-    qts = S[15, 0, :(0 if linear else ns)]
+    qts = S[15, 0, :(0 if slave_is_linear(kind) else ns)]
     qtm, wlm, w = S[15, 1, :nm], S[15, 2, :3], S[15, 3, :3]
     Am, Gm = S[16, :3, :3], S[16, 3:6, :4]
-    if not linear:
-        _node_frame(kind, q[:ns], q_t[:ns], ref[:ns], False, qts, As, Gs, As, Gs)
+    node_frame(kind, q[:ns], q_t[:ns], ref[:ns], False, qts, As, Gs, As, Gs)
     _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], False, qtm, Am, Gm, Am, Gm, wlm, w)
     vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
-    motion = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0) if linear else _rigid_motion(kind, qts, q_t, Gs, ns)
+    motion = node_motion(kind, qts, q_t, Gs, ns)
     K = H.shape[0]
     for k in range(K):
-        ax = ay = 0.0
-        if linear:
-            for i in range(3):
-                xi, vi = c[k, i], 0.0
-                for a in range(idx.shape[1]):
-                    g = idx[k, a]
-                    xi += Sm[k, i, a] * (ref[g] + q[g])
-                    vi += Sm[k, i, a] * q_t[g]
-                x[i], v[i] = xi, vi
-        else:
-            ax, ay = _rigid_point_xv(kind, qts, q_t, As, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
+        ax, ay = slave_point_xv(kind, k, b, idx, Sm, c, ref, q, q_t, qts, As, motion, x, v)
         # relative to the master, in its frame (as evaluate_pair)
         d0, d1, d2 = x[0] - qtm[0], x[1] - qtm[1], x[2] - qtm[2]
         e0 = v[0] - vp0 - (w[1] * d2 - w[2] * d1)
@@ -663,17 +391,12 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
             FS0 += F0
             FS1 += F1
             FS2 += F2
-            if linear:
-                for a in range(idx.shape[1]):
-                    Q[idx[k, a]] += Sm[k, 0, a] * F0 + Sm[k, 1, a] * F1 + Sm[k, 2, a] * F2
-            else:
-                m0, m1, m2 = _rigid_moment(kind, As, F0, F1, F2, b[k, 0], b[k, 1], b[k, 2], Y[k, Y_INFO, 0],
-                                           Y[k, Y_INFO, 1])
-                MS0 += m0
-                MS1 += m1
-                MS2 += m2
-        if not linear:
-            _rigid_forces(kind, Gs, ns, Q, FS0, FS1, FS2, MS0, MS1, MS2)
+            # a rigid slave's moment (a linear slave's force goes to its coordinates here)
+            m0, m1, m2 = slave_point_force(kind, k, b, idx, Sm, As, F0, F1, F2, Y[k, Y_INFO, 0], Y[k, Y_INFO, 1], Q)
+            MS0 += m0
+            MS1 += m1
+            MS2 += m2
+        node_forces(kind, Gs, ns, Q, FS0, FS1, FS2, MS0, MS1, MS2)
         Q[ns], Q[ns + 1], Q[ns + 2] = Q[ns] - FS0, Q[ns + 1] - FS1, Q[ns + 2] - FS2
         for r2 in range(nm - 3):
             Q[ns + 3 + r2] -= Gm[0, r2] * Y0 + Gm[1, r2] * Y1 + Gm[2, r2] * Y2
@@ -683,10 +406,10 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
 @njit(cache=True)
 def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, T, cols, Y):
     """One contact set between a slave and a moving master: the surface carried by a 3D rigid node
-    (mkind 2 NodeRigidBodyRotVecLG, 3 NodeRigidBodyEP). Coordinates q, q_t, ref (n,) are the
-    slave's (ns) then the master's (nm = 6 or 7), as the contact's ObjectGenericODE2 lists its nodes.
-    Slave: a rigid node of kind 0-3 with body-local points b (K, 3) (as evaluate_set), or kind -1, a
-    linear slave (mass points, cables: x_k = c_k + Sm_k q_total[idx_k] over slave coordinates, as
+    (mkind: RotationVector() or EulerParameters(), exu_aniso.kernel.nodes). Coordinates q, q_t, ref
+    (n,) are the slave's (ns) then the master's (nm = 6 or 7), as the contact's ObjectGenericODE2 lists
+    its nodes. Slave: a rigid node kind with body-local points b (K, 3) (as evaluate_set), or
+    LinearSlave(), a linear slave (mass points, cables: x_k = c_k + Sm_k q_total[idx_k] over slave coordinates, as
     evaluate_linear; b unused). H (K, 9) converged history, dt time since H. Scratch: S
     (SCRATCH_SLOTS, 9, 9) (slots 0-8 belong to the point law, the slave's views are evaluate_set's),
     T (PAIR_SLOTS, w, w) with w >= max(9, m + nm) (m: slave columns of a point, ns rigid, idx.shape[1]
@@ -701,7 +424,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     map Q = sum_k L_k f_k and X, V, Vt (3, n) the derivatives of x_rel by q and of v_rel by q and q_t
     (through the slave's point, the master's position, rotation and angular velocity),
         dQ/dq = sum L (Kx X + Dv V) + sum (dL/dq) f,  dQ/dq_t = sum L Dv Vt,
-    where (dL/dq) f holds the slave's lever arms (_rigid_geometric with F), the turning F = A f and,
+    where (dL/dq) f holds the slave's lever arms (node_geometric with F), the turning F = A f and,
     for the master's rows, its point b = x_rel moving (through X) and, for Euler parameters, G(e) and
     A^T A. Rotation-vector coordinates (slave and master) are differentiated by the local
     increment (A -> A (I + [dtheta]x)), Euler parameters by e. Returns the number of points in
@@ -709,11 +432,11 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     if mode != 1:
         return _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S, Y)
     n = q.shape[0]
-    nm = 6 if mkind == 2 else 7
+    nm = node_coordinates(mkind)
     ns = n - nm
     nr = nm - 3
     K = H.shape[0]
-    linear = kind < 0
+    linear = slave_is_linear(kind)
     m = idx.shape[1] if linear else ns
     na = m + nm
     tangent = mode == 1
@@ -725,18 +448,17 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     qs, qs_t, refs = q[:ns], q_t[:ns], ref[:ns]
     # the pair's views: slave point Jacobians (compact columns), derivatives, tangent blocks, master
     Jp = T[0, 0:3, :m]
-    Jx = T[0, 3:6, :m] if kind == 3 else Jp
+    Jx = node_position_jacobian(kind, T[0, 3:6, :m], Jp)
     X, V, Vt, Lt = T[1, 0:3, :na], T[1, 3:6, :na], T[1, 6:9, :na], T[2, 0:3, :na]
     Kc, Dc = T[3, :na, :na], T[4, :na, :na]
     Am, Gm, Gtm = T[5, 0:3, 0:3], T[5, 3:6, 0:4], T[5, 6:9, 0:4]
     dAm, dAf = T[6, 0:4, 0:9], T[6, 4:8, 0:3]
     qtm, wlm, w, d, u = T[7, 0, :nm], T[7, 1, :3], T[7, 2, :3], T[7, 3, :3], T[7, 4, :3]
     F, g, xr, vr = T[7, 5, :3], T[7, 6, :3], T[7, 7, :3], T[7, 8, :3]
-    if not linear:
-        _node_frame(kind, qs, qs_t, refs, tangent, qts, As, Gs, dAs, Gts)
+    node_frame(kind, qs, qs_t, refs, tangent, qts, As, Gs, dAs, Gts)
     _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], tangent, qtm, Am, Gm, dAm, Gtm, wlm, w)
     vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
-    c0, nc = (0, 0) if linear else _rotation_columns(kind, ns)
+    c0, nc = node_rotation_columns(kind, ns)
     for a in range(m):
         cols[a] = a
     for i in range(nm):
@@ -757,21 +479,8 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     bx = by = bz = 0.0
     for k in range(K):
         # the slave point
-        if linear:
-            for a in range(m):
-                cols[a] = idx[k, a]
-            for i in range(3):
-                xi, vi = c[k, i], 0.0
-                for a in range(m):
-                    gi = idx[k, a]
-                    s = Sm[k, i, a]
-                    xi += s * (ref[gi] + q[gi])
-                    vi += s * q_t[gi]
-                    Jp[i, a] = s
-                x[i], v[i] = xi, vi
-        else:
-            bx, by, bz = b[k, 0], b[k, 1], b[k, 2]
-            _rigid_point(kind, qts, qs_t, As, Gs, dAs, bx, by, bz, tangent, x, v, Jp, Jx, wls)
+        bx, by, bz = slave_point(kind, k, b, idx, Sm, c, ref, q, q_t, qts, qs_t, As, Gs, dAs, tangent, x, v, Jp, Jx,
+                                 wls, cols)
         # relative to the master, in its frame
         for i in range(3):
             d[i] = x[i] - qtm[i]
@@ -824,7 +533,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
                 t1 = -(w[2] * Jx[0, a] - w[0] * Jx[2, a])
                 t2 = -(w[0] * Jx[1, a] - w[1] * Jx[0, a])
                 if c0 <= a < c0 + nc:                               # the slave point's velocity turning
-                    e0, e1, e2 = _point_velocity_column(kind, a, qs_t, As, dAs, Gts, Jp, wls, bx, by, bz)
+                    e0, e1, e2 = node_velocity_column(kind, a, qs_t, As, dAs, Gts, Jp, wls, bx, by, bz)
                     t0, t1, t2 = t0 + e0, t1 + e1, t2 + e2
                 for j in range(3):
                     V[j, a] = Am[0, j] * t0 + Am[1, j] * t1 + Am[2, j] * t2
@@ -839,9 +548,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
             for cc in range(nr):
                 col = m + 3 + cc
                 # dw_c = dA_c wl + A dG_c q_t_rot, dG_c q_t_rot = G(e_c) e_t = -G(e_t) e_c (EP; 0 by the local increment)
-                s0, s1, s2 = 0.0, 0.0, 0.0
-                if mkind == 3:
-                    s0, s1, s2 = -Gtm[0, cc], -Gtm[1, cc], -Gtm[2, cc]
+                s0, s1, s2 = master_rate(mkind, Gtm, cc)
                 dw0 = dAm[cc, 0] * wlm[0] + dAm[cc, 1] * wlm[1] + dAm[cc, 2] * wlm[2] + Am[0, 0] * s0 + Am[0, 1] * s1 + Am[0, 2] * s2
                 dw1 = dAm[cc, 3] * wlm[0] + dAm[cc, 4] * wlm[1] + dAm[cc, 5] * wlm[2] + Am[1, 0] * s0 + Am[1, 1] * s1 + Am[1, 2] * s2
                 dw2 = dAm[cc, 6] * wlm[0] + dAm[cc, 7] * wlm[1] + dAm[cc, 8] * wlm[2] + Am[2, 0] * s0 + Am[2, 1] * s1 + Am[2, 2] * s2
@@ -873,8 +580,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
                 for bb in range(na):
                     Kc[a, bb] += k0 * X[0, bb] + k1 * X[1, bb] + k2 * X[2, bb]
         # geometric terms (dL/dq) f: the slave's lever arms at fixed F (rigid slaves)
-        if not linear:
-            _rigid_geometric(kind, As, Gs, dAs, Jp, F, bx, by, bz, Kc)
+        node_geometric(kind, As, Gs, dAs, Jp, F, bx, by, bz, Kc)
         # F = A f turning with the master: slave rows Jp^T dA_c f, master translation rows -dA_c f
         for cc in range(nr):
             col = m + 3 + cc
@@ -890,20 +596,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
             h0, h1, h2 = gr1 * g[2] - gr2 * g[1], gr2 * g[0] - gr0 * g[2], gr0 * g[1] - gr1 * g[0]
             for bb in range(na):
                 Kc[m + 3 + r, bb] += h0 * X[0, bb] + h1 * X[1, bb] + h2 * X[2, bb]
-        if mkind == 3:
-            # Euler parameters: -dG_c^T y - G^T (b x dM_c f), y = b x g, M = A^T A (|e|^4 I, not I off
-            # the unit sphere), dM_c f = dA_c^T F + A^T dA_c f; G(e)^T y = 2 My e (as _rigid_geometric)
-            My = ((0.0, -y0, -y1, -y2), (y0, 0.0, y2, -y1), (y1, -y2, 0.0, y0), (y2, y1, -y0, 0.0))
-            for cc in range(4):
-                mf0 = (dAm[cc, 0] * F[0] + dAm[cc, 3] * F[1] + dAm[cc, 6] * F[2]
-                       + Am[0, 0] * dAf[cc, 0] + Am[1, 0] * dAf[cc, 1] + Am[2, 0] * dAf[cc, 2])
-                mf1 = (dAm[cc, 1] * F[0] + dAm[cc, 4] * F[1] + dAm[cc, 7] * F[2]
-                       + Am[0, 1] * dAf[cc, 0] + Am[1, 1] * dAf[cc, 1] + Am[2, 1] * dAf[cc, 2])
-                mf2 = (dAm[cc, 2] * F[0] + dAm[cc, 5] * F[1] + dAm[cc, 8] * F[2]
-                       + Am[0, 2] * dAf[cc, 0] + Am[1, 2] * dAf[cc, 1] + Am[2, 2] * dAf[cc, 2])
-                z0, z1, z2 = xr[1] * mf2 - xr[2] * mf1, xr[2] * mf0 - xr[0] * mf2, xr[0] * mf1 - xr[1] * mf0
-                for r in range(4):
-                    Kc[m + 3 + r, m + 3 + cc] -= 2.0 * My[r][cc] + Gm[0, r] * z0 + Gm[1, r] * z1 + Gm[2, r] * z2
+        master_normalisation(mkind, Am, Gm, dAm, dAf, F, xr, y0, y1, y2, m + 3, Kc)
         if linear:
             for a in range(na):
                 ra = cols[a]

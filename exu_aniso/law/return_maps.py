@@ -48,27 +48,37 @@ off-diagonal entries), from which ``exu_aniso.kernel.contact_law`` builds the co
 
 One definition: the maps are scalar functions compiled with numba (``return_map``), called as
 they are by the compiled contact kernel and, through ``return_map_point`` / ``return_map_batch``,
-by Python (the numpy reference, studies and tests). Map codes: ``MAP_CODES``.
+by Python (the numpy reference, studies and tests).
+
+Each map is a type (``Seed``, ``Exact``, ``Radial``: named tuples without fields; ``MAPS`` maps the
+names to them): ``return_map`` resolves the map by the type of its ``method`` at compile time
+(``slide`` and ``unloaded_direction``, overloads keyed by the map), so a compiled kernel holds the
+code of its own map only.
 """
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
 from exu_aniso.law.history import SLIP, STICK  # noqa: F401  (the states the maps return)
 from exu_aniso.util.validation import check_array, check_definite_components, check_nonnegative, check_vector
 
 RETURN_MAPS = ("seed", "exact", "radial")
-MAP_CODES = {"seed": 0, "exact": 1, "radial": 2}
+Seed = namedtuple("Seed", ())        # papers' closed form
+Exact = namedtuple("Exact", ())      # associated backward Euler (closest point projection)
+Radial = namedtuple("Radial", ())    # backward Euler of the non-associated radial slip rule
+MAPS = {"seed": Seed(), "exact": Exact(), "radial": Radial()}
 N_PARAMS = 9  # T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22
 
 _KAPPA_RTOL = 2e-16 * 4  # target |sqrt(T.F T) - |N|| <= 8.9e-16 |N|; forming T = (I + kappa C F)^-1 T_tr
 #                          limits it to ~eps cond(C F) (3e-12 measured at cond 1.3e5, tests/test_fuzz.py)
 _KAPPA_MAXIT = 200
-assert set(MAP_CODES) == set(RETURN_MAPS)
+assert set(MAPS) == set(RETURN_MAPS)
 
 
 def check_return_map(name, parameter="return_map"):
@@ -238,13 +248,63 @@ def _exact(t1, t2, N, b11, b12, b22, f11, f12, f22, dT, tangent):
 
 
 
+def slide(method, t1, t2, N, B, F, dT, tangent):
+    """(T1, T2, kappa) of a sliding point (Phi_tr > 0, N = |N| > 0) by the map ``method`` (Seed(),
+    Exact() or Radial()), and dT/dp into dT when tangent; resolved at compile time by the map's
+    type."""
+    raise NotImplementedError("slide is resolved at compile time by the type of the map")
+
+
+def unloaded_direction(method, t1, t2, B, F):
+    """The direction (d1, d2) of the limit traction a map returns as |N| -> 0 at the trial traction
+    (t1, t2) (a point sliding without load returns T = 0 with dT/d|N| = d / sqrt(d.F d)): radial
+    T_tr, seed -B F T_tr, exact F^-1 C^-1 T_tr. Resolved at compile time by the map's type."""
+    raise NotImplementedError("unloaded_direction is resolved at compile time by the type of the map")
+
+
+@overload(slide, inline="always")
+def _slide(method, t1, t2, N, B, F, dT, tangent):
+    cls = getattr(method, "instance_class", None)
+    if cls is Radial:
+        return lambda method, t1, t2, N, B, F, dT, tangent: _radial(t1, t2, N, F[0], F[1], F[2], dT, tangent)
+    if cls is Seed:
+        return lambda method, t1, t2, N, B, F, dT, tangent: _seed(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2],
+                                                                  dT, tangent)
+    if cls is Exact:
+        return lambda method, t1, t2, N, B, F, dT, tangent: _exact(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2],
+                                                                   dT, tangent)
+    return None
+
+
+@overload(unloaded_direction, inline="always")
+def _unloaded_direction(method, t1, t2, B, F):
+    cls = getattr(method, "instance_class", None)
+    if cls is Radial:
+        return lambda method, t1, t2, B, F: (t1, t2)
+    if cls is Seed:
+        def seed(method, t1, t2, B, F):
+            u1, u2 = F[0] * t1 + F[1] * t2, F[1] * t1 + F[2] * t2
+            return -(B[0] * u1 + B[1] * u2), -(B[1] * u1 + B[2] * u2)
+        return seed
+    if cls is Exact:
+        def exact(method, t1, t2, B, F):
+            c11, c12, c22 = -B[0], -B[1], -B[2]
+            dc = c11 * c22 - c12 * c12
+            v1, v2 = (c22 * t1 - c12 * t2) / dc, (-c12 * t1 + c11 * t2) / dc
+            df = F[0] * F[2] - F[1] * F[1]
+            return (F[2] * v1 - F[1] * v2) / df, (-F[1] * v1 + F[0] * v2) / df
+        return exact
+    return None
+
+
 @njit(cache=True)
 def return_map(method, t1, t2, N, B, F, dT, tangent):
-    """Return map at one point, the one definition of the three maps. method: MAP_CODES value;
-    (t1, t2) trial traction T_tr, N = |N| >= 0, B = (b11, b12, b22), F = (f11, f12, f22). Returns
-    (T1, T2, state STICK | SLIP, slip1, slip2, dissipation, kappa, phi_trial) and fills dT (2, 9) =
-    dT/dp when tangent (else dT is left as it is: a force-only call does no derivative work). No
-    input checks (callers pass validated fields; return_map_point checks)."""
+    """Return map at one point, the one definition of the three maps. method: the map (MAPS:
+    Seed(), Exact() or Radial(); its type selects the code at compile time); (t1, t2) trial
+    traction T_tr, N = |N| >= 0, B = (b11, b12, b22), F = (f11, f12, f22). Returns (T1, T2, state
+    STICK | SLIP, slip1, slip2, dissipation, kappa, phi_trial) and fills dT (2, 9) = dT/dp when
+    tangent (else dT is left as it is: a force-only call does no derivative work). No input checks
+    (callers pass validated fields; return_map_point checks)."""
     if tangent:
         for a in range(2):
             for j in range(9):
@@ -257,26 +317,12 @@ def return_map(method, t1, t2, N, B, F, dT, tangent):
         return t1, t2, STICK, 0.0, 0.0, 0.0, 0.0, phi
     if N == 0.0:                      # sliding without load: T = 0, dT/d|N| = limit direction
         T1, T2, kappa = 0.0, 0.0, 0.0
-        if method == 2:
-            d1, d2 = t1, t2
-        elif method == 0:
-            u1, u2 = F[0] * t1 + F[1] * t2, F[1] * t1 + F[2] * t2
-            d1, d2 = -(B[0] * u1 + B[1] * u2), -(B[1] * u1 + B[2] * u2)
-        else:
-            c11, c12, c22 = -B[0], -B[1], -B[2]
-            dc = c11 * c22 - c12 * c12
-            v1, v2 = (c22 * t1 - c12 * t2) / dc, (-c12 * t1 + c11 * t2) / dc
-            df = F[0] * F[2] - F[1] * F[1]
-            d1, d2 = (F[2] * v1 - F[1] * v2) / df, (-F[1] * v1 + F[0] * v2) / df
+        d1, d2 = unloaded_direction(method, t1, t2, B, F)
         s = math.sqrt(_quad(F[0], F[1], F[2], d1, d2))
         if s > 0.0 and tangent:
             dT[0, 2], dT[1, 2] = d1 / s, d2 / s
-    elif method == 2:
-        T1, T2, kappa = _radial(t1, t2, N, F[0], F[1], F[2], dT, tangent)
-    elif method == 0:
-        T1, T2, kappa = _seed(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2], dT, tangent)
     else:
-        T1, T2, kappa = _exact(t1, t2, N, B[0], B[1], B[2], F[0], F[1], F[2], dT, tangent)
+        T1, T2, kappa = slide(method, t1, t2, N, B, F, dT, tangent)
     c11, c12, c22 = -B[0], -B[1], -B[2]
     det = c11 * c22 - c12 * c12
     d1, d2 = T1 - t1, T2 - t2
@@ -343,7 +389,7 @@ def _return_map_rows(T_tr, N_abs, B, F, method, tangent):
     T, slip, D, kappa, phi = np.empty((K, 2)), np.empty((K, 2)), np.empty(K), np.empty(K), np.empty(K)
     state = np.empty(K, dtype=np.int64)
     dT = np.zeros((K, 2, N_PARAMS))
-    _return_map_many(MAP_CODES[method], T_tr, N, B, F, bool(tangent), T, dT, state, slip, D, kappa, phi)
+    _return_map_many(MAPS[method], T_tr, N, B, F, bool(tangent), T, dT, state, slip, D, kappa, phi)
     return LawResult(T, state, slip, D, kappa, phi, dT if tangent else None)
 
 
