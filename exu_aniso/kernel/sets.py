@@ -33,11 +33,10 @@ import math
 import numpy as np
 from numba import njit
 
-from exu_aniso.kernel.nodes import (master_derivatives, master_normalisation, master_rate, node_coordinates,
-                                    node_forces, node_frame, node_geometric, node_moment, node_motion, node_point,
-                                    node_point_xv, node_position_jacobian, node_rotation_columns,
-                                    node_velocity_column, slave_is_linear, slave_point, slave_point_force,
-                                    slave_point_xv)
+from exu_aniso.kernel.nodes import (generalized_force, master_derivatives, master_normalisation, master_rate,
+                                    node_coordinates, node_frame, node_geometric, node_point, node_position_jacobian,
+                                    node_rotation_columns, node_velocity_column, points_xv, slave_generalized_force,
+                                    slave_is_linear, slave_point, slave_points_xv)
 from exu_aniso.law.history import H_DISSIPATED, H_STATUS, N_HISTORY, UNRESOLVED
 
 SCRATCH_SLOTS = 19   # (slots, 9, 9) scratch: 0-8 point kernel, 9-17 set kernel, 18 Jacobian
@@ -45,9 +44,10 @@ SCRATCH_SLOTS = 19   # (slots, 9, 9) scratch: 0-8 point kernel, 9-17 set kernel,
 
 # the rows of a set's point buffer Y (K, Y_ROWS, 3), a block per point: its position and velocity
 # (master frame, relative to the master), the force on it, (ax, ay, status) (a planar node's lever
-# arm, the law's status), df/dx (3 rows) and df/dv (3 rows)
-Y_X, Y_V, Y_F, Y_INFO, Y_KX, Y_DV = 0, 1, 2, 3, 4, 7
-Y_ROWS = 10
+# arm, the law's status), df/dx (3 rows), df/dv (3 rows) and, under a moving master, the force in
+# global axes
+Y_X, Y_V, Y_F, Y_INFO, Y_KX, Y_DV, Y_FG = 0, 1, 2, 3, 4, 7, 10
+Y_ROWS = 11
 
 
 def point_states(law, Y, H, Hn, first, count, dt, tangent, S):
@@ -79,27 +79,10 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
     A, G = S[9, :3, :3], S[10, :3, :4]
     qt, x, v = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3]
     node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
-    motion = node_motion(kind, qt, q_t, G, nq)
-    for k in range(K):
-        ax, ay = node_point_xv(kind, qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
-        for i in range(3):
-            Y[k, Y_X, i] = x[i]
-            Y[k, Y_V, i] = v[i]
-        Y[k, Y_INFO, 0], Y[k, Y_INFO, 1] = ax, ay
+    points_xv(kind, qt, q_t, A, G, b, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2], x, v)
     ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
     if mode == 0:
-        F0 = F1 = F2 = M0 = M1 = M2 = 0.0
-        for k in range(K):
-            f0, f1, f2 = Y[k, Y_F, 0], Y[k, Y_F, 1], Y[k, Y_F, 2]
-            F0 += f0
-            F1 += f1
-            F2 += f2
-            m0, m1, m2 = node_moment(kind, A, f0, f1, f2, b[k, 0], b[k, 1], b[k, 2], Y[k, Y_INFO, 0],
-                                       Y[k, Y_INFO, 1])
-            M0 += m0
-            M1 += m1
-            M2 += m2
-        node_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)
+        generalized_force(kind, A, G, nq, b, Y[:, Y_F], Y[:, Y_INFO, :2], Q)
     return -1 if unresolved else ncontact
 
 
@@ -357,24 +340,22 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     node_frame(kind, q[:ns], q_t[:ns], ref[:ns], False, qts, As, Gs, As, Gs)
     _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], False, qtm, Am, Gm, Am, Gm, wlm, w)
     vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
-    motion = node_motion(kind, qts, q_t, Gs, ns)
+    # the slave's points in global axes, then relative to the master, in its frame (as evaluate_pair)
+    slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qts, As, Gs, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2], x, v)
     K = H.shape[0]
     for k in range(K):
-        ax, ay = slave_point_xv(kind, k, b, idx, Sm, c, ref, q, q_t, qts, As, motion, x, v)
-        # relative to the master, in its frame (as evaluate_pair)
-        d0, d1, d2 = x[0] - qtm[0], x[1] - qtm[1], x[2] - qtm[2]
-        e0 = v[0] - vp0 - (w[1] * d2 - w[2] * d1)
-        e1 = v[1] - vp1 - (w[2] * d0 - w[0] * d2)
-        e2 = v[2] - vp2 - (w[0] * d1 - w[1] * d0)
+        d0, d1, d2 = Y[k, Y_X, 0] - qtm[0], Y[k, Y_X, 1] - qtm[1], Y[k, Y_X, 2] - qtm[2]
+        e0 = Y[k, Y_V, 0] - vp0 - (w[1] * d2 - w[2] * d1)
+        e1 = Y[k, Y_V, 1] - vp1 - (w[2] * d0 - w[0] * d2)
+        e2 = Y[k, Y_V, 2] - vp2 - (w[0] * d1 - w[1] * d0)
         for j in range(3):
             Y[k, Y_X, j] = Am[0, j] * d0 + Am[1, j] * d1 + Am[2, j] * d2
             Y[k, Y_V, j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
-        Y[k, Y_INFO, 0], Y[k, Y_INFO, 1] = ax, ay
     ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
     if mode == 0:
         for i in range(n):
             Q[i] = 0.0
-        FS0 = FS1 = FS2 = MS0 = MS1 = MS2 = 0.0          # on the slave (the master gets -F): force, moment
+        FS0 = FS1 = FS2 = 0.0                            # on the slave (the master gets -F)
         Y0 = Y1 = Y2 = 0.0                               # on the master: sum x_rel x A^T F
         for k in range(K):
             f0, f1, f2 = Y[k, Y_F, 0], Y[k, Y_F, 1], Y[k, Y_F, 2]
@@ -382,6 +363,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
             F0 = Am[0, 0] * f0 + Am[0, 1] * f1 + Am[0, 2] * f2            # F = A f
             F1 = Am[1, 0] * f0 + Am[1, 1] * f1 + Am[1, 2] * f2
             F2 = Am[2, 0] * f0 + Am[2, 1] * f1 + Am[2, 2] * f2
+            Y[k, Y_FG, 0], Y[k, Y_FG, 1], Y[k, Y_FG, 2] = F0, F1, F2
             g0 = Am[0, 0] * F0 + Am[1, 0] * F1 + Am[2, 0] * F2                   # A^T F
             g1 = Am[0, 1] * F0 + Am[1, 1] * F1 + Am[2, 1] * F2
             g2 = Am[0, 2] * F0 + Am[1, 2] * F1 + Am[2, 2] * F2
@@ -391,12 +373,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
             FS0 += F0
             FS1 += F1
             FS2 += F2
-            # a rigid slave's moment (a linear slave's force goes to its coordinates here)
-            m0, m1, m2 = slave_point_force(kind, k, b, idx, Sm, As, F0, F1, F2, Y[k, Y_INFO, 0], Y[k, Y_INFO, 1], Q)
-            MS0 += m0
-            MS1 += m1
-            MS2 += m2
-        node_forces(kind, Gs, ns, Q, FS0, FS1, FS2, MS0, MS1, MS2)
+        slave_generalized_force(kind, As, Gs, ns, b, idx, Sm, Y[:, Y_FG], Y[:, Y_INFO, :2], Q)
         Q[ns], Q[ns + 1], Q[ns + 2] = Q[ns] - FS0, Q[ns + 1] - FS1, Q[ns + 2] - FS2
         for r2 in range(nm - 3):
             Q[ns + 3 + r2] -= Gm[0, r2] * Y0 + Gm[1, r2] * Y1 + Gm[2, r2] * Y2

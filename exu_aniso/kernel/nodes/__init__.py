@@ -37,15 +37,21 @@ body-local point):
 A moving master (a 3D node) adds ``master_derivatives(kind, qt, q_t, A, dA, Gt)`` (dA by its
 rotation coordinates: the local increment for a rotation vector, e for Euler parameters),
 ``master_rate(kind, Gt, c)`` (dG_c q_t_rot) and ``master_normalisation(kind, A, G, dA, dAf, F, xr, y0,
-y1, y2, col0, Kc)`` (the Euler parameters' terms of G(e) and A^T A). A pair's slave point goes through
-``slave_point_xv``, ``slave_point_force`` and ``slave_point``, which take both a rigid slave's
-body-local points b and a linear slave's (idx, S, c); ``slave_is_linear(kind)`` is a constant.
-The formulas: ``planar``, ``spatial``, ``linear`` (one module per family). No Exudyn here.
+y1, y2, col0, Kc)`` (the Euler parameters' terms of G(e) and A^T A).
+
+The force paths take a set's points at once, one call per set and none per point:
+``points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v)`` (positions, velocities, lever arms) and
+``generalized_force(kind, A, G, nq, b, F, L, Q)``. A moving master's slave goes through
+``slave_points_xv``, ``slave_generalized_force`` and, per point in its Jacobian, ``slave_point``,
+which take both a rigid slave's body-local points b and a linear slave's (idx, S, c);
+``slave_is_linear(kind)`` is a constant. The formulas: ``planar``, ``spatial``, ``linear`` (one
+module per family). No Exudyn here.
 """
 from __future__ import annotations
 
 from collections import namedtuple
 
+from numba import njit
 from numba.extending import overload
 
 from exu_aniso.kernel.nodes import linear, planar, spatial
@@ -78,9 +84,8 @@ MODELS = {
                                spatial.point_ep, spatial.position_jacobian_ep, spatial.rotation_columns,
                                spatial.velocity_column_ep, spatial.geometric_ep),
     # points come from (idx, S, c): the slave_point functions; no frame, no rotation
-    LinearSlave: NodeModel(None, linear.frame, linear.motion, None, None, linear.forces, None,
-                           linear.position_jacobian, linear.rotation_columns, linear.velocity_column,
-                           linear.geometric),
+    LinearSlave: NodeModel(None, linear.frame, None, None, None, None, None, linear.position_jacobian,
+                           linear.rotation_columns, linear.velocity_column, linear.geometric),
 }
 MASTERS = {
     RotationVector: MasterModel(spatial.master_derivatives_rv, spatial.master_rate_rv,
@@ -165,19 +170,11 @@ def slave_is_linear(kind):
     raise NotImplementedError("resolved at compile time by the node kind")
 
 
-def slave_point_xv(kind, k, b, idx, Sm, c, ref, q, q_t, qt, A, motion, x, v):
-    raise NotImplementedError("resolved at compile time by the node kind")
-
-
-def slave_point_force(kind, k, b, idx, Sm, A, F0, F1, F2, ax, ay, Q):
-    raise NotImplementedError("resolved at compile time by the node kind")
-
-
 def slave_point(kind, k, b, idx, Sm, c, ref, q, q_t, qt, qs_t, A, G, dA, tangent, x, v, Jp, Jx, wl, cols):
     raise NotImplementedError("resolved at compile time by the node kind")
 
 
-@overload(node_frame, inline="always")
+@overload(node_frame)
 def _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt):
     fn = _model(kind, name="frame")
     if fn is not None:
@@ -227,21 +224,21 @@ def _node_position_jacobian(kind, spare, Jp):
         return lambda kind, spare, Jp: fn(spare, Jp)
 
 
-@overload(node_rotation_columns, inline="always")
+@overload(node_rotation_columns)
 def _node_rotation_columns(kind, nq):
     fn = _model(kind, name="rotation_columns")
     if fn is not None:
         return lambda kind, nq: fn(nq)
 
 
-@overload(node_velocity_column, inline="always")
+@overload(node_velocity_column)
 def _node_velocity_column(kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz):
     fn = _model(kind, name="velocity_column")
     if fn is not None:
         return lambda kind, c, q_t, A, dA, Gt, Jp, wl, bx, by, bz: fn(c, q_t, A, dA, Gt, Jp, wl, bx, by, bz)
 
 
-@overload(node_geometric, inline="always")
+@overload(node_geometric)
 def _node_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq):
     fn = _model(kind, name="geometric")
     if fn is not None:
@@ -255,21 +252,21 @@ def _node_coordinates(kind):
         return lambda kind: n
 
 
-@overload(master_derivatives, inline="always")
+@overload(master_derivatives)
 def _master_derivatives(kind, qt, q_t, A, dA, Gt):
     fn = _model(kind, MASTERS, "derivatives")
     if fn is not None:
         return lambda kind, qt, q_t, A, dA, Gt: fn(qt, q_t, A, dA, Gt)
 
 
-@overload(master_rate, inline="always")
+@overload(master_rate)
 def _master_rate(kind, Gt, c):
     fn = _model(kind, MASTERS, "rate")
     if fn is not None:
         return lambda kind, Gt, c: fn(Gt, c)
 
 
-@overload(master_normalisation, inline="always")
+@overload(master_normalisation)
 def _master_normalisation(kind, A, G, dA, dAf, F, xr, y0, y1, y2, col0, Kc):
     fn = _model(kind, MASTERS, "normalisation")
     if fn is not None:
@@ -288,32 +285,6 @@ def _slave_is_linear(kind):
         return lambda kind: flag
 
 
-@overload(slave_point_xv, inline="always")
-def _slave_point_xv(kind, k, b, idx, Sm, c, ref, q, q_t, qt, A, motion, x, v):
-    if _is_linear(kind):
-        def impl(kind, k, b, idx, Sm, c, ref, q, q_t, qt, A, motion, x, v):
-            linear.point_xv(k, idx, Sm, c, ref, q, q_t, x, v)
-            return 0.0, 0.0
-        return impl
-    fn = _model(kind, name="point_xv")
-    if fn is not None:
-        return (lambda kind, k, b, idx, Sm, c, ref, q, q_t, qt, A, motion, x, v:
-                fn(qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2], x, v))
-
-
-@overload(slave_point_force, inline="always")
-def _slave_point_force(kind, k, b, idx, Sm, A, F0, F1, F2, ax, ay, Q):
-    if _is_linear(kind):
-        def impl(kind, k, b, idx, Sm, A, F0, F1, F2, ax, ay, Q):
-            linear.point_force(k, idx, Sm, F0, F1, F2, Q)
-            return 0.0, 0.0, 0.0
-        return impl
-    fn = _model(kind, name="moment")
-    if fn is not None:
-        return (lambda kind, k, b, idx, Sm, A, F0, F1, F2, ax, ay, Q:
-                fn(A, F0, F1, F2, b[k, 0], b[k, 1], b[k, 2], ax, ay))
-
-
 @overload(slave_point, inline="always")
 def _slave_point(kind, k, b, idx, Sm, c, ref, q, q_t, qt, qs_t, A, G, dA, tangent, x, v, Jp, Jx, wl, cols):
     if _is_linear(kind):
@@ -328,3 +299,66 @@ def _slave_point(kind, k, b, idx, Sm, c, ref, q, q_t, qt, qs_t, A, G, dA, tangen
             fn(qt, qs_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl)
             return bx, by, bz
         return rigid
+
+
+# --- a set's points at once: what the force paths call (one call per set, no call per point) -----
+
+@njit(cache=True)
+def points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v):
+    """Positions X (K, 3), velocities V (K, 3) and planar lever arms L (K, 2) (0 for a 3D node) of
+    the body-local points b (K, 3) of a rigid node at total coordinates qt (node_frame's A, G);
+    x, v (3,) scratch."""
+    motion = node_motion(kind, qt, q_t, G, qt.shape[0])
+    for k in range(b.shape[0]):
+        ax, ay = node_point_xv(kind, qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
+        for i in range(3):
+            X[k, i] = x[i]
+            V[k, i] = v[i]
+        L[k, 0], L[k, 1] = ax, ay
+
+
+@njit(cache=True)
+def generalized_force(kind, A, G, nq, b, F, L, Q):
+    """Q[:nq] = sum_k Jp_k^T F_k of a rigid node with global point forces F (K, 3) at b (K, 3)
+    (lever arms L from points_xv), summed as force and moment without a Jacobian per point: a 3D
+    node's local moment m = sum b x A^T F mapped once by Q_rot = G^T m (= sum Jp_rot^T F, Jp_rot =
+    -A [b]x G), a planar node's moment about its axis. A point out of contact has F = 0."""
+    F0 = F1 = F2 = M0 = M1 = M2 = 0.0
+    for k in range(b.shape[0]):
+        f0, f1, f2 = F[k, 0], F[k, 1], F[k, 2]
+        F0 += f0
+        F1 += f1
+        F2 += f2
+        m0, m1, m2 = node_moment(kind, A, f0, f1, f2, b[k, 0], b[k, 1], b[k, 2], L[k, 0], L[k, 1])
+        M0 += m0
+        M1 += m1
+        M2 += m2
+    node_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)
+
+
+def slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v):
+    raise NotImplementedError("resolved at compile time by the node kind")
+
+
+def slave_generalized_force(kind, A, G, nq, b, idx, Sm, F, L, Q):
+    raise NotImplementedError("resolved at compile time by the node kind")
+
+
+@overload(slave_points_xv)
+def _slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v):
+    """points_xv of a rigid slave; a linear slave's points from (idx, S, c)."""
+    if _is_linear(kind):
+        return (lambda kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v:
+                linear.points_xv(idx, Sm, c, ref, q, q_t, X, V, L))
+    if getattr(kind, "instance_class", None) in MODELS:
+        return (lambda kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v:
+                points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v))
+
+
+@overload(slave_generalized_force)
+def _slave_generalized_force(kind, A, G, nq, b, idx, Sm, F, L, Q):
+    """generalized_force of a rigid slave; a linear slave's Q[idx_k] += S_k^T F_k."""
+    if _is_linear(kind):
+        return lambda kind, A, G, nq, b, idx, Sm, F, L, Q: linear.generalized_force(idx, Sm, F, Q)
+    if getattr(kind, "instance_class", None) in MODELS:
+        return lambda kind, A, G, nq, b, idx, Sm, F, L, Q: generalized_force(kind, A, G, nq, b, F, L, Q)

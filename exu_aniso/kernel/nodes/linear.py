@@ -4,7 +4,7 @@ constant S_k (3, m) over the m coordinates idx_k (a mass point: S = I; a cable: 
 functions of its element at the point). It has no frame and no rotation coordinates, its point
 Jacobian S_k is constant (no geometric or velocity terms), and each point's force goes to its own
 coordinates through S_k^T. The node protocol's functions (``exu_aniso.kernel.nodes``) say so; the
-point functions take the point's (idx, S, c)."""
+point functions take the points' (idx, S, c)."""
 from __future__ import annotations
 
 from numba import njit
@@ -13,16 +13,6 @@ from numba import njit
 @njit(cache=True)
 def frame(q, q_t, ref, tangent, qt, A, G, dA, Gt):
     """No frame."""
-
-
-@njit(cache=True, inline="always")
-def motion(qt, q_t, G, nq):
-    return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-
-
-@njit(cache=True, inline="always")
-def forces(G, nq, Q, F0, F1, F2, M0, M1, M2):
-    """Nothing: point_force added each point's force to its coordinates."""
 
 
 @njit(cache=True, inline="always")
@@ -58,11 +48,26 @@ def point_xv(k, idx, Sm, c, ref, q, q_t, x, v):
         x[i], v[i] = xi, vi
 
 
-@njit(cache=True, inline="always")
-def point_force(k, idx, Sm, F0, F1, F2, Q):
-    """Q[idx_k] += S_k^T F."""
-    for a in range(idx.shape[1]):
-        Q[idx[k, a]] += Sm[k, 0, a] * F0 + Sm[k, 1, a] * F1 + Sm[k, 2, a] * F2
+@njit(cache=True)
+def points_xv(idx, Sm, c, ref, q, q_t, X, V, L):
+    """point_xv at every point into X, V (K, 3); L (K, 2) = 0 (no lever arm)."""
+    for k in range(idx.shape[0]):
+        for i in range(3):
+            xi, vi = c[k, i], 0.0
+            for a in range(idx.shape[1]):
+                g = idx[k, a]
+                xi += Sm[k, i, a] * (ref[g] + q[g])
+                vi += Sm[k, i, a] * q_t[g]
+            X[k, i], V[k, i] = xi, vi
+        L[k, 0], L[k, 1] = 0.0, 0.0
+
+
+@njit(cache=True)
+def generalized_force(idx, Sm, F, Q):
+    """Q[idx_k] += S_k^T F_k for the global point forces F (K, 3)."""
+    for k in range(idx.shape[0]):
+        for a in range(idx.shape[1]):
+            Q[idx[k, a]] += Sm[k, 0, a] * F[k, 0] + Sm[k, 1, a] * F[k, 1] + Sm[k, 2, a] * F[k, 2]
 
 
 @njit(cache=True, inline="always")
