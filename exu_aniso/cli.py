@@ -316,9 +316,9 @@ def _parallel(jobs, a):
     kernels are not compiled yet (the first run on a machine), on more than one core. Each scene
     compiles its own kernels (its surface and fields), so on 2 cores the first ``run all`` takes
     the longer compile, not the sum: 51 -> 28 s measured (empty NUMBA_CACHE_DIR, this machine). The
-    first job runs in this process, the others in workers started before it (one process start
-    and its imports fewer). Warm runs stay in this process (a worker's start costs more than the
-    runs)."""
+    last job runs in this process, the others in workers started before it (one process start
+    and its imports fewer, and the screw, which compiles longest, starts first). Warm runs stay in
+    this process (a worker's start costs more than the runs)."""
     if len(jobs) < 2 or a.engine != "exudyn" or (os.cpu_count() or 1) < 2:
         return False
     from exu_aniso.kernel.point import kernels_cached
@@ -340,13 +340,14 @@ def _run_jobs(jobs, a, tmp):
         import multiprocessing
         from exu_aniso.kernel.point import announce_compile
         announce_compile(stream=sys.stderr)
-        # the first job in this process (its imports are done), the others in workers meanwhile
+        # the last job in this process, which is ready first (its imports are done), the others in
+        # workers meanwhile: run all's last scene, the screw, compiles longest (a curved surface)
         with concurrent.futures.ProcessPoolExecutor(max_workers=min(len(jobs) - 1, os.cpu_count() - 1),
                                                     mp_context=multiprocessing.get_context("spawn"),
                                                     initializer=_worker_announced) as pool:
-            futures = [pool.submit(_run_job, *x) for x in args[1:]]
-            first = _run_job(*args[0])
-            code = _print_reports(itertools.chain([first], (f.result() for f in futures)))
+            futures = [pool.submit(_run_job, *x) for x in args[:-1]]
+            last = _run_job(*args[-1])
+            code = _print_reports(itertools.chain((f.result() for f in futures), [last]))
     else:
         code = _print_reports(_run_job(*x) for x in args)
     if code:
