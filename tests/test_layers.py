@@ -94,3 +94,30 @@ def test_the_checks_can_fail():
     g = _graph()
     assert "exu_aniso.kernel.sets" in g["exu_aniso.kernel.point"]
     assert _layer("exu_aniso.cli") > _layer("exu_aniso.scenes.base") > _layer("exu_aniso.kernel.point")
+
+
+# the names under which the compiled kernels receive a node kind or a return map: types, resolved at
+# compile time (exu_aniso.kernel.nodes, law.return_maps.MAPS), never compared as run-time codes
+_KIND_NAMES = {"kind", "mkind", "method"}
+
+
+def _kind_comparisons(source):
+    """(line, text) of every comparison with a node-kind or return-map argument in source."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Compare):
+            names = [node.left] + list(node.comparators)
+            if any(isinstance(n, ast.Name) and n.id in _KIND_NAMES for n in names):
+                found.append((node.lineno, ast.unparse(node)))
+    return found
+
+
+def test_kernels_choose_node_kind_and_map_by_type():
+    """No 'if kind == ...' in the compiled kernels: a kernel compiles the code of its own node kind
+    and return map only (the first run's compile time), and a new kind is a module, not a branch."""
+    paths = [os.path.join(ROOT, "law", "return_maps.py")]
+    for folder, _, files in os.walk(os.path.join(ROOT, "kernel")):
+        paths += [os.path.join(folder, f) for f in files if f.endswith(".py")]
+    found = {os.path.relpath(p, ROOT): c for p in paths for c in [_kind_comparisons(open(p).read())] if c}
+    assert not found, found
+    assert _kind_comparisons("def f(kind):\n    return 1 if kind == 3 else 2\n") == [(2, "kind == 3")]

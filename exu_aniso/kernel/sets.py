@@ -87,6 +87,20 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
 
 
 @njit(cache=True, inline="always")
+def _add_congruent(L, M, R, LR, out):
+    """out (n, n) += L^T M R for L, R (3, n) and M (3, 3), forming LR = M R (3 x n) first (about a
+    third of the multiply-adds of the entry-by-entry sum for n = 7)."""
+    n = L.shape[1]
+    for i in range(3):
+        for c in range(n):
+            LR[i, c] = M[i, 0] * R[0, c] + M[i, 1] * R[1, c] + M[i, 2] * R[2, c]
+    for a in range(n):
+        l0, l1, l2 = L[0, a], L[1, a], L[2, a]
+        for c in range(n):
+            out[a, c] += l0 * LR[0, c] + l1 * LR[1, c] + l2 * LR[2, c]
+
+
+@njit(cache=True, inline="always")
 def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y):
     """One contact set on one node. q, q_t: node coordinates (without reference values), ref:
     reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
@@ -109,7 +123,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     A, G, Jp = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq]
     Kq, Dq = S[15, :nq, :nq], S[16, :nq, :nq]
     qt, x, v, wl = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 4, :3]
-    KJ = S[12, :3, :nq]               # Kx Jx, then Dv Jp (3 x nq)
+    KJ = S[12, :3, :nq]               # scratch of _add_congruent (3 x nq)
     tangent = mode == 1
     if tangent:
         for i in range(nq):
@@ -137,22 +151,10 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
             continue
         f, Kx, Dv = Y[k, Y_F], Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
         damped = _nonzero(Dv)
-        # Kq += Jp^T (Kx Jx), Dq += Jp^T (Dv Jp): the 3 x nq products first
-        for i in range(3):
-            for c2 in range(nq):
-                KJ[i, c2] = Kx[i, 0] * Jx[0, c2] + Kx[i, 1] * Jx[1, c2] + Kx[i, 2] * Jx[2, c2]
-        for a in range(nq):
-            p0, p1, p2 = Jp[0, a], Jp[1, a], Jp[2, a]
-            for c2 in range(nq):
-                Kq[a, c2] += p0 * KJ[0, c2] + p1 * KJ[1, c2] + p2 * KJ[2, c2]
+        # Kq += Jp^T Kx Jx, Dq += Jp^T Dv Jp
+        _add_congruent(Jp, Kx, Jx, KJ, Kq)
         if damped:
-            for i in range(3):
-                for c2 in range(nq):
-                    KJ[i, c2] = Dv[i, 0] * Jp[0, c2] + Dv[i, 1] * Jp[1, c2] + Dv[i, 2] * Jp[2, c2]
-            for a in range(nq):
-                p0, p1, p2 = Jp[0, a], Jp[1, a], Jp[2, a]
-                for c2 in range(nq):
-                    Dq[a, c2] += p0 * KJ[0, c2] + p1 * KJ[1, c2] + p2 * KJ[2, c2]
+            _add_congruent(Jp, Dv, Jp, KJ, Dq)
         # velocity of the points turning with the body: Kq[:, c] += Jp^T Dv dv/dq_c (Dv = 0 without damping)
         if damped:
             for c in range(c0, c0 + nc):

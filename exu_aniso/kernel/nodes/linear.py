@@ -52,13 +52,7 @@ def point_xv(k, idx, Sm, c, ref, q, q_t, x, v):
 def points_xv(idx, Sm, c, ref, q, q_t, X, V, L):
     """point_xv at every point into X, V (K, 3); L (K, 2) = 0 (no lever arm)."""
     for k in range(idx.shape[0]):
-        for i in range(3):
-            xi, vi = c[k, i], 0.0
-            for a in range(idx.shape[1]):
-                g = idx[k, a]
-                xi += Sm[k, i, a] * (ref[g] + q[g])
-                vi += Sm[k, i, a] * q_t[g]
-            X[k, i], V[k, i] = xi, vi
+        point_xv(k, idx, Sm, c, ref, q, q_t, X[k], V[k])
         L[k, 0], L[k, 1] = 0.0, 0.0
 
 
