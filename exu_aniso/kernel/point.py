@@ -234,7 +234,14 @@ def point_tangent(sp, netB, netF, law, state, Kx, Dv, W):
     contravariant components tn there, active. The quantities at C and the return map (with dT/dp,
     into W[0, 0:2]) are evaluated again from these, the same functions on the same numbers as the
     force (a Jacobian call is rare): a function of its own with few arguments, compiled once per
-    law, so that the force path holds none of this code and keeps nothing alive for it."""
+    law, so that the force path holds none of this code and keeps nothing alive for it. A point that
+    did not reach the law (state[0] = 0: open, or its step unresolved) gets Kx = Dv = 0."""
+    for i in range(3):
+        for j in range(3):
+            Kx[i, j] = 0.0
+            Dv[i, j] = 0.0
+    if not state[0] > 0.5:
+        return
     y, vl = (state[1], state[2], state[3]), (state[4], state[5], state[6])
     xi1, xi2, xi3, xn1, xn2, tn1, tn2 = state[7], state[8], state[9], state[10], state[11], state[12], state[13]
     active = state[14] > 0.5
@@ -345,13 +352,8 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (OPEN,
     STICK, SLIP, UNRESOLVED: kernel.history) and the normal gap xi3. contact_force, then
     point_tangent: what the set kernels do, in two loops over their points (point_states)."""
-    if tangent:
-        for i in range(3):
-            for j in range(3):
-                Kx[i, j] = 0.0
-                Dv[i, j] = 0.0
     status, xi3, state = contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, W[0, 0:2, :])
-    if tangent and state[0] > 0.5:
+    if tangent:
         point_tangent(sp, netB, netF, law, state, Kx, Dv, W)
     return status, xi3
 
@@ -480,13 +482,7 @@ def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
             if tangent:
                 for k in range(first, first + count):
                     state = _get_state(Y, k)
-                    Kx, Dv = Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
-                    for i in range(3):
-                        for j in range(3):
-                            Kx[i, j] = 0.0
-                            Dv[i, j] = 0.0
-                    if state[0] > 0.5:
-                        point_tangent(sp, netB, netF, lp, state, Kx, Dv, W)
+                    point_tangent(sp, netB, netF, lp, state, Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3], W)
             return ncontact, unresolved
         return impl
     return None
