@@ -84,6 +84,7 @@ def test_native_and_python_callbacks_give_the_same_numbers(callbacks, build):
     cs = _sets(res[True][1])[0]
     n_native, n_delegated = cs.native_calls()
     assert n_delegated == 1 and n_native > 0          # the initial accelerations in Python, every Newton call native
+    assert cs.native_jacobians()[0] > 0 and cs.native_jacobians()[1] == 0        # every Jacobian native
     committed_natively, in_python = glue.post_newton_calls(res[True][1]["mbs"])
     assert committed_natively > 0 and in_python <= committed_natively // 10   # the commit too (Python: unresolved steps)
     assert res[True][1]["mbs"].GetPostNewtonUserFunction()["function"] is glue._native.post_newton
@@ -156,6 +157,27 @@ def test_a_restart_and_a_continuation_equal_fresh_runs(callbacks):
     for name, data in _sensors(fresh).items():
         assert np.array_equal(data, _sensors(again)[name]), name
     assert _sets(again)[0].native_calls()[1] == 2
+
+
+def test_a_call_more_than_two_steps_after_the_armed_step_goes_to_python():
+    """As after a solve interrupted by an exception (no disarm), a new solve that starts later: the
+    armed set takes a call within two nominal steps of its start of step natively, and one beyond
+    goes to Python (which checks the views and arms again); so does the Jacobian."""
+    model = BuildBlock(BlockParams(model="full", points="corners", t_end=0.02))
+    mbs = model["mbs"]
+    SolveTimed(mbs, model["simulationSettings"], model["solverType"])
+    cs = _sets(model)[0]
+    dt = 0.02 / model["simulationSettings"].timeIntegration.numberOfSteps
+    q, q_t = list(cs._q), list(cs._q_t)
+    assert cs._native.clock[glue._native.CLOCK_STEP] == pytest.approx(2 * dt)
+    for later, native in ((1.5, True), (2.5, False)):
+        cs._native.clock[:2] = (0.02, 1.0)                 # armed at the last step's end, as if not disarmed
+        calls, jacobians = cs.native_calls(), cs.native_jacobians()
+        glue._native.call_force(mbs, cs.oContact, 0.02 + later * dt, q, q_t, 1)
+        glue._native.call_jacobian(mbs, cs.oContact, 0.02 + later * dt, q, q_t, 1.0, 0.0)
+        went = 0 if native else 1
+        assert cs.native_calls()[went] == calls[went] + 1
+        assert cs.native_jacobians()[went] == jacobians[went] + 1
 
 
 def _cube_on_plane(mbs, x0, native):

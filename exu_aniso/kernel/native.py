@@ -271,9 +271,11 @@ class NativeBlock:
     """What the native callbacks of one set need: ``args``, the address of its compiled entry and
     the entry's arguments, ``(address, (H,) + tail)`` (StoredArguments), for ``kernel`` (its cfunc's
     address, ``set_cfunc``);
-    ``stage``, the stage kernel's arguments (STAGE_TYPE); ``clock`` (3,): the start time of the
-    step [s], the armed flag (1: the native callers may evaluate) and the end time of the solve [s]
-    (read and written by the native callers and the Exudyn glue). ``store(H, stage)`` stores both
+    ``stage``, the stage kernel's arguments (STAGE_TYPE); ``clock`` (4,): the start time of the
+    step [s], the armed flag (1: the native callers may evaluate), the end time of the solve [s] and
+    the longest step the native callers take [s] (a call farther from the start of the step goes to
+    Python: a new solve that starts later) (read and written by the native callers and the Exudyn
+    glue). ``store(H, stage)`` stores both
     again with another history view H and stage arguments."""
 
     def __init__(self, entry, H, tail, stage):
@@ -286,7 +288,7 @@ class NativeBlock:
                             f"{STAGE_TYPE}")
         self.cfunc = set_cfunc(entry, self.args.type)
         self.kernel = int(self.cfunc.address)
-        self.clock = np.array([0.0, 0.0, math.inf])
+        self.clock = np.array([0.0, 0.0, math.inf, math.inf])
 
     @property
     def H(self):

@@ -75,15 +75,17 @@ from exu_aniso.scenes.block import BlockParams
 from exu_aniso.scenes.screw import ScrewParams
 
 
-def _cartesian_springs(mbs, bodyNumber, localPoints, anchors, stiffness):
-    """One C++ Cartesian spring-damper per point between the body point and its ground anchor."""
+def _cartesian_springs(mbs, bodyNumber, localPoints, anchors, stiffness, damping=None):
+    """One C++ Cartesian spring-damper per point between the body point and its ground anchor;
+    stiffness [N/m] and damping [N s/m] (default none): per point, along x, y, z."""
+    damping = [[0.0] * 3] * len(stiffness) if damping is None else damping
     oGround = mbs.AddObject(ObjectGround())
     springs = []
-    for b, g, k in zip(localPoints, anchors, stiffness):
+    for b, g, k, d in zip(localPoints, anchors, stiffness, damping):
         mBody = mbs.AddMarker(MarkerBodyPosition(bodyNumber=bodyNumber, localPosition=list(map(float, b))))
         mGround = mbs.AddMarker(MarkerBodyPosition(bodyNumber=oGround, localPosition=list(map(float, g))))
         springs.append(mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mGround, mBody],
-                                                                          stiffness=list(k), damping=[0.0] * 3)))
+                                                                          stiffness=list(k), damping=list(d))))
     return dict(springs=springs, points=np.asarray(localPoints))
 
 

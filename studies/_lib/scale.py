@@ -2,6 +2,16 @@
 law with the exact map), pushed by constant C++ forces that differ from cube to cube, so every cube
 slides its own way.
 
+The contact has normal damping, CUBE_NORMAL_DAMPING, 10% of critical for a cube's vertical mode on
+its normal stiffness (2 * 0.1 * sqrt(eps_n * m), eps_n = 1e6 N/m and m = 1 kg: 200 N s/m over the 4
+corners), and the C++ springs the same along z. Without it (``damped=False``) the push and the
+friction torque set the cube rocking at about 195 Hz (sqrt(eps_n size^2 / 4 / I), I = m size^2 / 6)
+and nothing but generalized-alpha's numerical damping stops it: the trailing corners lift off and
+land again for the whole run (8 cubes, 0.5 s: a point changes between open, stick and slip at 64% of
+the steps, 1.2 changes per step in the second half; damped: none in the second half), and the
+benchmark then times that chatter (4.7 Newton iterations per step instead of 3.6) rather than the
+cost of many bodies.
+
 Contact variants (``BuildCubes``):
 * ``sets``: one contact set per cube (M Exudyn objects, M force callbacks per residual);
 * ``group``: one group over all cubes (``bodyNumber`` a list: one object, one compiled call);
@@ -42,21 +52,26 @@ BODIES_QUICK = (2, 8)
 PER_ROW = 8                                        # cubes per row on the plane
 
 
-def cube_params(points="corners"):
-    return BlockParams(model="full", points=points, return_map="exact")
+CUBE_NORMAL_DAMPING = 200.0                        # N s/m per cube, over its points (module doc)
 
 
-def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False, floor=None):
+def cube_params(points="corners", damped=True):
+    return BlockParams(model="full", points=points, return_map="exact",
+                       normal_damping=CUBE_NORMAL_DAMPING if damped else 0.0)
+
+
+def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False, floor=None, damped=True):
     """M cubes (module doc) with the given contact variant; returns dict(mbs, simulationSettings,
     solverType, contacts). floor (contact "springs" only): None, or "sets" / "group" to add the
     Exudyn items of one contact set per cube / of one group with user functions that do nothing
-    (``targets.empty_contact``: the speed targets' floor, the springs carrying the cubes)."""
+    (``targets.empty_contact``: the speed targets' floor, the springs carrying the cubes); damped:
+    the contact's (and the springs') normal damping CUBE_NORMAL_DAMPING, or none."""
     if contact not in CONTACTS:
         raise ValueError(f"contact must be one of {CONTACTS}; got {contact!r}")
     if floor not in (None, "sets", "group") or (floor is not None and contact != "springs"):
         raise ValueError(f"floor must be None, or 'sets' / 'group' with contact 'springs'; got {floor!r} "
                          f"with {contact!r}")
-    p = cube_params(points).with_overrides(t_end=t_end, dt=dt)
+    p = cube_params(points, damped).with_overrides(t_end=t_end, dt=dt)
     law = block_contact_law(p)
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
@@ -78,7 +93,8 @@ def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False, floo
         elif contact == "springs":
             anchors = local + np.array([x0, y0, 0.0])
             anchors[:, 2] = 0.0
-            _cartesian_springs(mbs, o, local, anchors, [[p.eps_1 / K, p.eps_1 / K, p.eps_n / K]] * K)
+            _cartesian_springs(mbs, o, local, anchors, [[p.eps_1 / K, p.eps_1 / K, p.eps_n / K]] * K,
+                               [[0.0, 0.0, p.normal_damping / K]] * K)
             if floor == "sets":
                 empty_contact(mbs, [mbs.GetObject(o)["nodeNumber"]], K, storeHistory)
     if contact == "group":

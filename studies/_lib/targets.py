@@ -16,7 +16,9 @@ The targets (``TARGETS``: label, ours, yardstick, target; the ratio is ours / ya
 * the full block on an 8 x 8 grid against a cube on 64 springs: 0.6x or less;
 * 64 cubes on the plane, one contact set each, and the same 64 cubes as one group (one
   ``CreateAnisotropicContact`` with the list of bodies; ``scale.BuildCubes``: 4 corners each, exact
-  map, sliding under different forces) against 64 C++ cubes: 3x or less; and the cost per body flat
+  map, sliding under different forces, normal damping 10% of critical) against 64 C++ cubes with
+  the same damping: 3x or less; beside them, the group without the damping against undamped C++
+  cubes (its corners chatter: ``scale``'s module doc); and the cost per body flat
   in the number of bodies: per-body cost at 64 cubes over that at 8 cubes (the same contact
   variant), 1.2x or less;
 * the reduced screw (default ``ScrewParams``: 3 x 8 points, one evaluated by symmetry, rotation
@@ -205,10 +207,10 @@ def _screw(t_end, dt):
     return BuildScrew(ScrewParams(t_end=t_end, dt=dt))
 
 
-def _cubes(M, contact):
+def _cubes(M, contact, damped=True):
     def build(t_end, dt):
         from .scale import BuildCubes
-        return BuildCubes(M, contact, t_end, dt)
+        return BuildCubes(M, contact, t_end, dt, damped=damped)
     return build
 
 
@@ -336,8 +338,9 @@ def cube_run(K):
     return Run(f"cube, {K} C++ springs", lambda t_end, dt: BuildCube(K, t_end, dt))
 
 
-def cubes_run(M):
-    return Run(f"{M} cubes, 4 C++ springs each", _cubes(M, "springs"), bodies=M)
+def cubes_run(M, damped=True):
+    return Run(f"{M} cubes, 4 C++ springs each" + ("" if damped else ", undamped"), _cubes(M, "springs", damped),
+               bodies=M)
 
 
 def floor_run(K, storeHistory, points, plate=False):
@@ -371,6 +374,7 @@ SETS = {M: Run(f"{M} cubes, one contact set each", _cubes(M, "sets"), bodies=M,
 GROUP = {M: Run(f"{M} cubes, one group", _cubes(M, "group"), bodies=M,
                 floor=cubes_floor_run(M, "group") if M == 64 else None, cube=CUBES64 if M == 64 else None)
          for M in (8, 64)}
+GROUP64_UNDAMPED = Run("64 cubes, one group, undamped", _cubes(64, "group", damped=False), bodies=64)
 SCREW = Run("reduced screw (default ScrewParams)", _screw, floor=floor_run(24, True, 1), cube=CUBE24)
 MOVING = Run("moving master (full block, 4 corners, on a free plate)", _block("corners", moving=True),
              floor=floor_run(4, True, 4, plate=True), cube=CUBE4)
@@ -387,6 +391,7 @@ TARGETS = [
     Target("full block, 8 x 8 grid", GRID8, CUBE64, 0.6),
     Target("64 cubes, one contact set each", SETS[64], CUBES64, 3.0),
     Target("64 cubes, one group", GROUP[64], CUBES64, 3.0),
+    Target("64 cubes, one group, undamped (the corners chatter)", GROUP64_UNDAMPED, cubes_run(64, damped=False), 3.0),
     Target("one contact set each: per body, 64 / 8 cubes", SETS[64], PerBody(SETS[8]), 1.2),
     Target("one group: per body, 64 / 8 cubes", GROUP[64], PerBody(GROUP[8]), 1.2),
     Target("reduced screw (default ScrewParams)", SCREW, CUBE24, 1.2),
@@ -443,7 +448,10 @@ class CallBench:
             if not isinstance(cs, exudyn_glue._CompiledSet) or getattr(cs, "_force_args", None) is None:
                 raise RuntimeError(f"CallBench: the block's contact set on {points!r} is not a compiled set "
                                    "with packed force arguments (exudyn_glue._CompiledSet._force_args)")
-            q, q_t, t = list(cs._q), list(cs._q_t), cs._t          # the state of the last residual
+            # the state of the last residual: the solve's end (Exudyn's Current coordinates); the native
+            # callbacks leave the set's Python clock (cs._t) at the solve's first call
+            ti = model["simulationSettings"].timeIntegration
+            q, q_t, t = list(cs._q), list(cs._q_t), float(ti.endTime)
 
             def callback(cs=cs, mbs=mbs, t=t, q=q, q_t=q_t):
                 cs.force_in_place(mbs, t, 0, q, q_t)                # the function Exudyn calls
@@ -460,11 +468,14 @@ class CallBench:
                 clock[:] = saved
 
             native = native_call if cs._native is not None else None
-            if native is not None:
-                native(1)
-            assert cs._force_args[0] == 0
-            callback()
+            callback()                                              # loads the history of the step at t
             entry()
+            assert cs._force_args[0] == 0 and cs._t == t
+            if native is not None:
+                before = cs.native_calls()
+                native(1)
+                if cs.native_calls()[0] != before[0] + 1:
+                    raise RuntimeError(f"CallBench: the native force call on {points!r} went to Python")
             self.items.append(dict(points=points, K=cs.K, in_contact=int(np.sum(cs.pk.Hn[:, 7] > 0)),
                                    callback=callback, entry=entry, native=native, model=model))
 

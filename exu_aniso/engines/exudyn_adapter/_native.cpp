@@ -10,6 +10,13 @@
 // (the system's address, itemNumber) and calls its kernel: a numba cfunc
 // (exu_aniso.kernel.native) over the set's compiled arguments, stored once in memory.
 //
+// The same for the Jacobian (``jacobian``, Exudyn's type
+//     py::object(const MainSystem&, double t, int itemNumber, std::vector<double> q,
+//                std::vector<double> q_t, double fODE2, double fODE2_t)):
+// the kernel writes the set's Jacobian (times fODE2 and fODE2_t) into its own array, which is
+// returned as the same Python object every time (a numpy array, or a scipy CSR matrix over the
+// blocks' memory for a group); Exudyn copies it.
+//
 // The same for the system's post-Newton function (``post_newton``, Exudyn's type
 //     std::array<double, 2>(const MainSystem&, double t)):
 // when every contact set of the system is native and armed, it commits each set's history
@@ -55,8 +62,9 @@ using Stage = int64_t (*)(int64_t);
 static Stage stage_kernel = nullptr;
 
 // clock (a float64 array of the set, CLOCK_* entries): start time of the step [s], armed flag,
-// end time of the solve [s]
-static const int CLOCK_START = 0, CLOCK_ARMED = 1, CLOCK_END = 2;
+// end time of the solve [s], the longest step taken natively [s] (a call farther from the start of the
+// step belongs to a new solve that starts later: Python checks it)
+static const int CLOCK_START = 0, CLOCK_ARMED = 1, CLOCK_END = 2, CLOCK_STEP = 3;
 
 struct Entry {
     Kernel kernel = nullptr;
@@ -65,9 +73,13 @@ struct Entry {
     const double* Q = nullptr;       // the generalized force the kernel writes (n,)
     int64_t n = 0;                   // the contact object's coordinates
     double* clock = nullptr;
-    py::object delegate;             // Python: delegate(t, q, q_t) evaluates into Q
+    py::object delegate;             // Python: delegate(t, q, q_t) evaluates into Q; delegate.jacobian(t, q,
+                                     // q_t, fODE2, fODE2_t) returns the Jacobian
+    py::object J;                    // the Jacobian the kernel writes (its Python object)
     long native_calls = 0;
     long delegated_calls = 0;
+    long native_jacobians = 0;
+    long delegated_jacobians = 0;
 };
 
 using Key = std::pair<uintptr_t, int>;
@@ -83,28 +95,54 @@ struct System {
 // address registers, and used only by a system whose post-Newton function is post_newton)
 static std::map<uintptr_t, System>& systems = *new std::map<uintptr_t, System>();
 
-static StdVector force(const MainSystem& mbs, double t, int itemNumber, StdVector q, StdVector q_t) {
+// the set registered for (mbs, itemNumber), its coordinates checked against q, q_t; what: the caller's name
+static Entry& lookup(const MainSystem& mbs, int itemNumber, const StdVector& q, const StdVector& q_t,
+                     const char* what) {
     auto it = registry.find(Key(reinterpret_cast<uintptr_t>(&mbs), itemNumber));
     if (it == registry.end()) {
-        throw std::runtime_error("exu_aniso native force: contact object " + std::to_string(itemNumber) +
-                                 " of this system has no registered contact set (CreateAnisotropicContact "
-                                 "registers it)");
+        throw std::runtime_error(std::string("exu_aniso native ") + what + ": contact object " +
+                                 std::to_string(itemNumber) + " of this system has no registered contact set "
+                                 "(CreateAnisotropicContact registers it)");
     }
     Entry& e = it->second;
     if (static_cast<int64_t>(q.size()) != e.n || static_cast<int64_t>(q_t.size()) != e.n) {
-        throw std::runtime_error("exu_aniso native force: contact object " + std::to_string(itemNumber) + " got " +
-                                 std::to_string(q.size()) + " coordinates, registered with " + std::to_string(e.n));
+        throw std::runtime_error(std::string("exu_aniso native ") + what + ": contact object " +
+                                 std::to_string(itemNumber) + " got " + std::to_string(q.size()) +
+                                 " coordinates, registered with " + std::to_string(e.n));
     }
-    bool done = false;
-    if (e.clock[CLOCK_ARMED] != 0.0 && t > e.clock[CLOCK_START]) {
-        done = e.kernel(e.block, 0, t - e.clock[CLOCK_START], q.data(), q_t.data(), e.n, 0.0, 0.0) != KERNEL_ERROR;
-        e.native_calls += done;
-    }
-    if (!done) {
+    return e;
+}
+
+// the kernel in mode (0: force into Q, 1: Jacobian into J) if the set is armed and t is inside its step;
+// false if the call must go to Python
+static bool call_kernel(Entry& e, int64_t mode, double t, const StdVector& q, const StdVector& q_t, double fODE2,
+                        double fODE2_t) {
+    if (e.clock[CLOCK_ARMED] == 0.0 || !(t > e.clock[CLOCK_START]) || t - e.clock[CLOCK_START] > e.clock[CLOCK_STEP])
+        return false;
+    return e.kernel(e.block, mode, t - e.clock[CLOCK_START], q.data(), q_t.data(), e.n, fODE2, fODE2_t) !=
+           KERNEL_ERROR;
+}
+
+static StdVector force(const MainSystem& mbs, double t, int itemNumber, StdVector q, StdVector q_t) {
+    Entry& e = lookup(mbs, itemNumber, q, q_t, "force");
+    if (call_kernel(e, 0, t, q, q_t, 0.0, 0.0)) {
+        e.native_calls++;
+    } else {
         e.delegated_calls++;
         e.delegate(t, q, q_t);       // raises (pybind11 passes the Python error on to Exudyn)
     }
     return StdVector(e.Q, e.Q + e.n);
+}
+
+static py::object jacobian(const MainSystem& mbs, double t, int itemNumber, StdVector q, StdVector q_t,
+                           double fODE2, double fODE2_t) {
+    Entry& e = lookup(mbs, itemNumber, q, q_t, "jacobian");
+    if (call_kernel(e, 1, t, q, q_t, fODE2, fODE2_t)) {
+        e.native_jacobians++;
+        return e.J;
+    }
+    e.delegated_jacobians++;
+    return e.delegate.attr("jacobian")(t, q, q_t, fODE2, fODE2_t);
 }
 
 static std::array<double, 2> post_newton(const MainSystem& mbs, double t) {
@@ -153,7 +191,9 @@ PYBIND11_MODULE(_native, m) {
     m.attr("CLOCK_START") = CLOCK_START;
     m.attr("CLOCK_ARMED") = CLOCK_ARMED;
     m.attr("CLOCK_END") = CLOCK_END;
+    m.attr("CLOCK_STEP") = CLOCK_STEP;
     m.def("force", &force, "the forceUserFunction to give Exudyn's ObjectGenericODE2");
+    m.def("jacobian", &jacobian, "the jacobianUserFunction to give Exudyn's ObjectGenericODE2");
     m.def("post_newton", &post_newton, "the post-Newton function to give mbs.SetPostNewtonUserFunction");
     m.def("set_stage_kernel", [](uintptr_t kernel) { stage_kernel = reinterpret_cast<Stage>(kernel); },
           "the stage kernel's address (exu_aniso.kernel.native.stage_kernel)");
@@ -180,9 +220,16 @@ PYBIND11_MODULE(_native, m) {
               return Q;
           },
           "call the native force of (mbs, item) calls times as Exudyn calls it (benchmarks); returns the last Q");
+    m.def("call_jacobian",
+          [](py::handle mbs, int item, double t, const StdVector& q, const StdVector& q_t, double fODE2,
+             double fODE2_t) {
+              const auto* system = reinterpret_cast<const MainSystem*>(instance_address(mbs));
+              return jacobian(*system, t, item, q, q_t, fODE2, fODE2_t);
+          },
+          "call the native Jacobian of (mbs, item) once as Exudyn calls it (tests); returns what it returns");
     m.def("register_set",
           [](py::handle mbs, int item, uintptr_t kernel, int64_t block, int64_t stage, uintptr_t Q, int64_t n,
-             uintptr_t clock, py::object delegate) {
+             uintptr_t clock, py::object delegate, py::object J) {
               Entry e;
               e.kernel = reinterpret_cast<Kernel>(kernel);
               e.block = block;
@@ -191,6 +238,7 @@ PYBIND11_MODULE(_native, m) {
               e.n = n;
               e.clock = reinterpret_cast<double*>(clock);
               e.delegate = std::move(delegate);
+              e.J = std::move(J);
               registry[Key(instance_address(mbs), item)] = std::move(e);
           },
           "register a contact set's kernel for (mbs, itemNumber), replacing an earlier one");
@@ -207,5 +255,12 @@ PYBIND11_MODULE(_native, m) {
               return py::make_tuple(it->second.native_calls, it->second.delegated_calls);
           },
           "(native, delegated) force calls of the set registered for (system address, itemNumber)");
+    m.def("jacobian_calls",
+          [](uintptr_t system, int item) {
+              auto it = registry.find(Key(system, item));
+              if (it == registry.end()) return py::make_tuple(0, 0);
+              return py::make_tuple(it->second.native_jacobians, it->second.delegated_jacobians);
+          },
+          "(native, delegated) Jacobian calls of the set registered for (system address, itemNumber)");
     m.def("registered", []() { return registry.size(); }, "number of registered sets");
 }

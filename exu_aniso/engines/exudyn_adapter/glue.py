@@ -721,17 +721,23 @@ class _CompiledSet(_ContactSet):
         _native.register_set(mbs, self.oContact, self._native.kernel, self._native.args.address,
                              self._native.stage.address, self.pk.Q.ctypes.data, self.pk.X.shape[1],
                              self._native.clock.ctypes.data,
-                             _Delegate(self, mbs))
+                             _Delegate(self, mbs), self.pk.J)
         return _native.force
 
     def native_delegate(self, mbs, t):
         """The native callback's call in Python (its first call of every solve, a call at or before
         the start of the step, a call the kernel raised in): checks the views (_load_history, which
-        arms the native caller), reads the solve's end time and evaluates the force into Q."""
+        arms the native caller), reads the solve's end time and step (the native callers take steps up to
+        twice the nominal one: a later call is a new solve, which Python checks) and evaluates the force
+        into Q."""
         self.force_calls += 1
         self._load_history(mbs, t)
         ss = mbs.sys.get("simulationSettings")
-        self._native.clock[2] = float(ss.timeIntegration.endTime) if ss is not None else math.inf
+        ti = ss.timeIntegration if ss is not None else None
+        clock = self._native.clock
+        clock[2] = float(ti.endTime) if ti is not None else math.inf
+        clock[3] = (2.0 * (ti.endTime - ti.startTime) / max(int(ti.numberOfSteps), 1) if ti is not None
+                    else math.inf)
         if self._gathered:
             self._gather(*self._gather_args)
         self._entry(*self._force_args)
@@ -756,6 +762,12 @@ class _CompiledSet(_ContactSet):
         if self._native is None:
             return 0, 0
         return _native.calls(self._mbs_address, self.oContact)
+
+    def native_jacobians(self):
+        """(native, delegated) Jacobian calls of this set so far."""
+        if self._native is None:
+            return 0, 0
+        return _native.jacobian_calls(self._mbs_address, self.oContact)
 
     def __del__(self):
         if self._native is not None and _native is not None:
@@ -991,6 +1003,10 @@ class _Delegate:
     def __call__(self, t, q, q_t):
         _alive(self.cs, "a contact set").native_delegate(_alive(self.mbs, "the exudyn.MainSystem of a contact set"), t)
 
+    def jacobian(self, t, q, q_t, fODE2, fODE2_t):
+        return _alive(self.cs, "a contact set").jacobian_in_place(
+            _alive(self.mbs, "the exudyn.MainSystem of a contact set"), t, None, q, q_t, fODE2, fODE2_t)
+
 
 def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
                              normalStiffness=None, normalDamping=None, returnMap="exact", contactLaw=None,
@@ -1140,6 +1156,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     cs.locate(mbs, oContact)
     if use_native:
         mbs.SetObjectParameter(oContact, "forceUserFunction", cs.use_native(mbs))
+        if "jacobianUserFunction" in kw:
+            mbs.SetObjectParameter(oContact, "jacobianUserFunction", _native.jacobian)
     first = _SETS_KEY not in mbs.variables
     sets = mbs.variables.setdefault(_SETS_KEY, [])
     sets.append(cs)
