@@ -8,7 +8,8 @@ corners), and the C++ springs the same along z. Without it (``damped=False``) th
 friction torque set the cube rocking at about 195 Hz (sqrt(eps_n size^2 / 4 / I), I = m size^2 / 6)
 and nothing but generalized-alpha's numerical damping stops it: the trailing corners lift off and
 land again for the whole run (8 cubes, 0.5 s: a point changes between open, stick and slip at 64% of
-the steps, 1.2 changes per step in the second half; damped: none in the second half), and the
+the steps, 1.2 changes per step in the second half; damped: none opens, and none changes after t =
+0.006 s, the start from stick into slip), and the
 benchmark then times that chatter (4.7 Newton iterations per step instead of 3.6) rather than the
 cost of many bodies.
 
@@ -134,7 +135,8 @@ def count_callbacks(M, contact, t_end, dt):
     """(force callbacks, Jacobian callbacks, Newton iterations, steps) of one untimed run: the force
     calls as the glue counts them (``contact_force_calls``: Python and native calls), the Jacobian
     user functions the contact classes give Exudyn (numpy route: jacobian; compiled:
-    jacobian_in_place) wrapped with counters while the model is built."""
+    jacobian_in_place) wrapped with counters while the model is built, plus the native ones
+    (``native_jacobians``: Exudyn calls the kernel without Python)."""
     from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
     counts = [0]
     names = {exudyn_glue._ContactSet: "jacobian", exudyn_glue._CompiledSet: "jacobian_in_place"}
@@ -153,7 +155,9 @@ def count_callbacks(M, contact, t_end, dt):
     finally:
         for cls, f in saved.items():
             setattr(cls, names[cls], f)
-    return exudyn_glue.contact_force_calls(model["mbs"]), counts[0], iters, steps
+    native = sum(cs.native_jacobians()[0] for cs in model["mbs"].variables.get(exudyn_glue._SETS_KEY, ())
+                 if isinstance(cs, exudyn_glue._CompiledSet))
+    return exudyn_glue.contact_force_calls(model["mbs"]), counts[0] + native, iters, steps
 
 
 def scale_rows(quick=False, repeats=5):
@@ -265,5 +269,25 @@ def _memory_main(M, points, steps, store):
     print(json.dumps(dict(built_mb=built, peak_mb=rss_mb())))
 
 
+def chatter(M=8, t_end=0.5, dt=1e-3, damped=True):
+    """How the M cubes' contact points change state (module doc): dict of the steps at which some
+    point changed between open, stick and slip, the time of the last such step [s], the steps with
+    an open point, and the changes per step over the run and over its second half. One group, the
+    history sensor on. ``python -m _lib.scale --chatter`` (in studies/) prints it damped and undamped."""
+    from exu_aniso.law.history import H_STATUS, N_HISTORY, OPEN
+    model = BuildCubes(M, "group", t_end, dt, storeHistory=True, damped=damped)
+    _solve(model)
+    H = model["mbs"].GetSensorStoredData(model["contacts"][0]["sHistory"])
+    status = H[:, 1:].reshape(H.shape[0], -1, N_HISTORY)[:, :, H_STATUS]
+    changes = (status[1:] != status[:-1]).sum(axis=1)
+    at = np.nonzero(changes)[0]
+    return dict(steps_with_a_change=int(at.size), last_change_s=float(H[at[-1] + 1, 0]) if at.size else None,
+                steps_with_an_open_point=int((status == OPEN).any(axis=1).sum()),
+                changes_per_step=float(changes.mean()), second_half=float(changes[changes.size // 2:].mean()))
+
+
 if __name__ == "__main__" and len(sys.argv) == 6 and sys.argv[1] == "--memory":
     _memory_main(*sys.argv[2:])
+elif __name__ == "__main__" and sys.argv[1:] == ["--chatter"]:
+    for damped in (False, True):
+        print("damped" if damped else "undamped", chatter(damped=damped))
