@@ -23,11 +23,12 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import csv
 import io
 import os
 import sys
 import tempfile
+
+import numpy as np
 
 from exu_aniso.engines.failure import SimulationFailure
 from exu_aniso.util.output import atomic_write as _atomic_write
@@ -94,12 +95,11 @@ def view_solution(scene, params, solution_file):
 
 def write_csv(path, scene, traj):
     cols = [k for k in COLUMNS[scene] if k in traj]
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(cols)
-    for i in range(len(traj["t"])):
-        w.writerow([repr(float(traj[k][i])) for k in cols])
-    _atomic_write(path, lambda f: f.write(buf.getvalue().encode()))
+    # the rows as Python floats in one conversion (tolist), each written as repr: the shortest text
+    # that reads back to the same double
+    rows = np.column_stack([np.asarray(traj[k], dtype=float) for k in cols]).tolist() if cols else []
+    text = ",".join(cols) + "\n" + "".join(",".join(map(repr, row)) + "\n" for row in rows)
+    _atomic_write(path, lambda f: f.write(text.encode()))
 
 
 def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None):

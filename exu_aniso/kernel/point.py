@@ -504,7 +504,7 @@ def _get_state(Y, k):
     return (a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], e[0], e[1], e[2])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _remember(mode, q, q_t, X):
     """Mode 0 (a residual) keeps its state in X (2, n): the candidate in P[2] belongs to it."""
     if mode == 0:

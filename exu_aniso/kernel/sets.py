@@ -172,7 +172,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     return -1 if unresolved else ncontact
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def evaluate_group(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, Jb, Hn, S, Y):
     """One contact set on nb rigid nodes of one kind (a group: the same body-local points b (Kb, 3)
     on every body, one compiled call for all). q, q_t, ref: the nodes' coordinates one after the
@@ -205,7 +205,7 @@ def _nonzero(M):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y):
     """A contact set on a linear slave: point k at x_k = c_k + S_k q_total[idx_k], velocity
     v_k = S_k q_t[idx_k], with constant S_k (3, m) over the m set coordinates idx_k (K, m) (a mass
@@ -304,7 +304,7 @@ def stage_gathered(X, q, q_t, idx, qb, q_tb, Hn, data, ltg, ltg_total):
 PAIR_SLOTS = 8   # pair scratch T (PAIR_SLOTS, w, w), w = max(9, coordinates of one point's columns)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _master_frame(mkind, qm, qm_t, refm, tangent, qtm, A, G, dA, Gt, wl, w):
     """The master's node (a 3D kind: RotationVector() or EulerParameters()): total coordinates qtm,
     A, G, local and global angular velocity wl = G q_t_rot, w = A wl; with tangent dA[c, 3 i + j] =
@@ -382,7 +382,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     return -1 if unresolved else ncontact
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn, S, T, cols, Y):
     """One contact set between a slave and a moving master: the surface carried by a 3D rigid node
     (mkind: RotationVector() or EulerParameters(), exu_aniso.kernel.nodes). Coordinates q, q_t, ref

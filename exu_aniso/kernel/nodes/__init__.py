@@ -174,11 +174,16 @@ def slave_point(kind, k, b, idx, Sm, c, ref, q, q_t, qt, qs_t, A, G, dA, tangent
     raise NotImplementedError("resolved at compile time by the node kind")
 
 
-# inline="always" (numba IR) where a function runs per point or hands back an array: a call passes
-# its arrays with reference counting (the 64 cubes' group Jacobian, sticking: 925 ns per point
-# inlined, 1281 as calls); the functions called once per set are calls (every inlined call site is
-# typed again: the block's first run took 23 s CPU with all of them inlined, 18 s with none)
-@overload(node_frame)
+# inline="always" (numba IR) where a function runs per point or hands back an array, and on a force
+# call's path (the frame, the points, the generalized force): a call between numba functions is an
+# indirect call that passes every array exploded into its fields, with reference counts, about 30 ns
+# per call layer with ten arrays (the 64 cubes' group Jacobian, sticking: 925 ns per point inlined,
+# 1281 as calls; the compiled entry of a moving master's set on 4 points called in a numba loop:
+# 1.23 -> 0.50 us, the fixed plane's 0.51 -> 0.39 us, 2026-11-27; the block's first run with an empty
+# cache unchanged, 28 s CPU). The
+# Jacobian's per-set functions stay calls: every inlined call site is typed again (the block's
+# first run took 23 s CPU with all of them inlined, 18 s with none).
+@overload(node_frame, inline="always")
 def _node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt):
     fn = _model(kind, name="frame")
     if fn is not None:
@@ -307,7 +312,7 @@ def _slave_point(kind, k, b, idx, Sm, c, ref, q, q_t, qt, qs_t, A, G, dA, tangen
 
 # --- a set's points at once: what the force paths call (one call per set, no call per point) -----
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v):
     """Positions X (K, 3), velocities V (K, 3) and planar lever arms L (K, 2) (0 for a 3D node) of
     the body-local points b (K, 3) of a rigid node at total coordinates qt (node_frame's A, G);
@@ -321,7 +326,7 @@ def points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v):
         L[k, 0], L[k, 1] = ax, ay
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def generalized_force(kind, A, G, nq, b, F, L, Q):
     """Q[:nq] = sum_k Jp_k^T F_k of a rigid node with global point forces F (K, 3) at b (K, 3)
     (lever arms L from points_xv), summed as force and moment without a Jacobian per point: a 3D
@@ -348,7 +353,7 @@ def slave_generalized_force(kind, A, G, nq, b, idx, Sm, F, L, Q):
     raise NotImplementedError("resolved at compile time by the node kind")
 
 
-@overload(slave_points_xv)
+@overload(slave_points_xv, inline="always")
 def _slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v):
     """points_xv of a rigid slave; a linear slave's points from (idx, S, c)."""
     if _is_linear(kind):
@@ -359,7 +364,7 @@ def _slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v):
                 points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v))
 
 
-@overload(slave_generalized_force)
+@overload(slave_generalized_force, inline="always")
 def _slave_generalized_force(kind, A, G, nq, b, idx, Sm, F, L, Q):
     """generalized_force of a rigid slave; a linear slave's Q[idx_k] += S_k^T F_k."""
     if _is_linear(kind):

@@ -16,7 +16,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def frame(q, q_t, ref, tangent, qt, A, G, dA, Gt):
     """Total coordinates qt = ref + q (a planar node has no rotation matrix)."""
     for i in range(q.shape[0]):

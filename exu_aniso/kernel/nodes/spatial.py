@@ -18,7 +18,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rotation_vector(qt, A, G):
     """A = I + sin(a)/a [t]x + (1 - cos(a))/a^2 [t]x^2 (t = qt[3:6], a = |t|) and G = I."""
     t0, t1, t2 = qt[3], qt[4], qt[5]
@@ -35,7 +35,7 @@ def _rotation_vector(qt, A, G):
             G[i, j] = 1.0 if i == j else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _euler_parameters(qt, A, G):
     """A(e) (quadratic in e = qt[3:7]) and G(e) = 2 [-e_v, e0 I - [e_v]x] (omega_local = G e_t)."""
     e0, e1, e2, e3 = qt[3], qt[4], qt[5], qt[6]
@@ -47,7 +47,7 @@ def _euler_parameters(qt, A, G):
     G[2, 0], G[2, 1], G[2, 2], G[2, 3] = -2 * e3, 2 * e2, -2 * e1, 2 * e0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _ep_derivatives(qt, q_t, dA, Gt):
     """Derivatives of the Euler-parameter kinematics at total coordinates qt (e = qt[3:7], not
     normalised): dA[m, 3 i + j] = dA_ij/de_m (A is quadratic in e) and Gt (3, 4) = G(de/dt). G is
@@ -66,14 +66,14 @@ def _ep_derivatives(qt, q_t, dA, Gt):
     Gt[2, 0], Gt[2, 1], Gt[2, 2], Gt[2, 3] = -2 * d3, 2 * d2, -2 * d1, 2 * d0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def frame_rv(q, q_t, ref, tangent, qt, A, G, dA, Gt):
     for i in range(q.shape[0]):
         qt[i] = ref[i] + q[i]
     _rotation_vector(qt, A, G)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def frame_ep(q, q_t, ref, tangent, qt, A, G, dA, Gt):
     """With tangent also dA/de and G(e_t) (_ep_derivatives)."""
     for i in range(q.shape[0]):
