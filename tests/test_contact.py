@@ -190,6 +190,24 @@ def test_contact_lost_and_regained_resets_the_history():
     assert np.allclose(back.force[0, :2], 0.0)
 
 
+def test_released_energy_is_the_adhesion_springs_energy_at_each_rows_anchor():
+    """The ledger's stored tangential energy of history rows (one compiled pass): T . C^-1 T / 2 with
+    C = -B of the net at each row's anchor (law.return_maps.elastic_energy on the net's components),
+    0 for a row not in contact; a curved surface and an orthotropic net whose axes turn along it."""
+    from exu_aniso.law.return_maps import elastic_energy
+    law = ContactLaw(Cylinder(0.5), Adhesion.orthotropic(3e3, 2e2, angle=0.4), Friction.isotropic(0.3), 1e4)
+    rng = np.random.default_rng(7)
+    H = np.zeros((40, 9))
+    H[:, 0:2] = rng.normal(size=(40, 2))                                   # traction
+    H[:, 2], H[:, 3] = rng.uniform(-3.0, 3.0, 40), rng.uniform(-1.0, 1.0, 40)   # anchor (angle, axial)
+    H[:, 4] = rng.uniform(size=40) > 0.3                                  # active
+    B = law.adhesion_components(H[:, 2:4])
+    expected = np.where(H[:, 4] > 0.5, elastic_energy((H[:, 0], H[:, 1]), (B[:, 0], B[:, 1], B[:, 2])), 0.0)
+    assert np.any(H[:, 4] == 0.0) and np.all(expected >= 0.0)
+    np.testing.assert_allclose(law.released_energy(H), expected, rtol=1e-13, atol=0.0)
+    np.testing.assert_allclose(law.released_energy(np.asfortranarray(H)), expected, rtol=1e-13, atol=0.0)
+
+
 @pytest.mark.parametrize("method", ["exact", "radial"])
 def test_accumulated_dissipation_nonnegative_on_a_random_walk(method):
     """The step's dissipation is the trapezoidal -(T_n + T)/2 . s (s the slip increment) =

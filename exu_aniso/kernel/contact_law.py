@@ -29,7 +29,7 @@ import numpy as np
 
 from exu_aniso import geometry as _geometry
 from exu_aniso.law.history import N_HISTORY, OPEN
-from exu_aniso.law.return_maps import check_return_map, elastic_energy_batch
+from exu_aniso.law.return_maps import check_return_map
 from exu_aniso.fields.nets import net_of
 from exu_aniso.util.validation import check_array, check_nonnegative, check_points, check_positive
 
@@ -142,11 +142,11 @@ class ContactLaw:
         """Tangential elastic energy T . C^-1 T / 2 [J] (K,) of history rows H (K, 9), C = -B at the
         stored anchor; zero for inactive rows. Losing contact resets T, so this energy leaves the
         adhesion spring: the law books it as dissipated."""
-        H = np.asarray(H, dtype=float)
-        E = np.zeros(H.shape[0])
-        act = H[:, 4] > 0.5
-        if np.any(act):
-            E[act] = elastic_energy_batch(H[act, 0:2], self.adhesion_components(H[act, 2:4]))
+        H = np.ascontiguousarray(H, dtype=float).reshape(-1, N_HISTORY)
+        from exu_aniso.kernel import point as kernel
+        batch = kernel.stored_energy_batch if self.compiled else kernel.plain_python().stored_energy_batch
+        E = np.empty(H.shape[0])
+        batch(self.surface.params, self._nets[0], H, E)
         return E
 
     def evaluate(self, x, v=None, history=None, tangent=True, dt=None):

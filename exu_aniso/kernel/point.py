@@ -179,14 +179,29 @@ def net_at_batch(sp, net, anchors, out):
 @njit(cache=True)
 def _release(sp, netB, h, hn):
     """Contact lost: T . C^-1 T / 2 at the anchor of an active row h is booked as dissipated."""
+    hn[H_DISSIPATED] += stored_energy(sp, netB, h)
+
+
+@njit(cache=True)
+def stored_energy(sp, netB, h):
+    """The adhesion spring's energy T . C^-1 T / 2 [J] of a history row h (9,), C = -B at its anchor;
+    0 for a row not in contact."""
     if not h[H_ACTIVE] > 0.5:
-        return
+        return 0.0
     r, r1, r2, _, _, _ = local_chart(sp, h[H_XI1], h[H_XI2])
     a1, a2, _ = tangent_frame(r1, r2)
     c11, c12, c22 = physical(netB, h[H_XI1], h[H_XI2], r, r1, r2, a1, a2)
     det = c11 * c22 - c12 * c12
     T1, T2 = h[H_T1], h[H_T2]
-    hn[H_DISSIPATED] += 0.5 * (c22 * T1 * T1 - 2.0 * c12 * T1 * T2 + c11 * T2 * T2) / det
+    return 0.5 * (c22 * T1 * T1 - 2.0 * c12 * T1 * T2 + c11 * T2 * T2) / det
+
+
+@njit(cache=True)
+def stored_energy_batch(sp, netB, H, out):
+    """stored_energy of every row of H (K, 9) into out (K,), in one call (the energy ledger: every
+    point of every sample)."""
+    for k in range(H.shape[0]):
+        out[k] = stored_energy(sp, netB, H[k])
 
 
 @njit(cache=True, inline="always")

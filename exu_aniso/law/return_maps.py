@@ -403,9 +403,3 @@ def elastic_energy(T, B):
     c11, c12, c22 = -B[0], -B[1], -B[2]
     det = c11 * c22 - c12 * c12
     return 0.5 * _quad(c22 / det, -c12 / det, c11 / det, T[0], T[1])
-
-
-def elastic_energy_batch(T, B):
-    """elastic_energy of K points: T (K, 2), B (K, 3) -> (K,) [J]."""
-    T, B = np.asarray(T, dtype=float), np.asarray(B, dtype=float)
-    return elastic_energy((T[:, 0], T[:, 1]), (B[:, 0], B[:, 1], B[:, 2]))
