@@ -245,3 +245,35 @@ def test_unknown_return_map_name():
     from exu_aniso import ContactLaw, Plane, Adhesion, Friction
     with pytest.raises(ValueError, match="return_map must be one of"):
         ContactLaw(Plane(), Adhesion.isotropic(1.0), Friction.isotropic(0.3), 1.0, return_map="closest")
+
+
+@pytest.mark.parametrize("method", RETURN_MAPS)
+def test_the_force_calls_sliding_map_is_return_map_to_the_last_bit(method):
+    """The force kernels' sliding point (return_maps.sliding_force: no derivatives, the trial norm
+    passed in, the radial traction inline) gives return_map's traction and slip increment bit for
+    bit, loaded and unloaded (|N| = 0), on random anisotropic B and F; their stick test without the
+    square root (sticks) answers as return_map's."""
+    from numba import njit
+
+    from exu_aniso.law.return_maps import MAPS, return_map, sliding_force, sticks, trial_norm, trial_slip
+
+    @njit
+    def both(m, t1, t2, N, B, F, dT):
+        s = trial_norm(t1, t2, F)
+        return sliding_force(m, t1, t2, N, B, F, s, dT), return_map(m, t1, t2, N, B, F, dT, False)[:5]
+
+    rng = np.random.default_rng(11)
+    dT = np.zeros((2, 9))
+    slid = 0
+    for k in range(200):
+        T_tr, N, B, F = random_case(rng, 100.0)
+        if k % 10 == 0:
+            N = 0.0
+        slides = trial_slip(T_tr[0], T_tr[1], N, F) > 0.0
+        assert sticks(T_tr[0], T_tr[1], N, F) == (not slides), k   # the force loops' test without the root
+        if not slides:
+            continue                                    # a sticking point does not reach the map
+        fast, full = both(MAPS[method], T_tr[0], T_tr[1], N, B, F, dT)
+        assert fast == full, (k, fast, full)
+        slid += 1
+    assert slid > 100

@@ -40,7 +40,7 @@ import warnings
 from collections import namedtuple
 
 import numpy as np
-from numba import njit, types
+from numba import njit
 from numba.extending import overload
 
 from exu_aniso.kernel.nodes import NODE_KINDS, LinearSlave, node_coordinates_of
@@ -51,7 +51,7 @@ from exu_aniso.geometry import _core
 from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
 from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
                                       H_XI2, N_HISTORY, OPEN, SLIP, STICK, UNRESOLVED)
-from exu_aniso.law.return_maps import MAPS, return_map, trial_slip
+from exu_aniso.law.return_maps import MAPS, return_map, run_time, sliding_force, sticks, trial_norm
 from exu_aniso.fields.nets import physical, physical_pair, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
@@ -60,19 +60,6 @@ LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
 # (round-off), ~1e-10 relative: Newton needs no more (a fourth-order stencil, ~1e-12, cost twice the
 # surface-term evaluations, the larger part of a Jacobian call)
 XI_STEP = 1e-5
-
-
-def run_time(flag):
-    """flag as a run-time bool: a literal True or False would compile every function it reaches
-    (the return maps) once more."""
-    return flag
-
-
-@overload(run_time)
-def _run_time(flag):
-    if isinstance(flag, types.Literal):
-        return (lambda flag: True) if flag.literal_value else (lambda flag: False)
-    return lambda flag: flag
 
 
 @njit(cache=True)
@@ -176,23 +163,46 @@ def net_at_batch(sp, net, anchors, out):
         out[k, 0], out[k, 1], out[k, 2] = c[0], c[1], c[2]
 
 
-@njit(cache=True)
-def _release(sp, netB, h, hn):
-    """Contact lost: T . C^-1 T / 2 at the anchor of an active row h is booked as dissipated."""
-    hn[H_DISSIPATED] += stored_energy(sp, netB, h)
+# A history row inside the kernel: a tuple of N_HISTORY numbers in the order of
+# law.history.HISTORY_FIELDS, read from and written to the (K, 9) arrays by name (row_at, put_row:
+# functions of their own, called). The force loop makes no array view of a point's rows and passes
+# no array to a function inlined at numba IR: either costs an atomic reference count up and down per
+# point, which numba's pruning does not remove across the law's branches (perf on the native force
+# call of the 256-point block: NRT_incref/decref 10.5% of the samples, 8 calls per point; 0.8% without).
+assert (H_T1, H_T2, H_XI1, H_XI2, H_ACTIVE, H_DISSIPATED, H_SLIP, H_STATUS, H_NORMAL) == tuple(range(N_HISTORY))
+
+
+@njit(cache=True, inline="always")
+def history_row(T1, T2, xi1, xi2, active, dissipated, slip, status, normal):
+    """A history row (tuple, HISTORY_FIELDS order) from its fields."""
+    return (T1, T2, xi1, xi2, active, dissipated, slip, status, normal)
 
 
 @njit(cache=True)
-def stored_energy(sp, netB, h):
-    """The adhesion spring's energy T . C^-1 T / 2 [J] of a history row h (9,), C = -B at its anchor;
-    0 for a row not in contact."""
-    if not h[H_ACTIVE] > 0.5:
+def row_at(H, k):
+    """Row k of a history array H (K, 9) as a tuple."""
+    return history_row(H[k, H_T1], H[k, H_T2], H[k, H_XI1], H[k, H_XI2], H[k, H_ACTIVE], H[k, H_DISSIPATED],
+                       H[k, H_SLIP], H[k, H_STATUS], H[k, H_NORMAL])
+
+
+@njit(cache=True)
+def put_row(H, k, h):
+    """Row k of a history array H (K, 9) = the tuple h."""
+    H[k, H_T1], H[k, H_T2], H[k, H_XI1], H[k, H_XI2] = h[H_T1], h[H_T2], h[H_XI1], h[H_XI2]
+    H[k, H_ACTIVE], H[k, H_DISSIPATED], H[k, H_SLIP] = h[H_ACTIVE], h[H_DISSIPATED], h[H_SLIP]
+    H[k, H_STATUS], H[k, H_NORMAL] = h[H_STATUS], h[H_NORMAL]
+
+
+@njit(cache=True)
+def stored_energy(sp, netB, active, xi1, xi2, T1, T2):
+    """The adhesion spring's energy T . C^-1 T / 2 [J] of a history row's traction (T1, T2) at its
+    anchor (xi1, xi2), C = -B there; 0 for a row not in contact (active 0)."""
+    if not active > 0.5:
         return 0.0
-    r, r1, r2, _, _, _ = local_chart(sp, h[H_XI1], h[H_XI2])
+    r, r1, r2, _, _, _ = local_chart(sp, xi1, xi2)
     a1, a2, _ = tangent_frame(r1, r2)
-    c11, c12, c22 = physical(netB, h[H_XI1], h[H_XI2], r, r1, r2, a1, a2)
+    c11, c12, c22 = physical(netB, xi1, xi2, r, r1, r2, a1, a2)
     det = c11 * c22 - c12 * c12
-    T1, T2 = h[H_T1], h[H_T2]
     return 0.5 * (c22 * T1 * T1 - 2.0 * c12 * T1 * T2 + c11 * T2 * T2) / det
 
 
@@ -201,7 +211,7 @@ def stored_energy_batch(sp, netB, H, out):
     """stored_energy of every row of H (K, 9) into out (K,), in one call (the energy ledger: every
     point of every sample)."""
     for k in range(H.shape[0]):
-        out[k] = stored_energy(sp, netB, H[k])
+        out[k] = stored_energy(sp, netB, H[k, H_ACTIVE], H[k, H_XI1], H[k, H_XI2], H[k, H_T1], H[k, H_T2])
 
 
 @njit(cache=True, inline="always")
@@ -356,6 +366,7 @@ def point_tangent(sp, netB, netF, law, state, Kx, Dv, W):
 
 
 NO_STATE = (0.0,) * 15      # contact_force's state of a point that did not reach the law
+NO_FORCE = (0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
@@ -367,7 +378,11 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
     coordinates). W: scratch of shape (3, 9, 9) (no allocation per call). Returns the status (OPEN,
     STICK, SLIP, UNRESOLVED: kernel.history) and the normal gap xi3. contact_force, then
     point_tangent: what the set kernels do, in two loops over their points (point_states)."""
-    status, xi3, state = contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, W[0, 0:2, :])
+    status, xi3, state, fc, row = contact_force(sp, netB, netF, law, (x[0], x[1], x[2]), (v[0], v[1], v[2]),
+                                                row_at(h.reshape((1, N_HISTORY)), 0), dt, W[0, 0:2, :])
+    for i in range(3):
+        f[i] = fc[i]
+    put_row(hn.reshape((1, N_HISTORY)), 0, row)
     if tangent:
         point_tangent(sp, netB, netF, law, state, Kx, Dv, W)
     return status, xi3
@@ -376,25 +391,24 @@ def contact_point(sp, netB, netF, law, x, v, h, dt, tangent, f, Kx, Dv, hn, W):
 # inlined into the set kernels' loop over the points (numba IR level): a call per point cost ~0.1 us of
 # reference counting of its array arguments and stack set-up (K = 16 points, mode 0, 4.75 -> 3.41 us)
 @njit(cache=True, inline="always")
-def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
-    """contact_point's force f and history candidate hn, without derivatives; dT (2, 9): any scratch
-    (a force call's return map does not write it). Returns (status, xi3, state): state, what
-    point_tangent needs, (reached, y (3), v (3) in the surface's local frame, xi1, xi2, xi3, xn1, xn2,
-    tn1, tn2, active), reached = 1 for a point that got to the law (NO_STATE otherwise)."""
+def contact_force(sp, netB, netF, law, x, v, h, dt, dT):
+    """contact_point's force and history candidate, without derivatives: x, v (3-tuples), h the
+    converged history row (a tuple: history_row); dT (2, 9): any scratch (a force call's return map
+    does not write it). Returns (status, xi3, state, f, hn): f (3-tuple) the force, hn the history
+    candidate row (tuple), state what point_tangent needs, (reached, y (3), v (3) in the surface's
+    local frame, xi1, xi2, xi3, xn1, xn2, tn1, tn2, active), reached = 1 for a point that got to the
+    law (NO_STATE otherwise)."""
     active = h[H_ACTIVE] > 0.5
     hint1, hint2 = (h[H_XI1], h[H_XI2]) if active else (math.nan, math.nan)
     y = _core.to_local(sp, (x[0], x[1], x[2]))
     xi1, xi2, xi3, pstat, chart = _core.project_local(sp, y, hint1, hint2)
     if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
         if xi3 >= 0.0:
-            for i in range(3):
-                f[i] = 0.0
-            for i in range(N_HISTORY):     # the accumulated columns kept, the rest reset
-                hn[i] = h[i]
-            for i in (H_T1, H_T2, H_XI1, H_XI2, H_ACTIVE, H_STATUS, H_NORMAL):
-                hn[i] = 0.0
-            _release(sp, netB, h, hn)
-            return OPEN, xi3, NO_STATE
+            # the accumulated columns kept, the rest reset; a sticking history is released: its
+            # T . C^-1 T / 2 at the anchor is booked as dissipated
+            released = stored_energy(sp, netB, h[H_ACTIVE], h[H_XI1], h[H_XI2], h[H_T1], h[H_T2])
+            return OPEN, xi3, NO_STATE, NO_FORCE, history_row(0.0, 0.0, 0.0, 0.0, 0.0, h[H_DISSIPATED] + released,
+                                                              h[H_SLIP], float(OPEN), 0.0)
     if pstat == 2 and not active:
         raise ValueError("slave point at a centre of curvature of the surface (on the cylinder axis, a cone's axis, "
                          "a sphere's centre or a torus's centre circle): the closest point is not unique there")
@@ -403,12 +417,9 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
         # curvature: a Newton iterate put it far off the surface. It gives no force in this iterate and
         # keeps its history; if the converged state is still so, the engine rejects the step and repeats
         # it with a smaller one (UNRESOLVED). A new point at a centre of curvature is an error (above).
-        for i in range(3):
-            f[i] = 0.0
-        for i in range(N_HISTORY):
-            hn[i] = h[i]
-        hn[H_STATUS] = UNRESOLVED
-        return UNRESOLVED, xi3, NO_STATE
+        return UNRESOLVED, xi3, NO_STATE, NO_FORCE, history_row(h[H_T1], h[H_T2], h[H_XI1], h[H_XI2], h[H_ACTIVE],
+                                                                h[H_DISSIPATED], h[H_SLIP], float(UNRESOLVED),
+                                                                h[H_NORMAL])
     if pstat == 3 or not xi3 < 0.0:
         raise ValueError("the surface chart is singular at the closest point of a slave point in contact (a pole of "
                          "the sphere's chart, the polar origin, a cone's apex): choose axis_direction so that the "
@@ -434,11 +445,11 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
     st = _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a1, a2, n, M)
     N, loaded, vn = _normal_traction(law, xi3, n, vl)
     Ttr1, Ttr2, B, F = _trial(st)
-    if trial_slip(Ttr1, Ttr2, -N, F) <= 0.0:
-        # a sticking point: return_map's result without the call (its test, the same numbers)
+    if sticks(Ttr1, Ttr2, -N, F):
+        # a sticking point: return_map's result without the call
         T1, T2, state, sl1, sl2 = Ttr1, Ttr2, STICK, 0.0, 0.0
     else:
-        T1, T2, state, sl1, sl2 = return_map(law.method, Ttr1, Ttr2, -N, B, F, dT, run_time(False))[:5]
+        T1, T2, state, sl1, sl2 = sliding_force(law.method, Ttr1, Ttr2, -N, B, F, trial_norm(Ttr1, Ttr2, F), dT)
     if state == SLIP and status != UNRESOLVED:
         status = SLIP
     G1 = (st[ST_G1], st[ST_G1 + 1], st[ST_G1 + 2])
@@ -447,19 +458,12 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, f, hn, dT):
     fl = sub(add(scale(T1, G1), scale(T2, G2)), scale(N, n))
     fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
     fg = _core.to_global(sp, fl)
-    for i in range(3):
-        f[i] = fg[i]
     # energy removed by the return map in the step (trapezoidal, as contact.ContactLaw)
     D = -0.5 * ((st[ST_T1] + T1) * sl1 + (st[ST_T2] + T2) * sl2)
-    hn[H_T1], hn[H_T2] = T1, T2
-    hn[H_XI1], hn[H_XI2] = xi1, xi2
-    hn[H_ACTIVE] = 1.0
-    hn[H_DISSIPATED] = h[H_DISSIPATED] + D
-    hn[H_SLIP] = h[H_SLIP] + math.sqrt(sl1 * sl1 + sl2 * sl2)
-    hn[H_STATUS] = status
-    hn[H_NORMAL] = N
+    slipped = math.sqrt(sl1 * sl1 + sl2 * sl2) if state == SLIP else 0.0
+    hn = history_row(T1, T2, xi1, xi2, 1.0, h[H_DISSIPATED] + D, h[H_SLIP] + slipped, float(status), N)
     return status, xi3, (1.0, y[0], y[1], y[2], vl[0], vl[1], vl[2], xi1, xi2, xi3, xn1, xn2, tn1, tn2,
-                         1.0 if active else 0.0)
+                         1.0 if active else 0.0), (fg[0], fg[1], fg[2]), hn
 
 
 # ----------------------------------------------------------------------------------------------
@@ -476,24 +480,24 @@ CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "l
 def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
     if getattr(law, "instance_class", None) is CovariantLaw:
         def impl(law, Y, H, Hn, first, count, dt, tangent, S):
-            W, saved = S[0:3], S[17, 5, :N_HISTORY]
+            W = S[0:3]
             dT = W[0, 0:2, :]
             sp, netB, netF, lp = law.surface, law.adhesion, law.friction, law.law
             ncontact = 0
             unresolved = False
             for k in range(first, first + count):
-                if tangent:                # a Jacobian call keeps the last residual's candidate
-                    for i in range(N_HISTORY):
-                        saved[i] = Hn[k, i]
-                st, _, state = contact_force(sp, netB, netF, lp, Y[k, Y_X], Y[k, Y_V], H[k], dt, Y[k, Y_F], Hn[k],
-                                             dT)
+                # by element, no view of a row (see history_row)
+                x = (Y[k, Y_X, 0], Y[k, Y_X, 1], Y[k, Y_X, 2])
+                v = (Y[k, Y_V, 0], Y[k, Y_V, 1], Y[k, Y_V, 2])
+                st, _, state, f, hn = contact_force(sp, netB, netF, lp, x, v, row_at(H, k), dt, dT)
+                Y[k, Y_F, 0], Y[k, Y_F, 1], Y[k, Y_F, 2] = f[0], f[1], f[2]
                 Y[k, Y_INFO, 2] = st
                 ncontact += st > 0
                 unresolved |= st == UNRESOLVED
-                if tangent:                # the state for the second loop, in the rows of df/dx and df/dv
-                    for i in range(N_HISTORY):
-                        Hn[k, i] = saved[i]
-                    _put_state(Y, k, state)
+                if tangent:                # the state for the second loop, in the rows of df/dx and df/dv;
+                    _put_state(Y, k, state)    # a Jacobian call keeps the last residual's candidate
+                else:
+                    put_row(Hn, k, hn)
             if tangent:
                 for k in range(first, first + count):
                     state = _get_state(Y, k)

@@ -62,7 +62,7 @@ from collections import namedtuple
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 from numba.extending import overload
 
 from exu_aniso.law.history import SLIP, STICK  # noqa: F401  (the states the maps return)
@@ -117,17 +117,51 @@ def _quad(s11, s12, s22, x1, x2):
 
 
 @njit(cache=True, inline="always")
+def trial_norm(t1, t2, F):
+    """sqrt(T_tr . F T_tr) of the trial traction (t1, t2), F = (f11, f12, f22)."""
+    return math.sqrt(max(_quad(F[0], F[1], F[2], t1, t2), 0.0))
+
+
+@njit(cache=True, inline="always")
 def trial_slip(t1, t2, N, F):
     """The slip function at the trial state, Phi_tr = sqrt(T_tr . F T_tr) - |N| (N = |N|): the
-    point sticks when it is <= 0 (return_map's test, and the force loops' test before they call it)."""
-    return math.sqrt(max(_quad(F[0], F[1], F[2], t1, t2), 0.0)) - N
+    point sticks when it is <= 0 (return_map's test; the force loops test it without the root:
+    sticks)."""
+    return trial_norm(t1, t2, F) - N
+
+
+@njit(cache=True, inline="always")
+def sticks(t1, t2, N, F):
+    """trial_slip(t1, t2, N, F) <= 0 without the square root: T_tr . F T_tr <= N^2 (N = |N| >= 0).
+    The force loops' test: the same answer except within a rounding of the slip limit."""
+    return _quad(F[0], F[1], F[2], t1, t2) <= N * N
+
+
+def run_time(flag):
+    """flag as a run-time bool: a literal True or False would compile every function it reaches
+    (the return maps) once more."""
+    return flag
+
+
+@overload(run_time)
+def _run_time(flag):
+    if isinstance(flag, types.Literal):
+        return (lambda flag: True) if flag.literal_value else (lambda flag: False)
+    return lambda flag: flag
+
+
+@njit(cache=True, inline="always")
+def _radial_traction(t1, t2, N, s):
+    """The radial map's traction N T_tr / s, s = sqrt(T_tr . F T_tr)."""
+    return N * t1 / s, N * t2 / s
 
 
 @njit(cache=True)
 def _radial(t1, t2, N, f11, f12, f22, dT, tangent):
     s = math.sqrt(_quad(f11, f12, f22, t1, t2))
+    T1, T2 = _radial_traction(t1, t2, N, s)
     if not tangent:
-        return N * t1 / s, N * t2 / s, 0.0
+        return T1, T2, 0.0
     g1, g2 = f11 * t1 + f12 * t2, f12 * t1 + f22 * t2
     a = N / s
     s2 = s * s
@@ -138,7 +172,7 @@ def _radial(t1, t2, N, f11, f12, f22, dT, tangent):
     q = (t1 * t1, 2.0 * t1 * t2, t2 * t2)
     for j in range(3):
         dT[0, 6 + j], dT[1, 6 + j] = c * q[j] * t1, c * q[j] * t2
-    return N * t1 / s, N * t2 / s, 0.0
+    return T1, T2, 0.0
 
 
 
@@ -323,11 +357,36 @@ def return_map(method, t1, t2, N, B, F, dT, tangent):
             dT[0, 2], dT[1, 2] = d1 / s, d2 / s
     else:
         T1, T2, kappa = slide(method, t1, t2, N, B, F, dT, tangent)
+    s1, s2 = _slip_increment(B, T1, T2, t1, t2)
+    return T1, T2, SLIP, s1, s2, -(T1 * s1 + T2 * s2), kappa, phi
+
+
+@njit(cache=True, inline="always")
+def _slip_increment(B, T1, T2, t1, t2):
+    """The slip increment C^-1 (T - T_tr) of a sliding point, C = -B."""
     c11, c12, c22 = -B[0], -B[1], -B[2]
     det = c11 * c22 - c12 * c12
     d1, d2 = T1 - t1, T2 - t2
-    s1, s2 = (c22 * d1 - c12 * d2) / det, (-c12 * d1 + c11 * d2) / det
-    return T1, T2, SLIP, s1, s2, -(T1 * s1 + T2 * s2), kappa, phi
+    return (c22 * d1 - c12 * d2) / det, (-c12 * d1 + c11 * d2) / det
+
+
+def sliding_force(method, t1, t2, N, B, F, s, dT):
+    """return_map's (T1, T2, SLIP, slip1, slip2) of a point that slides (Phi_tr > 0) for a force
+    call: no derivatives, s = trial_norm(t1, t2, F) given, and the radial map's traction inline (a
+    call per sliding point less); the other maps through return_map. Resolved at compile time by
+    the map's type; the same numbers as return_map."""
+    raise NotImplementedError("sliding_force is resolved at compile time by the type of the map")
+
+
+@overload(sliding_force, inline="always")
+def _sliding_force(method, t1, t2, N, B, F, s, dT):
+    if getattr(method, "instance_class", None) is Radial:
+        def radial(method, t1, t2, N, B, F, s, dT):
+            T1, T2 = (0.0, 0.0) if N == 0.0 else _radial_traction(t1, t2, N, s)
+            s1, s2 = _slip_increment(B, T1, T2, t1, t2)
+            return T1, T2, SLIP, s1, s2
+        return radial
+    return lambda method, t1, t2, N, B, F, s, dT: return_map(method, t1, t2, N, B, F, dT, run_time(False))[:5]
 
 
 
