@@ -77,9 +77,9 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
     nq = q.shape[0]
     K = b.shape[0]
     A, G = S[9, :3, :3], S[10, :3, :4]
-    qt, x, v = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3]
+    qt = S[17, 0, :nq]
     node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
-    points_xv(kind, qt, q_t, A, G, b, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2], x, v)
+    points_xv(kind, qt, q_t, A, G, b, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2])
     ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
     if mode == 0:
         generalized_force(kind, A, G, nq, b, Y[:, Y_F], Y[:, Y_INFO, :2], Q)
@@ -335,7 +335,6 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     nm = node_coordinates(mkind)
     ns = n - nm
     As, Gs = S[9, :3, :3], S[10, :3, :4]
-    x, v = S[17, 1, :3], S[17, 2, :3]
     qts = S[15, 0, :(0 if slave_is_linear(kind) else ns)]
     qtm, wlm, w = S[15, 1, :nm], S[15, 2, :3], S[15, 3, :3]
     Am, Gm = S[16, :3, :3], S[16, 3:6, :4]
@@ -343,7 +342,7 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], False, qtm, Am, Gm, Am, Gm, wlm, w)
     vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
     # the slave's points in global axes, then relative to the master, in its frame (as evaluate_pair)
-    slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qts, As, Gs, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2], x, v)
+    slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qts, As, Gs, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2])
     K = H.shape[0]
     for k in range(K):
         d0, d1, d2 = Y[k, Y_X, 0] - qtm[0], Y[k, Y_X, 1] - qtm[1], Y[k, Y_X, 2] - qtm[2]

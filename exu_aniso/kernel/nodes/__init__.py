@@ -18,8 +18,8 @@ body-local point):
   tangent what the kind's derivatives need (Euler parameters: dA/de, G(e_t)).
 * ``node_motion(kind, qt, q_t, G, nq)``: what the force path needs of the motion, once per call,
   as 6 numbers (a planar node's cos, sin of its angle and its rate; a 3D node's omega_local).
-* ``node_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v)``: position x and velocity v of b;
-  returns a planar node's lever arm (a_x, a_y) (0, 0 for a 3D node).
+* ``node_point_xv(kind, qt, q_t, A, motion, bx, by, bz)``: (x, v, a_x, a_y): position x and
+  velocity v of b (3-tuples) and a planar node's lever arm (a_x, a_y) (0, 0 for a 3D node).
 * ``node_moment(kind, A, F0, F1, F2, bx, by, bz, ax, ay)``: the moment of the global force F at b
   (a planar node's about its axis in the third entry, a 3D node's b x A^T F).
 * ``node_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)``: Q from the summed force and moment.
@@ -40,7 +40,7 @@ rotation coordinates: the local increment for a rotation vector, e for Euler par
 y1, y2, col0, Kc)`` (the Euler parameters' terms of G(e) and A^T A).
 
 The force paths take a set's points at once, one call per set and none per point:
-``points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v)`` (positions, velocities, lever arms) and
+``points_xv(kind, qt, q_t, A, G, b, X, V, L)`` (positions, velocities, lever arms) and
 ``generalized_force(kind, A, G, nq, b, F, L, Q)``. A moving master's slave goes through
 ``slave_points_xv``, ``slave_generalized_force`` and, per point in its Jacobian, ``slave_point``,
 which take both a rigid slave's body-local points b and a linear slave's (idx, S, c);
@@ -118,7 +118,7 @@ def node_motion(kind, qt, q_t, G, nq):
     raise NotImplementedError("resolved at compile time by the node kind")
 
 
-def node_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v):
+def node_point_xv(kind, qt, q_t, A, motion, bx, by, bz):
     raise NotImplementedError("resolved at compile time by the node kind")
 
 
@@ -198,10 +198,10 @@ def _node_motion(kind, qt, q_t, G, nq):
 
 
 @overload(node_point_xv, inline="always")
-def _node_point_xv(kind, qt, q_t, A, motion, bx, by, bz, x, v):
+def _node_point_xv(kind, qt, q_t, A, motion, bx, by, bz):
     fn = _model(kind, name="point_xv")
     if fn is not None:
-        return lambda kind, qt, q_t, A, motion, bx, by, bz, x, v: fn(qt, q_t, A, motion, bx, by, bz, x, v)
+        return lambda kind, qt, q_t, A, motion, bx, by, bz: fn(qt, q_t, A, motion, bx, by, bz)
 
 
 @overload(node_moment, inline="always")
@@ -313,16 +313,14 @@ def _slave_point(kind, k, b, idx, Sm, c, ref, q, q_t, qt, qs_t, A, G, dA, tangen
 # --- a set's points at once: what the force paths call (one call per set, no call per point) -----
 
 @njit(cache=True, inline="always")
-def points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v):
+def points_xv(kind, qt, q_t, A, G, b, X, V, L):
     """Positions X (K, 3), velocities V (K, 3) and planar lever arms L (K, 2) (0 for a 3D node) of
-    the body-local points b (K, 3) of a rigid node at total coordinates qt (node_frame's A, G);
-    x, v (3,) scratch."""
+    the body-local points b (K, 3) of a rigid node at total coordinates qt (node_frame's A, G)."""
     motion = node_motion(kind, qt, q_t, G, qt.shape[0])
     for k in range(b.shape[0]):
-        ax, ay = node_point_xv(kind, qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2], x, v)
-        for i in range(3):
-            X[k, i] = x[i]
-            V[k, i] = v[i]
+        x, v, ax, ay = node_point_xv(kind, qt, q_t, A, motion, b[k, 0], b[k, 1], b[k, 2])
+        X[k, 0], X[k, 1], X[k, 2] = x[0], x[1], x[2]
+        V[k, 0], V[k, 1], V[k, 2] = v[0], v[1], v[2]
         L[k, 0], L[k, 1] = ax, ay
 
 
@@ -345,7 +343,7 @@ def generalized_force(kind, A, G, nq, b, F, L, Q):
     node_forces(kind, G, nq, Q, F0, F1, F2, M0, M1, M2)
 
 
-def slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v):
+def slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L):
     raise NotImplementedError("resolved at compile time by the node kind")
 
 
@@ -354,14 +352,14 @@ def slave_generalized_force(kind, A, G, nq, b, idx, Sm, F, L, Q):
 
 
 @overload(slave_points_xv, inline="always")
-def _slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v):
+def _slave_points_xv(kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L):
     """points_xv of a rigid slave; a linear slave's points from (idx, S, c)."""
     if _is_linear(kind):
-        return (lambda kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v:
+        return (lambda kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L:
                 linear.points_xv(idx, Sm, c, ref, q, q_t, X, V, L))
     if getattr(kind, "instance_class", None) in MODELS:
-        return (lambda kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L, x, v:
-                points_xv(kind, qt, q_t, A, G, b, X, V, L, x, v))
+        return (lambda kind, b, idx, Sm, c, ref, q, q_t, qt, A, G, X, V, L:
+                points_xv(kind, qt, q_t, A, G, b, X, V, L))
 
 
 @overload(slave_generalized_force, inline="always")

@@ -37,22 +37,24 @@ def geometric(A, G, dA, Jp, f, bx, by, bz, Kq):
 
 
 @njit(cache=True, inline="always")
-def point_xv(k, idx, Sm, c, ref, q, q_t, x, v):
-    """x = c_k + S_k (ref + q)[idx_k], v = S_k q_t[idx_k]."""
-    for i in range(3):
-        xi, vi = c[k, i], 0.0
-        for a in range(idx.shape[1]):
-            g = idx[k, a]
-            xi += Sm[k, i, a] * (ref[g] + q[g])
-            vi += Sm[k, i, a] * q_t[g]
-        x[i], v[i] = xi, vi
+def point_xv(k, idx, Sm, c, ref, q, q_t):
+    """(x, v) = (c_k + S_k (ref + q)[idx_k], S_k q_t[idx_k]) as 3-tuples."""
+    x0, x1, x2, v0, v1, v2 = c[k, 0], c[k, 1], c[k, 2], 0.0, 0.0, 0.0
+    for a in range(idx.shape[1]):
+        g = idx[k, a]
+        p, r = ref[g] + q[g], q_t[g]
+        x0, x1, x2 = x0 + Sm[k, 0, a] * p, x1 + Sm[k, 1, a] * p, x2 + Sm[k, 2, a] * p
+        v0, v1, v2 = v0 + Sm[k, 0, a] * r, v1 + Sm[k, 1, a] * r, v2 + Sm[k, 2, a] * r
+    return (x0, x1, x2), (v0, v1, v2)
 
 
 @njit(cache=True)
 def points_xv(idx, Sm, c, ref, q, q_t, X, V, L):
     """point_xv at every point into X, V (K, 3); L (K, 2) = 0 (no lever arm)."""
     for k in range(idx.shape[0]):
-        point_xv(k, idx, Sm, c, ref, q, q_t, X[k], V[k])
+        x, v = point_xv(k, idx, Sm, c, ref, q, q_t)
+        X[k, 0], X[k, 1], X[k, 2] = x[0], x[1], x[2]
+        V[k, 0], V[k, 1], V[k, 2] = v[0], v[1], v[2]
         L[k, 0], L[k, 1] = 0.0, 0.0
 
 
@@ -70,7 +72,9 @@ def point(k, idx, Sm, c, ref, q, q_t, x, v, Jp, cols):
     m = idx.shape[1]
     for a in range(m):
         cols[a] = idx[k, a]
-    point_xv(k, idx, Sm, c, ref, q, q_t, x, v)
+    xp, vp = point_xv(k, idx, Sm, c, ref, q, q_t)
+    for i in range(3):
+        x[i], v[i] = xp[i], vp[i]
     for i in range(3):
         for a in range(m):
             Jp[i, a] = Sm[k, i, a]

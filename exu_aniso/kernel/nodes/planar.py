@@ -36,21 +36,17 @@ def motion_screw(qt, q_t, G, nq):
 
 
 @njit(cache=True, inline="always")
-def point_xv_2d(qt, q_t, A, motion, bx, by, bz, x, v):
+def point_xv_2d(qt, q_t, A, motion, bx, by, bz):
     c, s, w = motion[0], motion[1], motion[2]
     ax, ay = c * bx - s * by, s * bx + c * by
-    x[0], x[1], x[2] = qt[0] + ax, qt[1] + ay, bz
-    v[0], v[1], v[2] = q_t[0] - w * ay, q_t[1] + w * ax, 0.0
-    return ax, ay
+    return (qt[0] + ax, qt[1] + ay, bz), (q_t[0] - w * ay, q_t[1] + w * ax, 0.0), ax, ay
 
 
 @njit(cache=True, inline="always")
-def point_xv_screw(qt, q_t, A, motion, bx, by, bz, x, v):
+def point_xv_screw(qt, q_t, A, motion, bx, by, bz):
     c, s, w = motion[0], motion[1], motion[2]
     ax, ay = c * bx - s * by, s * bx + c * by
-    x[0], x[1], x[2] = ax, ay, bz + qt[1]
-    v[0], v[1], v[2] = -w * ay, w * ax, q_t[1]
-    return ax, ay
+    return (ax, ay, bz + qt[1]), (-w * ay, w * ax, q_t[1]), ax, ay
 
 
 @njit(cache=True, inline="always")
@@ -72,7 +68,9 @@ def forces_screw(G, nq, Q, F0, F1, F2, M0, M1, M2):
 @njit(cache=True, inline="always")
 def point_2d(qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):
     c, s = math.cos(qt[2]), math.sin(qt[2])
-    ax, ay = point_xv_2d(qt, q_t, A, (c, s, q_t[2], 0.0, 0.0, 0.0), bx, by, bz, x, v)
+    xp, vp, ax, ay = point_xv_2d(qt, q_t, A, (c, s, q_t[2], 0.0, 0.0, 0.0), bx, by, bz)
+    for i in range(3):
+        x[i], v[i] = xp[i], vp[i]
     for i in range(3):
         for j in range(3):
             Jp[i, j] = 0.0
@@ -85,7 +83,9 @@ def point_2d(qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):
 @njit(cache=True, inline="always")
 def point_screw(qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):
     c, s = math.cos(qt[0]), math.sin(qt[0])
-    ax, ay = point_xv_screw(qt, q_t, A, (c, s, q_t[0], 0.0, 0.0, 0.0), bx, by, bz, x, v)
+    xp, vp, ax, ay = point_xv_screw(qt, q_t, A, (c, s, q_t[0], 0.0, 0.0, 0.0), bx, by, bz)
+    for i in range(3):
+        x[i], v[i] = xp[i], vp[i]
     for i in range(3):
         for j in range(2):
             Jp[i, j] = 0.0

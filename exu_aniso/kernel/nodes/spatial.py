@@ -95,13 +95,14 @@ def motion(qt, q_t, G, nq):
 
 
 @njit(cache=True, inline="always")
-def point_xv(qt, q_t, A, motion, bx, by, bz, x, v):
+def point_xv(qt, q_t, A, motion, bx, by, bz):
     w0, w1, w2 = motion[3], motion[4], motion[5]
     u0, u1, u2 = w1 * bz - w2 * by, w2 * bx - w0 * bz, w0 * by - w1 * bx
-    for i in range(3):
-        x[i] = qt[i] + A[i, 0] * bx + A[i, 1] * by + A[i, 2] * bz
-        v[i] = q_t[i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
-    return 0.0, 0.0
+    x = (qt[0] + A[0, 0] * bx + A[0, 1] * by + A[0, 2] * bz, qt[1] + A[1, 0] * bx + A[1, 1] * by + A[1, 2] * bz,
+         qt[2] + A[2, 0] * bx + A[2, 1] * by + A[2, 2] * bz)
+    v = (q_t[0] + A[0, 0] * u0 + A[0, 1] * u1 + A[0, 2] * u2, q_t[1] + A[1, 0] * u0 + A[1, 1] * u1 + A[1, 2] * u2,
+         q_t[2] + A[2, 0] * u0 + A[2, 1] * u1 + A[2, 2] * u2)
+    return x, v, 0.0, 0.0
 
 
 @njit(cache=True, inline="always")
@@ -129,7 +130,9 @@ def point_rv(qt, q_t, A, G, dA, bx, by, bz, tangent, x, v, Jp, Jx, wl):
         wl[i] = 0.0
         for j in range(nr):
             wl[i] += G[i, j] * q_t[3 + j]
-    point_xv(qt, q_t, A, (0.0, 0.0, 0.0, wl[0], wl[1], wl[2]), bx, by, bz, x, v)
+    xp, vp, _, _ = point_xv(qt, q_t, A, (0.0, 0.0, 0.0, wl[0], wl[1], wl[2]), bx, by, bz)
+    for i in range(3):
+        x[i], v[i] = xp[i], vp[i]
     for j in range(nr):                # [b]x G
         s0 = -bz * G[1, j] + by * G[2, j]
         s1 = bz * G[0, j] - bx * G[2, j]
