@@ -31,7 +31,8 @@ def test_targets_declared():
     assert len(set(labels)) == len(labels)
     for t in targets.TARGETS:
         label, build, yardstick, target = t
-        assert target > 0
+        assert target is None or target > 0          # None: a row that explains another
+        assert target is not None or not isinstance(build, targets.CallFit)
         if isinstance(build, targets.CallFit):
             assert yardstick is None and build.part in ("fixed", "per_point")
         else:
@@ -71,6 +72,10 @@ def test_row_ratio_formed_repeat_by_repeat():
     per = targets._row(targets.Target("y", big, targets.PerBody(b), 1.2), T, 10, 0.01, 3, None)
     assert per["unit"] == "us/body/step" and per["ratio"] == pytest.approx(0.5)
     assert per["ratio_max"] == pytest.approx(1.0) and per["ours_us"] == pytest.approx(8.0 / 64 / 10 * 1e6)
+    # a row without a target: the same figures, "met" neither yes nor no
+    plain = targets._row(targets.Target("z", a, b, None), T, 10, 0.01, 3, None)
+    assert plain["met"] is None and math.isnan(plain["target"]) and plain["ratio"] == pytest.approx(1.0)
+    assert targets._cells(plain)[5:7] == ["-", "-"]
 
 
 def test_user_body_rests_on_four_corners():

@@ -370,16 +370,22 @@ def _slip_increment(B, T1, T2, t1, t2):
     return (c22 * d1 - c12 * d2) / det, (-c12 * d1 + c11 * d2) / det
 
 
+@njit(cache=True, inline="always")
 def sliding_force(method, t1, t2, N, B, F, s, dT):
     """return_map's (T1, T2, SLIP, slip1, slip2) of a point that slides (Phi_tr > 0) for a force
     call: no derivatives, s = trial_norm(t1, t2, F) given, and the radial map's traction inline (a
-    call per sliding point less); the other maps through return_map. Resolved at compile time by
-    the map's type; the same numbers as return_map."""
-    raise NotImplementedError("sliding_force is resolved at compile time by the type of the map")
+    call per sliding point less); the other maps through return_map. The same numbers as
+    return_map. Compiled (and inlined into compiled callers) also where the kernel runs as plain
+    Python, like the maps."""
+    return _sliding(method, t1, t2, N, B, F, s, dT)
 
 
-@overload(sliding_force, inline="always")
-def _sliding_force(method, t1, t2, N, B, F, s, dT):
+def _sliding(method, t1, t2, N, B, F, s, dT):
+    raise NotImplementedError("resolved at compile time by the type of the map")
+
+
+@overload(_sliding, inline="always")
+def _sliding_by_map(method, t1, t2, N, B, F, s, dT):
     if getattr(method, "instance_class", None) is Radial:
         def radial(method, t1, t2, N, B, F, s, dT):
             T1, T2 = (0.0, 0.0) if N == 0.0 else _radial_traction(t1, t2, N, s)
