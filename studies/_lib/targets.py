@@ -175,15 +175,18 @@ def _node(mbs, o):
 # the scenes
 
 def plate_builder(p, speed=0.0, nodeType=exu.NodeType.RotationEulerParameters, implementation="auto",
-                  jacobian="analytic"):
+                  jacobian="analytic", touching=True):
     """contactBuilder of BuildBlock: the block's contact on a free plate (a rigid body of 1e9 kg
     without load, moving uniformly at (speed, -speed/2, 0)) instead of the fixed plane: a
-    moving-master set over the block's and the plate's coordinates."""
+    moving-master set over the block's and the plate's coordinates. touching False: the block's
+    contact stays on the fixed plane and the plate is beside it, in contact with nothing (what the
+    plate's own dynamics cost in Exudyn)."""
     def build(mbs, oBlock, localPoints):
         from exu_aniso.scenes.block import block_contact_law
         oPlate = _plate(mbs, speed, nodeType)
         return mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
-                                            contactLaw=block_contact_law(p), masterBodyNumber=oPlate,
+                                            contactLaw=block_contact_law(p),
+                                            masterBodyNumber=oPlate if touching else None,
                                             jacobian=jacobian, initializeHistory=True,
                                             implementation=implementation, show=False,
                                             storeHistory=True)   # as the scene's own contact
@@ -202,23 +205,9 @@ def _block(points, moving=False, spectator=False):
     own dynamics cost in Exudyn)."""
     def build(t_end, dt):
         p = BlockParams(model="full", points=points, t_end=t_end, dt=dt)
-        if moving:
-            return BuildBlock(p, contactBuilder=plate_builder(p))
-        if spectator:
-            return BuildBlock(p, contactBuilder=_beside_plate(p))
+        if moving or spectator:
+            return BuildBlock(p, contactBuilder=plate_builder(p, touching=moving))
         return BuildBlock(p)
-    return build
-
-
-def _beside_plate(p):
-    """contactBuilder of BuildBlock: the block's own contact on the fixed plane, and the moving
-    master's free plate (``_plate``) beside it, in contact with nothing."""
-    def build(mbs, oBlock, localPoints):
-        from exu_aniso.scenes.block import block_contact_law
-        _plate(mbs)
-        return mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
-                                            contactLaw=block_contact_law(p), initializeHistory=True, show=False,
-                                            storeHistory=True)   # as the scene's own contact
     return build
 
 
