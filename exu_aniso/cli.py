@@ -32,7 +32,7 @@ import numpy as np
 
 from exu_aniso.engines.failure import SimulationFailure
 from exu_aniso.util.output import atomic_write as _atomic_write
-from exu_aniso.util.output import json_safe, write_json
+from exu_aniso.util.output import csv_rows, json_safe, write_json
 from exu_aniso.catalog import MAIN_JOB, SCENES
 from exu_aniso.util.validation import ParameterError
 
@@ -95,11 +95,9 @@ def view_solution(scene, params, solution_file):
 
 def write_csv(path, scene, traj):
     cols = [k for k in COLUMNS[scene] if k in traj]
-    # the rows as Python floats in one conversion (tolist), each written as repr: the shortest text
-    # that reads back to the same double
-    rows = np.column_stack([np.asarray(traj[k], dtype=float) for k in cols]).tolist() if cols else []
-    text = ",".join(cols) + "\n" + "".join(",".join(map(repr, row)) + "\n" for row in rows)
-    _atomic_write(path, lambda f: f.write(text.encode()))
+    # each number as repr writes it: the shortest text that reads back to the same double
+    rows = csv_rows(np.column_stack([np.asarray(traj[k], dtype=float) for k in cols])) if cols else b""
+    _atomic_write(path, lambda f: f.write((",".join(cols) + "\n").encode() + rows))
 
 
 def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None):
