@@ -160,6 +160,17 @@ def test_generalized_force_is_the_sum_of_the_point_forces(implementation):
     Q = contact["generalizedForce"](q, q_t, H)
     assert np.max(np.abs(Q - expected)) <= 1e-12 * np.max(np.abs(expected))
     assert np.max(np.abs(expected)) > 0.1                    # a loaded contact, not zeros
+    # samples at once (what post-processing over a run does): each row as the call on that sample alone
+    qs = np.array([q, q + [1e-4, -2e-4, 1e-2], q])
+    q_ts = np.array([q_t, 2.0 * q_t, q_t + 0.1])
+    Hs = np.stack([H, H, np.zeros_like(H)])
+    Qs = contact["generalizedForce"](qs, q_ts, Hs.reshape(3, -1))
+    assert Qs.shape == (3, 3)
+    for n in range(3):
+        assert np.array_equal(Qs[n], contact["generalizedForce"](qs[n], q_ts[n], Hs[n]))
+    assert not np.array_equal(Qs[0], Qs[1])
+    with pytest.raises(ValueError, match="over the same samples"):
+        contact["generalizedForce"](qs, q_ts, Hs[:2])
 
 
 def test_initial_history_of_the_compiled_set_equals_the_numpy_set():

@@ -257,13 +257,18 @@ def test_sweep_mpi_goes_through_mpipoolexecutor(monkeypatch, capsys):
 
 
 def test_cli_cost_quick(tmp_path, quick_study):
-    """The scenes through the command line at two lengths: every case ran both (more steps in the
-    long run, as the summary line counts them), a finite per-step figure with its spread, and the
-    benchmark's figure of the same model read from the committed speed targets."""
+    """The scenes as the command line runs them, at two lengths: every case ran both (more steps in
+    the long run, as the summary counts them), finite per-step figures with their spread, parts that
+    add up to the total, and the ratio to the yardstick's figure of the same repeat."""
     quick_study("cli_cost", tmp_path, timeout=240)
     T = read_table(tmp_path / "cli_cost.csv")
     assert T["scene [-]"] == ["block", "block", "screw"]
     assert all(lo > s for lo, s in zip(T["steps_long [-]"], T["steps_short [-]"]))
-    assert all(math.isfinite(v) for v in T["cli_per_step [us]"])
-    assert all(lo <= med <= hi for lo, med, hi in zip(T["cli_min [us]"], T["cli_per_step [us]"], T["cli_max [us]"]))
-    assert all(b > 0 for b in T["benchmark [us]"])
+    for name in ("total", "solve", "trajectory_and_ledger", "files_and_plot", "model_building", "yardstick"):
+        med, lo, hi = (T[f"{name}{s} [us]"] for s in ("", "_min", "_max"))
+        assert all(math.isfinite(v) and a <= v <= b for v, a, b in zip(med, lo, hi)), name
+    for i in range(3):              # one repeat: the medians are that repeat's figures
+        parts = sum(T[f"{p} [us]"][i] for p in ("solve", "trajectory_and_ledger", "files_and_plot", "model_building"))
+        assert parts == pytest.approx(T["total [us]"][i], rel=1e-9, abs=1e-9)
+        assert T["ratio [-]"][i] == pytest.approx(T["total [us]"][i] / T["yardstick [us]"][i], rel=1e-12)
+        assert T["yardstick [us]"][i] > 0 and T["solve [us]"][i] > 0

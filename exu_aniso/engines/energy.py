@@ -84,9 +84,14 @@ def motion_about_z(x, y, z, angle, vx, vy, vz, omega):
 
 def point_motion(motion, b):
     """Positions and velocities (n, K, 3) of the body-local points b (K, 3)."""
-    arm = np.einsum("nij,kj->nki", motion.rotation, np.asarray(b, dtype=float))
+    arm = np.matmul(motion.rotation, np.asarray(b, dtype=float).T).transpose(0, 2, 1)    # A b per sample
     X = motion.position[:, None, :] + arm
-    V = motion.velocity[:, None, :] + np.cross(motion.omega[:, None, :], arm)
+    w = motion.omega[:, None, :]
+    V = np.empty_like(arm)                   # v + omega x arm, written out: np.cross is 4x slower here
+    V[..., 0] = w[..., 1] * arm[..., 2] - w[..., 2] * arm[..., 1]
+    V[..., 1] = w[..., 2] * arm[..., 0] - w[..., 0] * arm[..., 2]
+    V[..., 2] = w[..., 0] * arm[..., 1] - w[..., 1] * arm[..., 0]
+    V += motion.velocity[:, None, :]
     return X, V
 
 
@@ -167,6 +172,27 @@ def contact_energy(law, X, V, H):
         dD = -np.sum(0.5 * (fd[1:] + fd[:-1]) * np.diff(X, axis=0), axis=(1, 2))
         diss = diss + np.concatenate([[0.0], np.cumsum(dD)])
     return stored.reshape(n, K).sum(axis=1) + stored_tangential(H, law), diss
+
+
+def rigid_contact_energy(law, motion, b, H, chunk=128):
+    """``contact_energy`` of the body-local points b (K, 3) carried by a rigid motion (RigidMotion,
+    in the master frame), a block of ``chunk`` samples at a time: the points' positions and
+    velocities exist for one block only, so the temporaries stay in the cache and are reused instead
+    of taking fresh memory of (n, K, 3) each (the 8 x 8 block over 5.5 s: 8 MB apiece, whose page
+    faults cost more than the arithmetic). The same result as contact_energy(law,
+    *point_motion(motion, b), H) to round-off (the dashpot's cumulative sum is formed per block)."""
+    H = _history(H)
+    n = len(motion.position)
+    if chunk < 1:
+        raise ValueError(f"chunk must be a positive number of samples; got {chunk}")
+    stored, step = np.empty(n), np.zeros(n)        # step[i]: dashpot dissipation from sample i-1 to i
+    for a in range(0, n, chunk):
+        e = min(a + chunk + 1, n)                  # one sample past the block: its last interval
+        X, V = point_motion(RigidMotion(*(x[a:e] for x in motion)), b)
+        s, d = contact_energy(law, X, V, H[a:e])
+        stored[a:e] = s
+        step[a + 1:e] = np.diff(d - dissipated(H[a:e]))
+    return stored, dissipated(H) + np.cumsum(step)
 
 
 ROUND_OFF_FLOOR = 1e-9

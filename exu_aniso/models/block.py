@@ -141,10 +141,11 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
                 position=pos)
 
 
-def BlockTrajectory(model):
-    """Trajectory dict (reference keys) from the stored sensors of a solved BuildBlock model."""
+def BlockTrajectory(model, history=None):
+    """Trajectory dict (reference keys) from the stored sensors of a solved BuildBlock model;
+    history: the contact's HistoryOutputs when the caller has them already."""
     mbs, p, S, d = model["mbs"], model["params"], model["sensors"], model["driveDirection"]
-    diss, slip, _ = HistoryOutputs(mbs, model["contact"])
+    diss, slip, _ = HistoryOutputs(mbs, model["contact"]) if history is None else history
     gap = -p.normal_load / p.eps_n
     if p.model == "planar":
         Q = mbs.GetSensorStoredData(S["sCoordinates"])
@@ -186,10 +187,10 @@ def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=
         return traj, block_summary(traj, float("nan"), failure.steps, failure.newton_iterations)
 
     def complete(wall, steps, iters, info):
-        traj = BlockTrajectory(model)
+        history = HistoryOutputs(model["mbs"], model["contact"])
+        traj = BlockTrajectory(model, history)
         summary = block_summary(traj, wall, steps, iters)
-        summary.update(block_energy(p, traj, BodyMotion(model, traj), model["contact"]["law"],
-                                    HistoryOutputs(model["mbs"], model["contact"])[2]))
+        summary.update(block_energy(p, traj, BodyMotion(model, traj), model["contact"]["law"], history[2]))
         info.update(model=p.model, jacobian=options.get("jacobian", "analytic"),
                     nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
                     K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),

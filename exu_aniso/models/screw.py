@@ -158,13 +158,14 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
                 contact=contact, sensors=sensors, oDrive=oDrive, nodeType=nodeType)
 
 
-def ScrewTrajectory(model, contactOutputs=True):
+def ScrewTrajectory(model, contactOutputs=True, history=None):
     """Trajectory dict (reference keys) from the stored sensors of a solved BuildScrew model.
 
     contactOutputs: also contact_torque [N m] and contact_axial_force [N], re-evaluated from the
-    stored states and the history of the previous step (what the solver saw at convergence)."""
+    stored states and the history of the previous step (what the solver saw at convergence);
+    history: the contact's HistoryOutputs when the caller has them already."""
     mbs, p, S = model["mbs"], model["params"], model["sensors"]
-    diss, slip, H = HistoryOutputs(mbs, model["contact"])
+    diss, slip, H = HistoryOutputs(mbs, model["contact"]) if history is None else history
     s = np.asarray(model["contact"]["points"])   # the evaluated points (one under symmetry)
     if p.model == "reduced":
         Q = mbs.GetSensorStoredData(S["sCoordinates"])
@@ -192,9 +193,9 @@ def ScrewTrajectory(model, contactOutputs=True):
     if contactOutputs and p.model == "reduced":
         # the contact object's generalized force on (psi, z) is the torque about the axis and the axial
         # force, from the set's own kernel (no second compiled law to build for post-processing)
-        force = model["contact"]["generalizedForce"]
-        G = np.array([force((psi[n], z[n]), (traj["omega"][n], traj["vz"][n]), H[max(n - 1, 0)])
-                      for n in range(len(t))])
+        previous = np.concatenate([H[:1], H[:-1]])        # the history each sample's step started from
+        G = model["contact"]["generalizedForce"](np.column_stack([psi, z]), np.column_stack([traj["omega"], traj["vz"]]),
+                                                 previous)
         traj["contact_torque"], traj["contact_axial_force"] = G[:, 0], G[:, 1]
     elif contactOutputs:
         law = model["contact"]["law"]
@@ -226,10 +227,11 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapsho
         return traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations)
 
     def complete(wall, steps, iters, info):
-        traj = ScrewTrajectory(model, contactOutputs)
+        history = HistoryOutputs(model["mbs"], model["contact"])
+        traj = ScrewTrajectory(model, contactOutputs, history)
         summary = screw_summary(traj, wall, steps, iters)
         summary.update(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]),
-                                    model["contact"]["law"], HistoryOutputs(model["mbs"], model["contact"])[2]))
+                                    model["contact"]["law"], history[2]))
         info.update(model=p.model, jacobian=options.get("jacobian", "analytic"),
                     nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
                     K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),

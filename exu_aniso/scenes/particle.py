@@ -376,8 +376,8 @@ def particle_energy(p, traj, law, H):
     drive); kinetic m |v|^2 / 2; potential -m g . (x - x0); stored and dissipated of the contact law
     (normal penalty, adhesion, friction, dashpots)."""
     motion = particle_motion(traj)
-    X, V = energy.point_motion(motion, np.zeros((1, 3)))
-    stored, diss = energy.contact_energy(law, X, V, np.asarray(H, dtype=float).reshape(len(traj["t"]), 1, -1))
+    stored, diss = energy.rigid_contact_energy(law, motion, np.zeros((1, 3)),
+                                               np.asarray(H, dtype=float).reshape(len(traj["t"]), 1, -1))
     potential = -p.mass * (motion.position - motion.position[0]) @ gravity_vector(p)
     return energy_ledger(dict(work_in=np.zeros(len(traj["t"])),
                         kinetic=0.5 * p.mass * np.sum(motion.velocity ** 2, axis=1),

@@ -206,8 +206,7 @@ def screw_energy(p, traj, motion, points, law, H):
                     omega_y=motion.omega[:, 1], axis_x=motion.rotation[:, 0, 2], axis_y=motion.rotation[:, 1, 2],
                     axis_z=motion.rotation[:, 2, 2])
     mass, J = screw_inertia(p)
-    X, V = energy.point_motion(motion, points)
-    stored, diss = energy.contact_energy(law, X, V, H)
+    stored, diss = energy.rigid_contact_energy(law, motion, points, H)
     work = energy.work_trapezoid(traj["torque"], traj["angle"]) + energy.work_trapezoid(traj["axial_force"], traj["z"])
     return energy_ledger(dict(work_in=work, kinetic=energy.rigid_kinetic(motion, mass, J),
                         potential=np.zeros(len(traj["t"])), stored=stored, dissipated=diss), traj, "screw run",

@@ -497,11 +497,23 @@ class _ContactSet:
     def generalized_force(self, q, q_t, history):
         """The contact object's generalized force Q over its coordinates at q, q_t (the set's
         coordinates, reference values excluded) from the converged history (K, 9), as a residual of
-        the solver with no time elapsed since that history (post-processing: what the solver saw)."""
-        _, Jp, F, Jm, _ = self.state(None, np.asarray(q, dtype=float), np.asarray(q_t, dtype=float),
-                                     np.asarray(history, dtype=float), tangent=False, dt=0.0)
+        the solver with no time elapsed since that history (post-processing: what the solver saw).
+        Samples at once: q, q_t (n, nq) and history (n, K, 9) or (n, K*9) give Q (n, nq)."""
+        q, q_t, H = np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), np.asarray(history, dtype=float)
+        if q.ndim == 1:
+            return self._generalized_force(q, q_t, H.reshape(-1, N_HISTORY))
+        if q.ndim != 2 or q_t.shape != q.shape or H.size != len(q) * self.K * N_HISTORY:
+            raise ValueError(f"generalizedForce: q, q_t (n, nq) and history (n, K, {N_HISTORY}) over the same "
+                             f"samples, K = {self.K}; got q {q.shape}, q_t {q_t.shape}, history {H.shape}")
+        return self._sample_forces(q, q_t, H.reshape(len(q), self.K, N_HISTORY))
+
+    def _generalized_force(self, q, q_t, H):
+        _, Jp, F, Jm, _ = self.state(None, q, q_t, H, tangent=False, dt=0.0)
         Q = np.einsum("kij,ki->j", Jp, F)
         return Q if Jm is None else np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
+
+    def _sample_forces(self, q, q_t, H):
+        return np.array([self._generalized_force(q[n], q_t[n], H[n]) for n in range(len(q))])
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         """-(fODE2 dQ/dq + fODE2_t dQ/dq_t) of Q = sum_k Jp_k^T f_k(x_k, v_k) (ground master)."""
@@ -643,13 +655,22 @@ class _CompiledSet(_ContactSet):
         self._force_args = None               # the force call's arguments, made with dt by _load_history
         self._mbs_address = None              # the C++ system's address: the native registry's key
 
-    def generalized_force(self, q, q_t, history):
-        """As _ContactSet.generalized_force, from the set's own compiled kernel (mode 0 on the packed
-        history; the residual's state is forgotten, so a later commit evaluates afresh)."""
-        self.pk.H[:] = np.reshape(history, self.pk.H.shape)
-        self.pk.evaluate(0, q, q_t, 0.0, 0.0, 0.0)
+    def _generalized_force(self, q, q_t, H):
+        return self._sample_forces(q[None], q_t[None], H[None])[0]
+
+    def _sample_forces(self, q, q_t, H):
+        """_ContactSet.generalized_force from the set's own compiled kernel, one call per sample
+        (mode 0 on each sample's history; the residual's state is forgotten afterwards, so a later
+        commit evaluates afresh)."""
+        entry, tail, Q = self.pk.entry(), self.pk.tail, self.pk.Q
+        q, q_t = np.ascontiguousarray(q), np.ascontiguousarray(q_t)
+        H = np.ascontiguousarray(H)
+        out = np.empty((len(q), len(Q)))
+        for n in range(len(q)):
+            entry(0, q[n], q_t[n], 0.0, 0.0, 0.0, H[n], *tail)
+            out[n] = Q
         self.pk.X[:] = np.nan
-        return self.pk.Q.copy()
+        return out
 
     def initial_history(self, q, q_t):
         """As _ContactSet.initial_history, from the set's own compiled kernel (mode 2: the candidate
