@@ -43,6 +43,7 @@ def test_targets_declared():
     assert goals["64 cubes, one contact set each"] == goals["64 cubes, one group"] == 3.0
     assert goals["reduced screw (default ScrewParams)"] == 1.2
     assert goals["moving master (full block, 4 corners, on a free plate)"] == 1.2
+    assert goals["moving master against the same two bodies with the contact on the fixed plane"] == 1.2
     assert goals["compiled call on the plane, as Exudyn makes it: fixed part [us]"] == 0.5
     assert goals["compiled call on the plane, as Exudyn makes it: per point [us]"] == 0.05
     assert [K for K in (1, 4, 16, 64, 256)] == [
