@@ -225,3 +225,19 @@ def test_baseline_argument_errors():
         baseline.BuildBlockBaseline(BlockParams(), nodeType="bad")
     with pytest.raises(ValueError, match="drive 'rotation'"):
         baseline.BuildScrewBaseline(ScrewParams(model="full", drive="rotation"))
+
+
+def test_a_fresh_processes_peak_memory_is_its_own():
+    """The memory rows' child process reports its own peak, not its parent's: started from a parent
+    that holds 400 MB more, the child's figure for a small model stays below the parent's size
+    (getrusage's ru_maxrss kept the forked parent's peak; VmHWM starts afresh at exec)."""
+    import resource
+
+    from _lib import scale
+    if not os.path.exists("/proc/self/status"):
+        pytest.skip("no /proc: the peak comes from ru_maxrss")
+    ballast = np.ones(50_000_000)                           # 400 MB, touched
+    parent = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    m = scale.peak_memory(1, "corners", 5, False)
+    assert ballast[-1] == 1.0 and parent > 400.0
+    assert 0.0 < m["built_mb"] <= m["peak_mb"] < parent - 300.0, (m, parent)

@@ -258,11 +258,25 @@ def memory_table_rows(rows):
             for r in rows]
 
 
-def _memory_main(M, points, steps, store):
+def peak_rss_mb():
+    """This process's peak resident set size [MB]: VmHWM of /proc/self/status, the high-water mark
+    of the process image, which starts afresh at exec. (getrusage's ru_maxrss does not: it keeps the
+    peak of the forked parent's copy, so a child started by a big process, such as the benchmark
+    after its timing runs, reported the parent's size in every case.) ru_maxrss where there is no
+    /proc."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024.0          # kB
+    except OSError:
+        pass
     import resource
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
-    def rss_mb():   # ru_maxrss: kilobytes on Linux
-        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+def _memory_main(M, points, steps, store):
+    rss_mb = peak_rss_mb
     model = BuildCubes(int(M), "group", int(steps) * 1e-3, 1e-3, points=points, storeHistory=store == "1")
     built = rss_mb()
     _solve(model)
