@@ -25,6 +25,7 @@ from _lib.fastening_cases import (pitch_for_lead, run_case, timed_runs, vdi_band
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
 from exu_aniso.law import oracles  # noqa: E402
+from exu_aniso.geometry.helicoid import lead_angle  # noqa: E402
 from exu_aniso.scenes.fastening import FasteningParams, calibrate_net, theory  # noqa: E402
 
 D = FasteningParams()
@@ -156,7 +157,7 @@ def main(argv=None):
     flanks = np.arange(FLANKS[0], FLANKS[1] + 1e-9, 2.5)
     mpath = table(os.path.join(out, "vdi_map.csv"), MAP_COLS,
                   [[float(a), float(b), vdi_thread_error(a, b, MU, D.d2)] for a in leads for b in flanks])
-    m10 = math.degrees(oracles.lead_angle(D.d2, D.pitch))
+    m10 = math.degrees(lead_angle(D.pitch, 0.5 * D.d2))
     band_leads = [1.0, 2.0, m10, 4.0, 6.0, 8.0, 10.0]
     bpath = table(os.path.join(out, "vdi_bands.csv"), BAND_COLS,
                   [[a, pitch_for_lead(a, D.d2) / D.d2, *vdi_band(a, MU, D.d2, VDI_TOLS[0]),
@@ -189,7 +190,7 @@ def sim_row(label, c, res):
     beta = math.radians(p.flank_angle)
     exact = oracles.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
     vdi = oracles.torque_per_clamp_force_vdi2230(p.d2, p.pitch, p.mu_thread, 0.0, 0.0)
-    return [label, p.flank_angle, p.pitch, math.degrees(oracles.lead_angle(p.d2, p.pitch)),
+    return [label, p.flank_angle, p.pitch, math.degrees(lead_angle(p.pitch, 0.5 * p.d2)),
             num(sm.get("thread_torque_per_clamp_force")), exact, vdi,
             rel(sm.get("thread_torque_per_clamp_force"), exact),
             vdi / exact - 1.0, rel(sm.get("torque_per_clamp_force"), sm.get("torque_per_clamp_force_theory")),

@@ -20,6 +20,7 @@ import pytest
 from exu_aniso.law import oracles
 from exu_aniso.calibration import steady_sliding
 from exu_aniso.geometry import Helicoid
+from exu_aniso.geometry.helicoid import lead_angle
 from exu_aniso.models.fastening import RunFastening
 from exu_aniso.scenes.fastening import (MIN_TIGHTENING_SAMPLES, FasteningParams, calibrate_net, calibration_force,
                                        fastening_summary, lead, theory, tightening)
@@ -162,7 +163,7 @@ def test_net_model_is_calibrated_by_the_closed_form_and_misses_the_torque_tensio
     s = r.summary
     assert s["energy_ok"]
     Fa = float(r.trajectory["clamp_force"][-1]) + p.axial_load
-    base = ScrewParams(radius=0.5 * p.d2, helix_angle=math.degrees(oracles.lead_angle(p.d2, p.pitch)),
+    base = ScrewParams(radius=0.5 * p.d2, helix_angle=math.degrees(lead_angle(p.pitch, 0.5 * p.d2)),
                        interference=p.net_normal_force / p.thread_stiffness, eps_n=p.thread_stiffness,
                        adhesion="isotropic", friction="spiral", mu_1=mu1, mu_2=p.net_mu_across, return_map="exact",
                        axial_load=-Fa)

@@ -64,6 +64,19 @@ def guess(p, y, xi1, xi2):
 _core.register(HelicoidParams, chart, guess)
 
 
+def lead_angle(pitch, radius):
+    """Lead angle lambda [rad] of a helix of lead ``pitch`` [m per turn] at ``radius`` [m]:
+    tan lambda = P / (2 pi r) (at the pitch diameter d2 of a thread: P / (pi d2))."""
+    return math.atan(pitch / (TWO_PI * radius))
+
+
+def normal_flank_angle(flank_angle, lead):
+    """beta_n [rad], a thread's flank in the section normal to the helix: tan beta_n = tan(beta / 2)
+    cos lambda, with beta the full thread angle [rad] (metric: pi/3) and lambda the lead angle [rad]
+    (VDI 2230, ISO 16047; a metric thread's 30 deg becomes slightly less)."""
+    return math.atan(math.tan(0.5 * flank_angle) * math.cos(lead))
+
+
 def _choice(name, value, allowed):
     if value not in allowed:
         raise ValueError(f"Helicoid: {name} must be {' or '.join(repr(s) for s in allowed)}; got {value!r}")
@@ -113,13 +126,12 @@ class Helicoid(Surface):
         """Lead angle lambda [rad] of the helix at radius r (default the pitch radius d2 / 2):
         tan lambda = |h| / r = P / (2 pi r)."""
         r = 0.5 * self.pitch_diameter if r is None else check_positive("r", r)
-        return math.atan(abs(self.lead_per_radian) / r)
+        return lead_angle(self.pitch, r)
 
     def normal_flank_angle(self):
-        """The flank's angle in the section normal to the helix at the pitch radius [rad]:
-        atan(tan(beta / 2) cos lambda), half the thread angle seen in that section (beta_n of VDI 2230,
-        ISO 16047); a metric thread's 30 deg becomes slightly less."""
-        return math.atan(math.tan(0.5 * self.flank_angle) * math.cos(self.lead_angle()))
+        """The flank's angle in the section normal to the helix at the pitch radius [rad]
+        (the module's ``normal_flank_angle``): half the thread angle seen in that section."""
+        return normal_flank_angle(self.flank_angle, self.lead_angle())
 
     def __repr__(self):
         p = self.params

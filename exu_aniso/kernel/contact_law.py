@@ -29,7 +29,7 @@ import numpy as np
 
 from exu_aniso import geometry as _geometry
 from exu_aniso.law.history import N_HISTORY, OPEN
-from exu_aniso.law.return_maps import check_return_map
+from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, check_return_map
 from exu_aniso.fields.nets import net_of
 from exu_aniso.util.validation import check_array, check_nonnegative, check_points, check_positive
 
@@ -66,7 +66,7 @@ class ContactLaw:
     point]; tangential_damping d_T [N s/m per point]; return_map: "seed" | "exact" | "radial".
     """
 
-    def __init__(self, surface, adhesion, friction, normal_stiffness, normal_damping=0.0, return_map="exact",
+    def __init__(self, surface, adhesion, friction, normal_stiffness, normal_damping=0.0, return_map=DEFAULT_RETURN_MAP,
                  tangential_damping=0.0):
         if getattr(adhesion, "kind", None) != "adhesion":
             raise TypeError(f"adhesion must be an Adhesion field (exu_aniso.Adhesion.*); got {adhesion!r}")

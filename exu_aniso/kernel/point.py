@@ -45,7 +45,7 @@ from numba.extending import overload
 
 from exu_aniso.kernel.nodes import NODE_KINDS, LinearSlave, node_coordinates_of
 from exu_aniso.kernel.sets import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
-from exu_aniso.kernel.sets import Y_DV, Y_F, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
+from exu_aniso.kernel.sets import S_J, S_LAW, S_VEC, Y_DV, Y_F, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
 from exu_aniso.kernel.sets import point_states as sets_point_states
 from exu_aniso.geometry import _core
 from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
@@ -480,7 +480,7 @@ CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "l
 def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
     if getattr(law, "instance_class", None) is CovariantLaw:
         def impl(law, Y, H, Hn, first, count, dt, tangent, S):
-            W = S[0:3]
+            W = S[S_LAW:S_LAW + 3]
             dT = W[0, 0:2, :]
             sp, netB, netF, lp = law.surface, law.adhesion, law.friction, law.law
             ncontact = 0
@@ -542,8 +542,8 @@ def evaluate_covariant(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, kind):
     call, whose candidate P[2] holds."""
     nq = q.shape[0]
     _remember(mode, q, q_t, X)
-    return evaluate_set(kind, q, q_t, ref, P[0, :, :3], H, law, mode, fq, fv, dt, S[17, 6, :nq],
-                        S[18, :nq, :nq], P[2], S, Y)
+    return evaluate_set(kind, q, q_t, ref, P[0, :, :3], H, law, mode, fq, fv, dt, S[S_VEC, 6, :nq],
+                        S[S_J, :nq, :nq], P[2], S, Y)
 
 
 @njit(cache=True)
@@ -605,8 +605,8 @@ class CovariantSet:
         if self.linear is not None:
             self.Q, self.J = np.zeros(nq), np.zeros((nq, nq))
         else:
-            self.Q = self.S[17, 6, :nq]
-            self.J = self.S[18, :nq, :nq]
+            self.Q = self.S[S_VEC, 6, :nq]
+            self.J = self.S[S_J, :nq, :nq]
 
         if self.linear is not None:
             lm = self.linear

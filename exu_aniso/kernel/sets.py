@@ -39,7 +39,22 @@ from exu_aniso.kernel.nodes import (generalized_force, master_derivatives, maste
                                     slave_is_linear, slave_point, slave_points_xv)
 from exu_aniso.law.history import H_DISSIPATED, H_STATUS, N_HISTORY, UNRESOLVED
 
-SCRATCH_SLOTS = 19   # (slots, 9, 9) scratch: 0-8 point kernel, 9-17 set kernel, 18 Jacobian
+# The set kernels' scratch S (SCRATCH_SLOTS, 9, 9), one 9 x 9 slot per named piece: slots 0-8 belong to
+# the point law (point_states: S_LAW), the others to the set kernels, which take these views of them
+SCRATCH_SLOTS = 19
+S_LAW = 0          # slots 0-8: the point law's
+S_A = 9            # the slave's rotation A [:3, :3]
+S_G = 10           # the slave's G [:3, :4]; Euler parameters, mode 1: G(e_t) [3:6, :4]
+S_JP = 11          # a point's Jacobian Jp [:3, :nq]
+S_KJ = 12          # _add_congruent's product M R [:3, :nq]
+S_DA = 14          # Euler parameters, mode 1: dA/de_m [3:7, :9]
+S_KQ = 15          # evaluate_set, mode 1: sum Jp^T Kx Jp [:nq, :nq]
+S_PAIR_Q = 15      # the pair kernels: the slave's q_total [0], the master's q_total [1], local omega [2], omega [3]
+S_DQ = 16          # evaluate_set, mode 1: sum Jp^T Dv Jp [:nq, :nq]
+S_MASTER = 16      # the pair kernels: the master's A [:3, :3] and G [3:6, :4]
+S_VEC = 17         # rows: q_total [0], x [1], v [2], the local angular velocity [4], the set's Q [6]
+#                    (CovariantSet.Q) and in mode 1 dx/dq [6:9] (Euler parameters)
+S_J = 18           # the set's Jacobian J [:nq, :nq] (CovariantSet.J)
 
 
 # the rows of a set's point buffer Y (K, Y_ROWS, 3), a block per point: its position and velocity
@@ -76,8 +91,8 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
     links what it calls and optimizes it all again, so fewer levels compile faster."""
     nq = q.shape[0]
     K = b.shape[0]
-    A, G = S[9, :3, :3], S[10, :3, :4]
-    qt = S[17, 0, :nq]
+    A, G = S[S_A, :3, :3], S[S_G, :3, :4]
+    qt = S[S_VEC, 0, :nq]
     node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
     points_xv(kind, qt, q_t, A, G, b, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2])
     ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
@@ -120,21 +135,21 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     nq = q.shape[0]
     K = b.shape[0]
     # scratch views of S (slots 0-8 belong to contact_point)
-    A, G, Jp = S[9, :3, :3], S[10, :3, :4], S[11, :3, :nq]
-    Kq, Dq = S[15, :nq, :nq], S[16, :nq, :nq]
-    qt, x, v, wl = S[17, 0, :nq], S[17, 1, :3], S[17, 2, :3], S[17, 4, :3]
-    KJ = S[12, :3, :nq]               # scratch of _add_congruent (3 x nq)
+    A, G, Jp = S[S_A, :3, :3], S[S_G, :3, :4], S[S_JP, :3, :nq]
+    Kq, Dq = S[S_KQ, :nq, :nq], S[S_DQ, :nq, :nq]
+    qt, x, v, wl = S[S_VEC, 0, :nq], S[S_VEC, 1, :3], S[S_VEC, 2, :3], S[S_VEC, 4, :3]
+    KJ = S[S_KJ, :3, :nq]             # scratch of _add_congruent (3 x nq)
     tangent = mode == 1
     if tangent:
         for i in range(nq):
             for j in range(nq):
                 Kq[i, j] = 0.0
                 Dq[i, j] = 0.0
-    # EP derivatives (mode 1): dA/de_m in rows 3-6 of slot 14, G(e_t) in rows 3-5 of slot 10
-    dA, Gt = S[14, 3:7, :9], S[10, 3:6, :4]
+    # EP derivatives (mode 1): dA/de_m and G(e_t)
+    dA, Gt = S[S_DA, 3:7, :9], S[S_G, 3:6, :4]
     node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt)
-    # dx/dq: Jp except for Euler parameters (rows 6-8 of slot 17; see exudyn_adapter.glue._PointTangent)
-    Jx = node_position_jacobian(kind, S[17, 6:9, :nq], Jp)
+    # dx/dq: Jp except for Euler parameters (see exudyn_adapter.glue._PointTangent)
+    Jx = node_position_jacobian(kind, S[S_VEC, 6:9, :nq], Jp)
     c0, nc = node_rotation_columns(kind, nq)
     ncontact = 0
     unresolved = False
@@ -334,10 +349,10 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
     n = q.shape[0]
     nm = node_coordinates(mkind)
     ns = n - nm
-    As, Gs = S[9, :3, :3], S[10, :3, :4]
-    qts = S[15, 0, :(0 if slave_is_linear(kind) else ns)]
-    qtm, wlm, w = S[15, 1, :nm], S[15, 2, :3], S[15, 3, :3]
-    Am, Gm = S[16, :3, :3], S[16, 3:6, :4]
+    As, Gs = S[S_A, :3, :3], S[S_G, :3, :4]
+    qts = S[S_PAIR_Q, 0, :(0 if slave_is_linear(kind) else ns)]
+    qtm, wlm, w = S[S_PAIR_Q, 1, :nm], S[S_PAIR_Q, 2, :3], S[S_PAIR_Q, 3, :3]
+    Am, Gm = S[S_MASTER, :3, :3], S[S_MASTER, 3:6, :4]
     node_frame(kind, q[:ns], q_t[:ns], ref[:ns], False, qts, As, Gs, As, Gs)
     _master_frame(mkind, q[ns:], q_t[ns:], ref[ns:], False, qtm, Am, Gm, Am, Gm, wlm, w)
     vp0, vp1, vp2 = q_t[ns], q_t[ns + 1], q_t[ns + 2]
@@ -419,10 +434,10 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     na = m + nm
     tangent = mode == 1
     # the slave's views (evaluate_set's slots) and the law's outputs
-    As, Gs = S[9, :3, :3], S[10, :3, :4]
-    dAs, Gts = S[14, 3:7, :9], S[10, 3:6, :4]
-    x, v, wls = S[17, 1, :3], S[17, 2, :3], S[17, 4, :3]
-    qts = S[15, 0, :(0 if linear else ns)]
+    As, Gs = S[S_A, :3, :3], S[S_G, :3, :4]
+    dAs, Gts = S[S_DA, 3:7, :9], S[S_G, 3:6, :4]
+    x, v, wls = S[S_VEC, 1, :3], S[S_VEC, 2, :3], S[S_VEC, 4, :3]
+    qts = S[S_PAIR_Q, 0, :(0 if linear else ns)]
     qs, qs_t, refs = q[:ns], q_t[:ns], ref[:ns]
     # the pair's views: slave point Jacobians (compact columns), derivatives, tangent blocks, master
     Jp = T[0, 0:3, :m]

@@ -10,6 +10,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
+from exu_aniso.geometry.helicoid import lead_angle, normal_flank_angle
+
 
 def orthotropic_heading(pull_angle, pull, normal_force, mu_1, mu_2):
     """Heading [rad] of the steady sliding of a body pulled from rest by a constant force
@@ -300,24 +302,15 @@ def _check_thread(d2, pitch, flank_angle):
         raise ValueError(f"flank_angle must lie in [0, pi) rad; got {flank_angle!r}")
 
 
-def lead_angle(d2, pitch):
-    """Lead angle phi [rad] at the pitch diameter: tan phi = P / (pi d2)."""
-    return math.atan(pitch / (math.pi * d2))
-
-
-def normal_flank_angle(d2, pitch, flank_angle):
-    """beta_n [rad], the flank angle in the plane normal to the helix: tan beta_n = tan(beta/2) cos phi."""
-    return math.atan(math.tan(0.5 * flank_angle) * math.cos(lead_angle(d2, pitch)))
-
-
 def thread_torque_per_force(d2, pitch, flank_angle, mu_thread):
     """Thread torque per axial force [m] while the thread slides in tightening (ISO 16047 / VDI 2230):
     (d2/2) (tan phi + mu / cos beta_n) / (1 - mu tan phi / cos beta_n). The force balance of a point
     on the flank at the pitch radius under Coulomb friction along the helix; flank_angle is the full
     thread angle beta [rad] (metric: pi/3)."""
     _check_thread(d2, pitch, flank_angle)
-    t = math.tan(lead_angle(d2, pitch))
-    m = mu_thread / math.cos(normal_flank_angle(d2, pitch, flank_angle))
+    lead = lead_angle(pitch, 0.5 * d2)
+    t = math.tan(lead)
+    m = mu_thread / math.cos(normal_flank_angle(flank_angle, lead))
     if not m * t < 1.0:
         raise ValueError(f"mu_thread: the thread is self-locking beyond its limit (mu tan phi / cos beta_n = {m * t:.3g} "
                          f">= 1); got mu_thread={mu_thread!r}")

@@ -42,6 +42,13 @@ Return maps (``method``)
 ``"radial"`` ``T = |N| T_tr / sqrt(T_tr.F T_tr)``: exact backward Euler of the non-associated
              slip rule ``dxi_sl ∝ -C^-1 T``; adhesion steers sliding.
 
+The default, ``DEFAULT_RETURN_MAP``, is ``"exact"`` everywhere a map can be left out: ``ContactLaw``,
+``mbs.CreateAnisotropicContact`` (``returnMap``), the Python maps below and the scenes' parameters. Two
+scenes choose ``"radial"`` and say so in their parameter table: the block and the screw, the papers'
+examples, whose point is sliding steered by the adhesion net (the polar block's curved path, the
+screw's advance along the thread); under ``"exact"`` with an isotropic friction the block slides
+straight along its push (heading 90 deg against 112.9 deg, ``exu-aniso run block --set return_map=exact``).
+
 Each map returns the derivative of T with respect to the nine law inputs
 ``p = (T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22)`` (a symmetric component enters both
 off-diagonal entries), from which ``exu_aniso.kernel.contact_law`` builds the consistent tangent.
@@ -69,6 +76,7 @@ from exu_aniso.law.history import SLIP, STICK  # noqa: F401  (the states the map
 from exu_aniso.util.validation import check_array, check_definite_components, check_nonnegative, check_vector
 
 RETURN_MAPS = ("seed", "exact", "radial")
+DEFAULT_RETURN_MAP = "exact"         # the one default (module doc)
 Seed = namedtuple("Seed", ())        # papers' closed form
 Exact = namedtuple("Exact", ())      # associated backward Euler (closest point projection)
 Radial = namedtuple("Radial", ())    # backward Euler of the non-associated radial slip rule
@@ -407,7 +415,7 @@ def _return_map_many(method, T_tr, N, B, F, tangent, T, dT, state, slip, D, kapp
             dT[k] = d
 
 
-def return_map_point(T_tr, N_abs, B, F, method="exact", tangent=True):
+def return_map_point(T_tr, N_abs, B, F, method=DEFAULT_RETURN_MAP, tangent=True):
     """Return map for one point (``return_map`` with input checks and a LawResult).
 
     T_tr: (T_1, T_2) trial traction; N_abs: |N| >= 0; B: (b11, b12, b22) negative definite;
@@ -427,7 +435,7 @@ def return_map_point(T_tr, N_abs, B, F, method="exact", tangent=True):
                      float(r.phi_trial[0]), None if r.dT is None else r.dT[0])
 
 
-def return_map_batch(T_tr, N_abs, B, F, method="exact", tangent=True):
+def return_map_batch(T_tr, N_abs, B, F, method=DEFAULT_RETURN_MAP, tangent=True):
     """Return map for K points at once. Shapes: T_tr (K, 2), N_abs (K,), B and F (K, 3).
 
     Same function as return_map_point, one compiled loop; a point with |N| = 0 and a non-zero

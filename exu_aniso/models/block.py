@@ -35,7 +35,7 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
 from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
                                                      BodyMotion, HistoryOutputs, RunScene,
-                                                     SimulationSettingsFor, SolveTimed, Unwrap)
+                                                     SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.util.validation import check_instance
 
 
@@ -191,10 +191,8 @@ def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=
         traj = BlockTrajectory(model, history)
         summary = block_summary(traj, wall, steps, iters)
         summary.update(block_energy(p, traj, BodyMotion(model, traj), model["contact"]["law"], history[2]))
-        info.update(model=p.model, jacobian=options.get("jacobian", "analytic"),
-                    nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
-                    K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
-                    newton=options.get("newton", "modified"), implementation=model["contact"]["implementation"])
+        info.update(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
+                    **SettingsInfo(model["simulationSettings"], [model["contact"]]))
         return traj, summary
     return RunScene(model, p, "block", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
 

@@ -34,7 +34,7 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.law.history import HISTORY_FIELDS
 from exu_aniso.engines.energy import work_trapezoid
 from exu_aniso.engines.exudyn_adapter.glue import hermite_shape_functions
-from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SimulationSettingsFor
+from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor
 from exu_aniso.scenes.capstan import (CapstanParams, capstan_contact_law, capstan_energy, capstan_summary,
                                      element_length, tension_in, tension_out)
 from exu_aniso.util.validation import check_instance
@@ -306,10 +306,7 @@ def RunCapstan(p: CapstanParams = None, progress=False, snapshot=None, solutionF
         traj, q, qt, H = CapstanTrajectory(model)
         summary = capstan_summary(traj, p, wall, steps, iters)
         summary.update(CapstanLedger(model, traj, q, qt, H))
-        info.update(jacobian=options.get("jacobian", "analytic"),
-                    K=int(sum(_contact_set(model["mbs"], c).K for c in model["contacts"])),
-                    newton_tol=options.get("newtonTolerance", 1e-8), newton=options.get("newton", "modified"),
-                    implementation=model["contact"]["implementation"], elements=len(model["elements"]))
+        info.update(elements=len(model["elements"]), **SettingsInfo(model["simulationSettings"], model["contacts"]))
         return traj, summary
     return RunScene(model, p, "capstan", model["contacts"], partial, complete, progress, snapshot, solutionFile)
 

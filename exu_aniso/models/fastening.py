@@ -26,7 +26,7 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.law import oracles
 from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, RunScene,
-                                                     SimulationSettingsFor, Unwrap)
+                                                     SettingsInfo, SimulationSettingsFor, Unwrap)
 from exu_aniso.scenes.fastening import (FasteningParams, bolt_inertia, contact_torques, fastening_energy,
                                        fastening_summary, head_contact_law, head_points, head_z, joint_damping, lead,
                                        part_top_z, thread_contact_law, thread_points)
@@ -176,9 +176,7 @@ def RunFastening(p: FasteningParams = None, progress=False, snapshot=None, solut
         summary = fastening_summary(traj, p, wall, steps, iters)
         summary.update(fastening_energy(p, traj, ex["bolt"], ex["part_z"], ex["part_vz"], ex["laws"], ex["X"],
                                         ex["V"], ex["H"]))
-        info.update(jacobian=options.get("jacobian", "analytic"),
-                    K=len(thread_points(p)) + len(head_points(p)), newton=options.get("newton", "modified"),
-                    implementation=contacts[0]["implementation"], thread_law=repr(contacts[0]["law"]))
+        info.update(thread_law=repr(contacts[0]["law"]), **SettingsInfo(model["simulationSettings"], contacts))
         return traj, summary
     return RunScene(model, p, "fastening", contacts, partial, complete, progress, snapshot, solutionFile,
                     snapshotOptions=dict(modelRotation=SNAPSHOT_VIEW))

@@ -25,7 +25,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
-from exu_aniso.engines.exudyn_adapter.runner import RunScene, SimulationSettingsFor
+from exu_aniso.engines.exudyn_adapter.runner import RunScene, SettingsInfo, SimulationSettingsFor
 from exu_aniso.scenes.feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary,
                                     finish_trajectory, part_inertia, part_points, part_positions, throw_direction)
 from exu_aniso.engines.timing import time_step
@@ -138,8 +138,7 @@ def RunFeeder(p: FeederParams = None, progress=False, snapshot=None, solutionFil
         extra = max(0, steps - info["nominal_steps"])
         summary = feeder_summary(traj, P, yaw, p, wall, steps - extra, iters, extra_steps=extra)
         summary.update(feeder_energy(p, traj, motions, forces, model["contacts"][0]["law"], H, plate))
-        info.update(jacobian=options.get("jacobian", "analytic"), K=4 * p.parts,
-                    newton=options.get("newton", "modified"), implementation=model["contacts"][0]["implementation"])
+        info.update(**SettingsInfo(model["simulationSettings"], model["contacts"]))
         return traj, summary
     return RunScene(model, p, "feeder", model["contacts"], partial, complete, progress, snapshot, solutionFile)
 

@@ -18,7 +18,7 @@ from exudyn import graphics
 from exudyn.itemInterface import SensorNode
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SimulationSettingsFor
+from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor
 from exu_aniso.scenes.particle import (ParticleParams, finish_trajectory, gravity_vector, initial_state,
                                       particle_contact_law, particle_energy, particle_summary)
 from exu_aniso.util.validation import check_instance
@@ -84,10 +84,7 @@ def RunParticle(p: ParticleParams = None, progress=False, snapshot=None, solutio
         traj, H = ParticleTrajectory(model)
         summary = particle_summary(traj, p, wall, steps, iters)
         summary.update(particle_energy(p, traj, model["contact"]["law"], H))
-        info.update(jacobian=options.get("jacobian", "analytic"), K=1,
-                    newton_tol=options.get("newtonTolerance", 1e-10),
-                    newton=options.get("newton", "modified"),
-                    implementation=model["contact"]["implementation"])
+        info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
         return traj, summary
     return RunScene(model, p, "particle", [model["contact"]], partial, complete, progress, snapshot,
                     solutionFile)

@@ -35,7 +35,7 @@ from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
                                                      AddYawDrive, BodyMotion, HistoryOutputs, RunScene,
-                                                     SimulationSettingsFor, SolveTimed, Unwrap)
+                                                     SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.scenes.screw import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
 from exu_aniso.util.validation import check_bool, check_instance
 
@@ -232,10 +232,8 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapsho
         summary = screw_summary(traj, wall, steps, iters)
         summary.update(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]),
                                     model["contact"]["law"], history[2]))
-        info.update(model=p.model, jacobian=options.get("jacobian", "analytic"),
-                    nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
-                    K=len(model["contact"]["points"]), newton_tol=options.get("newtonTolerance", 1e-10),
-                    newton=options.get("newton", "modified"), implementation=model["contact"]["implementation"])
+        info.update(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
+                    **SettingsInfo(model["simulationSettings"], [model["contact"]]))
         return traj, summary
     return RunScene(model, p, "screw", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
 

@@ -60,7 +60,8 @@ BLOCK_PARAMS = {
     "mu_1": (0.3, "-", "friction coefficient along e1 (polar: radial; isotropic: both)", "> 0"),
     "mu_2": (0.3, "-", "friction coefficient along e2 (polar: circumferential)", "> 0"),
     "friction_angle": (0.0, "deg", "angle of e1 from e_x for cartesian friction", "real"),
-    "return_map": ("radial", "-", "sliding return map", RETURN_MAPS),
+    "return_map": ("radial", "-", "sliding return map; radial here, the package's default is exact: the papers' block "
+                   "slides where the polar adhesion steers it (exact: straight along the push)", RETURN_MAPS),
     "drive": ("displacement", "-", "constant force at the COM, or a spring along the drive direction "
               "from a driver moving at drive_speed", ("force", "displacement")),
     "drive_angle": (90.0, "deg", "drive direction in the xy-plane, from e_x", "real"),

@@ -71,7 +71,7 @@ from exu_aniso.engines import energy
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cylinder
-from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
 from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters
 
 CAPSTAN_PARAMS = {
@@ -97,7 +97,7 @@ CAPSTAN_PARAMS = {
     "friction": ("isotropic", "-", "friction field F on the drum", ("isotropic", "orthotropic")),
     "mu_1": (0.3, "-", "friction coefficient along the circumference (isotropic: both)", "> 0"),
     "mu_2": (0.3, "-", "friction coefficient along the drum axis (across the rope)", "> 0"),
-    "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
+    "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "normal_damping_per_length": (1e3, "N s/m^2", "normal contact damping per length of rope", ">= 0"),
     "end_damping": (30.0, "N s/m", "dashpot to ground at each rope end (the loading device)", ">= 0"),
     "slip_displacement": (1e-3, "m", "in-end travel towards the drum that marks gross slip (cross-check)", "> 0"),

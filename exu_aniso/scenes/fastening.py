@@ -44,7 +44,8 @@ from exu_aniso.law import oracles
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cylinder, Helicoid, Plane
-from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.geometry.helicoid import lead_angle
+from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
 from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters
 from exu_aniso.util.validation import ParameterError
 
@@ -84,7 +85,7 @@ FASTENING_PARAMS = {
     "part_mass": (0.2, "kg", "mass of the clamped part", "> 0"),
     "rotation_speed": (1.0, "rad/s", "speed of the rotation drive", "> 0"),
     "drive_stiffness": (2e3, "N m/rad", "torsional spring between driver and bolt", "> 0"),
-    "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
+    "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (1.5, "s", "simulated time", "> 0"),
     "dt": (1e-3, "s", "time step", "> 0"),
     "solver": ("generalized_alpha", "-", "time integrator (numerical damping of the stiff contact modes; "
@@ -248,7 +249,7 @@ def calibrate_net(p):
     from exu_aniso.scenes.screw import ScrewParams
     Fa = calibration_force(p)
     target = oracles.thread_torque_per_force(p.d2, p.pitch, math.radians(p.flank_angle), p.mu_thread) * Fa
-    base = ScrewParams(radius=0.5 * p.d2, helix_angle=math.degrees(oracles.lead_angle(p.d2, p.pitch)),
+    base = ScrewParams(radius=0.5 * p.d2, helix_angle=math.degrees(lead_angle(p.pitch, 0.5 * p.d2)),
                        interference=net_interference(p), eps_n=p.thread_stiffness, adhesion="isotropic",
                        eps_1=p.sticking_stiffness, friction="spiral", mu_2=p.net_mu_across, return_map="exact",
                        axial_load=-Fa)
@@ -282,7 +283,7 @@ def thread_contact_law(p):
     eps_t = p.sticking_stiffness / K
     if p.thread == "net":
         mu1 = p.net_mu_along or calibrate_net(p)
-        a = oracles.lead_angle(p.d2, p.pitch)
+        a = lead_angle(p.pitch, 0.5 * p.d2)
         return ContactLaw(thread_surface(p), Adhesion.isotropic(eps_t), Friction.spiral(mu1, p.net_mu_across, a),
                           normal_stiffness=p.thread_stiffness / K, return_map=p.return_map)
     F = (Friction.orthotropic(p.mu_thread, p.mu_thread_2, angle=0.0) if p.thread_net == "orthotropic"

@@ -40,7 +40,7 @@ from exu_aniso.law import oracles
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
-from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
 from exu_aniso.util.validation import check_keywords
 from exu_aniso.scenes.base import (ENERGY_COLUMNS, HEADING_V_ABS, SOLVERS, energy_ledger, SceneParams,
                                    scene_parameters, solver_advice)
@@ -66,7 +66,7 @@ FEEDER_PARAMS = {
     "gravity": (9.81, "m/s^2", "gravity (along -z)", "> 0"),
     "plate_mass": (1e4, "kg", "mass of the vibrating plate (the parts' reaction moves it by part/plate mass)",
                    "> 0"),
-    "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
+    "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (0.6, "s", "simulated time", "> 0"),
     "dt": (2.5e-5, "s", "time step", "> 0"),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),

@@ -75,7 +75,7 @@ from exu_aniso.law.history import HISTORY_FIELDS, SLIP
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cone, Cylinder, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
-from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
 from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters,
                                    solver_advice)
@@ -112,7 +112,7 @@ PARTICLE_PARAMS = {
     "mu_1": (0.15, "-", "friction coefficient along direction 1 (isotropic: both)", "> 0"),
     "mu_2": (0.15, "-", "friction coefficient along direction 2", "> 0"),
     "angle": (0.0, "deg", "direction 1 of orthotropic fields from the xi1 coordinate line", "real"),
-    "return_map": ("exact", "-", "sliding return map", RETURN_MAPS),
+    "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (1.0, "s", "simulated time", "> 0"),
     "dt": (2e-4, "s", "time step", "> 0"),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),

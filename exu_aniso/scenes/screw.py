@@ -93,7 +93,8 @@ SCREW_PARAMS = {
     "friction": ("spiral", "-", "friction field F", ("isotropic", "spiral")),
     "mu_1": (0.2, "-", "friction coefficient along the helix (isotropic: both)", "> 0"),
     "mu_2": (0.6, "-", "friction coefficient across the helix", "> 0"),
-    "return_map": ("radial", "-", "sliding return map", RETURN_MAPS),
+    "return_map": ("radial", "-", "sliding return map; radial here, the package's default is exact: the papers' "
+                   "screw slides where the spiral adhesion steers it", RETURN_MAPS),
     "drive": ("rotation", "-", "constant torque, torsional spring to a rotating driver, or axial spring "
               "to a translating driver", ("torque", "rotation", "axial")),
     "torque": (0.05, "N m", "constant drive torque about +z (drive = 'torque')", "real"),

@@ -31,9 +31,9 @@ baseline is *our law in pure stick with isotropic adhesion*, which is a linear s
   spring per point; it starts with the interference preload like our normal penalty).
 
 The floor: the same C++ springs plus the Exudyn items of one contact set with user functions that
-do nothing (``_empty_callbacks``): an ``ObjectGenericODE2`` on the body's node whose force and
-Jacobian user functions return zeros, the history data nodes with their two C++ sensors and a
-post-Newton function that accepts the step. It costs what the callbacks cost without any
+do nothing (``empty_contact``, the speed targets' floor too): an ``ObjectGenericODE2`` on the
+body's node, without mass matrix, whose force and Jacobian user functions return zeros, the history
+data nodes with their two C++ sensors and a post-Newton function that accepts the step. It costs what the callbacks cost without any
 contact computation, so ours - floor is the contact itself and floor - C++ is Exudyn's price of
 calling Python.
 
@@ -89,12 +89,20 @@ def _cartesian_springs(mbs, bodyNumber, localPoints, anchors, stiffness, damping
     return dict(springs=springs, points=np.asarray(localPoints))
 
 
-def _empty_callbacks(mbs, node, K):
-    """The Exudyn items of one contact set of K points on node with user functions that do nothing
-    (the floor; module doc)."""
+def empty_contact(mbs, nodes, K, storeHistory, sparse=False):
+    """The Exudyn items of one contact set of K points over ``nodes`` (what CreateAnisotropicContact
+    adds: an ObjectGenericODE2 without mass matrix, the history and dissipation data nodes, the
+    dissipation sensor and with storeHistory the history sensor, the post-Newton function) with user
+    functions that return zeros and accept every step. sparse: the Jacobian as a sparse matrix (a
+    group's)."""
     from exu_aniso.law.history import N_HISTORY
-    n = len(mbs.GetNodeParameter(node, "referenceCoordinates"))
-    zq, zJ = np.zeros(n), np.zeros((n, n))
+    n = sum(len(mbs.GetNodeParameter(nd, "referenceCoordinates")) for nd in nodes)
+    zq = np.zeros(n)
+    if sparse:
+        import scipy.sparse as sp
+        zJ = sp.csr_matrix((n, n))
+    else:
+        zJ = np.zeros((n, n))
 
     def force(mbs, t, itemNumber, q, q_t):
         return zq
@@ -102,13 +110,28 @@ def _empty_callbacks(mbs, node, K):
     def jacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         return zJ
 
-    mbs.AddObject(ObjectGenericODE2(nodeNumbers=[node], massMatrix=zJ, forceUserFunction=force,
+    mbs.AddObject(ObjectGenericODE2(nodeNumbers=list(nodes), forceUserFunction=force,
                                     jacobianUserFunction=jacobian))
-    for size in (K * N_HISTORY, 1):
-        nd = mbs.AddNode(NodeGenericData(initialCoordinates=[0.0] * size, numberOfDataCoordinates=size))
-        mbs.AddSensor(SensorNode(nodeNumber=nd, outputVariableType=exu.OutputVariableType.Coordinates,
-                                 storeInternal=True))
+    nHistory = mbs.AddNode(NodeGenericData(initialCoordinates=[0.0] * (K * N_HISTORY),
+                                           numberOfDataCoordinates=K * N_HISTORY))
+    nDissipation = mbs.AddNode(NodeGenericData(initialCoordinates=[0.0], numberOfDataCoordinates=1))
+    for nd, store in ((nDissipation, True), (nHistory, storeHistory)):
+        if store:
+            mbs.AddSensor(SensorNode(nodeNumber=nd, outputVariableType=exu.OutputVariableType.Coordinates,
+                                     storeInternal=True))
     mbs.SetPostNewtonUserFunction(lambda mbs, t: [0.0, -1.0])
+
+
+def exudyn_defaults(t_end, dt):
+    """A fresh exu.SimulationSettings() (Exudyn's defaults) for t_end at step dt, silent, no file,
+    sensors every step."""
+    ss = exu.SimulationSettings()
+    ss.timeIntegration.numberOfSteps = int(round(t_end / dt))
+    ss.timeIntegration.endTime = t_end
+    ss.timeIntegration.verboseMode = 0
+    ss.solution.file.write = False
+    ss.solution.sensors.writePeriod = 0
+    return ss
 
 
 def apply_settings(model, settings):
@@ -155,7 +178,7 @@ def BuildBlockBaseline(p: BlockParams, nodeType="EP", solverType=None, rhoInf=0.
             anchors = np.column_stack([local[:, 0] + p.x0, local[:, 1] + p.y0, np.zeros(K)])
             k = [kt, kt, kn]
         if emptyCallbacks:
-            _empty_callbacks(mbs, mbs.GetObject(oBlock)["nodeNumber"], K)
+            empty_contact(mbs, [mbs.GetObject(oBlock)["nodeNumber"]], K, storeHistory=True)
         return _cartesian_springs(mbs, oBlock, local, anchors, [k] * K)
 
     model = BuildBlock(p, nodeType=nodeType, solverType=solverType, rhoInf=rhoInf, newtonTolerance=newtonTolerance,
@@ -180,7 +203,8 @@ def BuildScrewBaseline(p: ScrewParams, nodeType="RotVecLG", solverType=None, rho
         kt, kn = p.eps_1 / K, p.eps_n / K
         if emptyCallbacks:
             obj = mbs.GetObject(oScrew)
-            _empty_callbacks(mbs, obj["nodeNumber"] if "nodeNumber" in obj else obj["nodeNumbers"][0], K)
+            empty_contact(mbs, [obj["nodeNumber"] if "nodeNumber" in obj else obj["nodeNumbers"][0]], K,
+                          storeHistory=True)
         if p.model == "reduced":  # coordinate springs on (psi, z), one pair per evaluated point
             node = mbs.GetObject(oScrew)["nodeNumbers"][0]
             mPsi, mZ = (mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=node, coordinate=i)) for i in (0, 1))

@@ -43,9 +43,8 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import SimulationSettingsFor, SolveTimed
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_points
 
-from .baseline import _cartesian_springs
+from .baseline import _cartesian_springs, empty_contact, exudyn_defaults
 from .studylib import markdown_table
-from .targets import empty_contact, exudyn_defaults
 
 CONTACTS = ("sets", "group", "springs", "empty")
 BODIES = (4, 16, 64)
@@ -65,7 +64,7 @@ def BuildCubes(M, contact, t_end, dt, points="corners", storeHistory=False, floo
     """M cubes (module doc) with the given contact variant; returns dict(mbs, simulationSettings,
     solverType, contacts). floor (contact "springs" only): None, or "sets" / "group" to add the
     Exudyn items of one contact set per cube / of one group with user functions that do nothing
-    (``targets.empty_contact``: the speed targets' floor, the springs carrying the cubes); damped:
+    (``baseline.empty_contact``: the speed targets' floor, the springs carrying the cubes); damped:
     the contact's (and the springs') normal damping CUBE_NORMAL_DAMPING, or none."""
     if contact not in CONTACTS:
         raise ValueError(f"contact must be one of {CONTACTS}; got {contact!r}")

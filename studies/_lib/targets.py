@@ -69,7 +69,7 @@ from typing import Callable, Optional
 
 import exudyn as exu
 import numpy as np
-from exudyn.itemInterface import NodeGenericData, ObjectGenericODE2, SensorNode
+from exudyn.itemInterface import SensorNode
 from exudyn.rigidBodyUtilities import RotationMatrixY
 from exudyn.utilities import InertiaCuboid
 
@@ -79,7 +79,7 @@ from exu_aniso.models.screw import BuildScrew
 from exu_aniso.scenes.block import BlockParams
 from exu_aniso.scenes.screw import ScrewParams
 
-from .baseline import _cartesian_springs
+from .baseline import _cartesian_springs, empty_contact, exudyn_defaults
 from .studylib import markdown_table
 
 T_END, T_END_QUICK, DT = 0.5, 0.05, 1e-3
@@ -120,54 +120,6 @@ def BuildCube(K, t_end, dt, p=None, extra=None):
     mbs.Assemble()
     return dict(SC=SC, mbs=mbs, simulationSettings=exudyn_defaults(t_end, dt), oCube=oCube,
                 solverType=exu.DynamicSolverType.GeneralizedAlpha)
-
-
-def exudyn_defaults(t_end, dt):
-    """A fresh exu.SimulationSettings() (Exudyn's defaults) for t_end at step dt, silent, no file,
-    sensors every step."""
-    ss = exu.SimulationSettings()
-    ss.timeIntegration.numberOfSteps = int(round(t_end / dt))
-    ss.timeIntegration.endTime = t_end
-    ss.timeIntegration.verboseMode = 0
-    ss.solution.file.write = False
-    ss.solution.sensors.writePeriod = 0
-    return ss
-
-
-# ----------------------------------------------------------------------------------------------
-# the floor: the contact's Exudyn items with user functions that do nothing
-
-def empty_contact(mbs, nodes, K, storeHistory, sparse=False):
-    """The Exudyn items of one contact set of K points over ``nodes`` (what CreateAnisotropicContact
-    adds: an ObjectGenericODE2 without mass matrix, the history and dissipation data nodes, the
-    dissipation sensor and with storeHistory the history sensor, the post-Newton function) with user
-    functions that return zeros and accept every step. sparse: the Jacobian as a sparse matrix (a
-    group's)."""
-    from exu_aniso.law.history import N_HISTORY
-    n = sum(len(mbs.GetNodeParameter(nd, "referenceCoordinates")) for nd in nodes)
-    zq = np.zeros(n)
-    if sparse:
-        import scipy.sparse as sp
-        zJ = sp.csr_matrix((n, n))
-    else:
-        zJ = np.zeros((n, n))
-
-    def force(mbs, t, itemNumber, q, q_t):
-        return zq
-
-    def jacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
-        return zJ
-
-    mbs.AddObject(ObjectGenericODE2(nodeNumbers=list(nodes), forceUserFunction=force,
-                                    jacobianUserFunction=jacobian))
-    nHistory = mbs.AddNode(NodeGenericData(initialCoordinates=[0.0] * (K * N_HISTORY),
-                                           numberOfDataCoordinates=K * N_HISTORY))
-    nDissipation = mbs.AddNode(NodeGenericData(initialCoordinates=[0.0], numberOfDataCoordinates=1))
-    for nd, store in ((nDissipation, True), (nHistory, storeHistory)):
-        if store:
-            mbs.AddSensor(SensorNode(nodeNumber=nd, outputVariableType=exu.OutputVariableType.Coordinates,
-                                     storeInternal=True))
-    mbs.SetPostNewtonUserFunction(lambda mbs, t: [0.0, -1.0])
 
 
 def _node(mbs, o):

@@ -50,6 +50,7 @@ try:        # the native callbacks (C++, built at install; see _native.cpp); abs
 except ImportError:                             # pragma: no cover - an install without a C++ compiler
     _native = None
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, UNRESOLVED
+from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.util.rotations import rotation_matrix
 from exu_aniso.util.validation import check_bool, check_index, check_instance, check_points
@@ -89,32 +90,28 @@ def _rotate_z(angle, b):
     return c * b[:, 0] - s * b[:, 1], s * b[:, 0] + c * b[:, 1]
 
 
-class _BodyKinematics:
-    """Positions, velocities and point Jacobians of body-fixed points for one Exudyn node."""
+class _RigidNode:
+    """Positions, velocities and point Jacobians of body-fixed points for one Exudyn node, in numpy
+    (the numpy route; the compiled route's node kinds are exu_aniso.kernel.nodes, and
+    tests/test_jacobian_nodes.py holds the two equal kind by kind). One subclass per node kind,
+    keyed by Exudyn's node type name in _NODE_KINDS; ``_BodyKinematics`` picks it."""
+
+    kind = None                      # Exudyn's node type name
+    n = None                         # coordinates
+    velocity_parameter = "initialVelocities"
+    linear = False
 
     def __init__(self, mbs, node_number):
         self.node = node_number
-        self.kind = mbs.GetNode(node_number)["nodeType"]
         self.nodes = [node_number]
-        kinds = {"RigidBody2D": 3, "RigidBodyRotVecLG": 6, "RigidBodyEP": 7, "GenericODE2": 2}
-        if self.kind not in kinds:
-            raise ValueError(f"CreateAnisotropicContact: body node {node_number} has type {self.kind!r}; supported "
-                             f"are NodeRigidBody2D, NodeRigidBodyRotVecLG (RotationRotationVector), NodeRigidBodyEP, "
-                             f"NodePoint and NodePoint2D (mass points), NodePoint2DSlope1 and NodePointSlope1 (ANCF "
-                             f"cables) and a 2-coordinate NodeGenericODE2 (screw joint: rotation about z, translation "
-                             f"along z)")
-        self.n = kinds[self.kind]
         self.ref = np.asarray(mbs.GetNodeParameter(node_number, "referenceCoordinates"), dtype=float)
         if self.ref.shape != (self.n,):   # only a NodeGenericODE2 can have another size
             raise ValueError(f"CreateAnisotropicContact: NodeGenericODE2 {node_number} must have exactly 2 coordinates "
                              f"(rotation about z [rad], translation along z [m]); got {self.ref.shape[0]}")
         q0 = mbs.GetNodeParameter(node_number, "initialCoordinates")
         self.q0 = np.asarray(q0, dtype=float) if len(q0) else np.zeros(self.n)
-        v0 = mbs.GetNodeParameter(node_number, "initialCoordinates_t" if self.kind == "GenericODE2"
-                                  else "initialVelocities")
+        v0 = mbs.GetNodeParameter(node_number, self.velocity_parameter)
         self.v0 = np.asarray(v0, dtype=float) if len(v0) else np.zeros(self.n)
-
-    linear = False
 
     def number_of_points(self, b):
         return b.shape[0]
@@ -126,27 +123,73 @@ class _BodyKinematics:
     def points(self, q, q_t, b):
         """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) of local points b, and
         the rotation matrix of a 3D node (None for the planar and screw-joint nodes)."""
-        q = self.ref + np.asarray(q, dtype=float)
-        q_t = np.asarray(q_t, dtype=float)
+        return self._points(self.ref + np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), b)
+
+    def point_derivatives(self, q, b):
+        """dJp/dq (K, 3, n, n) of local points b: dJp[k, :, :, c] is the derivative of Jp[k] by
+        coordinate c at fixed q_t. Since v = Jp q_t for every node type, dv/dq = dJp q_t."""
+        return self._point_derivatives(self.ref + np.asarray(q, dtype=float), b)
+
+    def position_jacobian(self, q, b, Jp):
+        """dx/dq (K, 3, n) of local points b, given their virtual-work Jacobian Jp: Jp itself but
+        for Euler parameters (see _PointTangent)."""
+        return Jp
+
+
+class _AboutZ(_RigidNode):
+    """A node turning about the z axis by its coordinate r (planar rigid body, screw joint):
+    d(-a_y, a_x, 0)/dr = (-a_x, -a_y, 0) for the in-plane arm a."""
+
+    r = None                         # the rotation coordinate
+
+    def _point_derivatives(self, q, b):
+        dJ = np.zeros((b.shape[0], 3, self.n, self.n))
+        ax, ay = _rotate_z(q[self.r], b)
+        dJ[:, 0, self.r, self.r] = -ax
+        dJ[:, 1, self.r, self.r] = -ay
+        return dJ
+
+
+class _Planar(_AboutZ):
+    """NodeRigidBody2D: q = (x, y, theta); the points keep their local z."""
+
+    kind, n, r = "RigidBody2D", 3, 2
+
+    def _points(self, q, q_t, b):
         K = b.shape[0]
-        if self.kind == "RigidBody2D":
-            ax, ay = _rotate_z(q[2], b)
-            x = np.stack([q[0] + ax, q[1] + ay, b[:, 2]], axis=-1)
-            v = np.stack([q_t[0] - q_t[2] * ay, q_t[1] + q_t[2] * ax, np.zeros(K)], axis=-1)
-            J = np.zeros((K, 3, 3))
-            J[:, 0, 0] = J[:, 1, 1] = 1.0
-            J[:, 0, 2] = -ay
-            J[:, 1, 2] = ax
-            return x, v, J, None
-        if self.kind == "GenericODE2":                 # screw joint: q = (psi, z)
-            ax, ay = _rotate_z(q[0], b)
-            x = np.stack([ax, ay, b[:, 2] + q[1]], axis=-1)
-            v = np.stack([-q_t[0] * ay, q_t[0] * ax, np.full(K, q_t[1])], axis=-1)
-            J = np.zeros((K, 3, 2))
-            J[:, 0, 0] = -ay
-            J[:, 1, 0] = ax
-            J[:, 2, 1] = 1.0
-            return x, v, J, None
+        ax, ay = _rotate_z(q[2], b)
+        x = np.stack([q[0] + ax, q[1] + ay, b[:, 2]], axis=-1)
+        v = np.stack([q_t[0] - q_t[2] * ay, q_t[1] + q_t[2] * ax, np.zeros(K)], axis=-1)
+        J = np.zeros((K, 3, 3))
+        J[:, 0, 0] = J[:, 1, 1] = 1.0
+        J[:, 0, 2] = -ay
+        J[:, 1, 2] = ax
+        return x, v, J, None
+
+
+class _ScrewJoint(_AboutZ):
+    """A 2-coordinate NodeGenericODE2: q = (psi, z), rotation about and translation along z."""
+
+    kind, n, r = "GenericODE2", 2, 0
+    velocity_parameter = "initialCoordinates_t"
+
+    def _points(self, q, q_t, b):
+        K = b.shape[0]
+        ax, ay = _rotate_z(q[0], b)
+        x = np.stack([ax, ay, b[:, 2] + q[1]], axis=-1)
+        v = np.stack([-q_t[0] * ay, q_t[0] * ax, np.full(K, q_t[1])], axis=-1)
+        J = np.zeros((K, 3, 2))
+        J[:, 0, 0] = -ay
+        J[:, 1, 0] = ax
+        J[:, 2, 1] = 1.0
+        return x, v, J, None
+
+
+class _Rigid3D(_RigidNode):
+    """A 3D rigid node: q = (position, rotation parameters), omega_local = G dq_rot/dt."""
+
+    def _points(self, q, q_t, b):
+        K = b.shape[0]
         A, G = self.rotation(q)
         arm = b @ A.T
         omega_local = G @ q_t[3:]
@@ -160,31 +203,48 @@ class _BodyKinematics:
         J[:, :, 3:] = -np.einsum("ij,kjl,lm->kim", A, skew, G)
         return x, v, J, A
 
-    def point_derivatives(self, q, b):
-        """dJp/dq (K, 3, n, n) of local points b: dJp[k, :, :, c] is the derivative of Jp[k] by
-        coordinate c at fixed q_t. Since v = Jp q_t for every node type, dv/dq = dJp q_t.
-
-        2D / screw joint (rotation coordinate r): d(-a_y, a_x, 0)/dr = (-a_x, -a_y, 0);
-        RotVecLG: by the local rotation increment dtheta (A -> A (I + [dtheta]x), what Exudyn's
-        Lie-group solver linearises in), Jp_rot e_a = -A (b x e_a), so
-        d(Jp_rot e_a)/dtheta_c = -A (e_c x (b x e_a)) = -A (b delta_ac - e_a b_c);
-        EP: Jp_rot = -A(e) [b]x G(e), d/de_m = -(dA/de_m [b]x G + A [b]x dG/de_m)."""
+    def frame(self, q, q_t):
+        """Position, rotation matrix, global angular velocity and velocity of the node."""
         q = self.ref + np.asarray(q, dtype=float)
-        K = b.shape[0]
-        dJ = np.zeros((K, 3, self.n, self.n))
-        if self.kind in ("RigidBody2D", "GenericODE2"):
-            r = 2 if self.kind == "RigidBody2D" else 0
-            ax, ay = _rotate_z(q[r], b)
-            dJ[:, 0, r, r] = -ax
-            dJ[:, 1, r, r] = -ay
-            return dJ
+        q_t = np.asarray(q_t, dtype=float)
         A, G = self.rotation(q)
-        if self.kind == "RigidBodyRotVecLG":
-            Ab = b @ A.T                                              # (K, 3): A b
-            for a in range(3):
-                dJ[:, :, 3 + a, 3 + a] -= Ab
-                dJ[:, :, 3 + a, 3:6] += np.einsum("i,kc->kic", A[:, a], b)
-            return dJ
+        return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
+
+
+class _RotationVector(_Rigid3D):
+    """NodeRigidBodyRotVecLG, differentiated by the local rotation increment dtheta (A -> A (I +
+    [dtheta]x), what Exudyn's Lie-group solver linearises in): Jp_rot e_a = -A (b x e_a), so
+    d(Jp_rot e_a)/dtheta_c = -A (e_c x (b x e_a)) = -A (b delta_ac - e_a b_c)."""
+
+    kind, n = "RigidBodyRotVecLG", 6
+
+    def rotation(self, q_total):
+        """Rotation matrix A and G = I (omega_local = the rotation vector's rate, linearised)."""
+        return rotation_matrix(q_total[3:6]), np.eye(3)
+
+    def _point_derivatives(self, q, b):
+        dJ = np.zeros((b.shape[0], 3, self.n, self.n))
+        A, _ = self.rotation(q)
+        Ab = b @ A.T                                              # (K, 3): A b
+        for a in range(3):
+            dJ[:, :, 3 + a, 3 + a] -= Ab
+            dJ[:, :, 3 + a, 3:6] += np.einsum("i,kc->kic", A[:, a], b)
+        return dJ
+
+
+class _EulerParameters(_Rigid3D):
+    """NodeRigidBodyEP, differentiated by the four Euler parameters e themselves (Exudyn's EP
+    constraint is a separate object): Jp_rot = -A(e) [b]x G(e), d/de_m = -(dA/de_m [b]x G +
+    A [b]x dG/de_m); the position's dx/de_m = dA/de_m b differs from Jp_rot (position_jacobian)."""
+
+    kind, n = "RigidBodyEP", 7
+
+    def rotation(self, q_total):
+        return _ep_matrix(q_total[3:7])
+
+    def _point_derivatives(self, q, b):
+        dJ = np.zeros((b.shape[0], 3, self.n, self.n))
+        A, G = self.rotation(q)
         dA, dG = _ep_derivatives(q[3:7])
         bxG = np.cross(b[:, None, :], G.T[None, :, :])                    # (K, a, 3): b x G e_a
         bxdG = np.cross(b[:, None, None, :], dG.transpose(0, 2, 1)[None])  # (K, m, a, 3): b x dG_m e_a
@@ -192,28 +252,25 @@ class _BodyKinematics:
         return dJ
 
     def position_jacobian(self, q, b, Jp):
-        """dx/dq (K, 3, n) of local points b, given their virtual-work Jacobian Jp: Jp itself but
-        for Euler parameters, where dx/de_m = dA/de_m b (see _PointTangent)."""
-        if self.kind != "RigidBodyEP":
-            return Jp
         dA, _ = _ep_derivatives(self.ref[3:7] + np.asarray(q, dtype=float)[3:7])
         Jx = Jp.copy()
         Jx[:, :, 3:7] = np.einsum("mij,kj->kim", dA, b)
         return Jx
 
-    def rotation(self, q_total):
-        """Rotation matrix A and G (omega_local = G dq_rot/dt) of a 3D node at total coordinates."""
-        if self.kind == "RigidBodyRotVecLG":
-            return rotation_matrix(q_total[3:6]), np.eye(3)
-        return _ep_matrix(q_total[3:7])
 
-    def frame(self, q, q_t):
-        """Position, rotation matrix, global angular velocity of the node (3D nodes only: the
-        caller checks the node type)."""
-        q = self.ref + np.asarray(q, dtype=float)
-        q_t = np.asarray(q_t, dtype=float)
-        A, G = self.rotation(q)
-        return q[0:3], A, A @ (G @ q_t[3:]), q_t[0:3]
+_NODE_KINDS = {c.kind: c for c in (_Planar, _ScrewJoint, _RotationVector, _EulerParameters)}
+
+
+def _BodyKinematics(mbs, node_number):
+    """The _RigidNode of an Exudyn node, by its node type."""
+    kind = mbs.GetNode(node_number)["nodeType"]
+    if kind not in _NODE_KINDS:
+        raise ValueError(f"CreateAnisotropicContact: body node {node_number} has type {kind!r}; supported "
+                         f"are NodeRigidBody2D, NodeRigidBodyRotVecLG (RotationRotationVector), NodeRigidBodyEP, "
+                         f"NodePoint and NodePoint2D (mass points), NodePoint2DSlope1 and NodePointSlope1 (ANCF "
+                         f"cables) and a 2-coordinate NodeGenericODE2 (screw joint: rotation about z, translation "
+                         f"along z)")
+    return _NODE_KINDS[kind](mbs, node_number)
 
 
 class _RigidGroup:
@@ -265,8 +322,6 @@ class _RigidGroup:
         return dJ
 
     def position_jacobian(self, q, b, Jp):
-        if self.kind != "RigidBodyEP":
-            return Jp
         K = b.shape[0]
         Jx = Jp.copy()
         for j, (c, bd, qj) in enumerate(self._each(q)):
@@ -1030,7 +1085,7 @@ class _Delegate:
 
 
 def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesion=None, friction=None,
-                             normalStiffness=None, normalDamping=None, returnMap="exact", contactLaw=None,
+                             normalStiffness=None, normalDamping=None, returnMap=DEFAULT_RETURN_MAP, contactLaw=None,
                              masterBodyNumber=None, jacobian="analytic", initializeHistory=True, storeSensors=True,
                              implementation="auto", tangentialDamping=None, storeHistory=False,
                              nativeCallbacks=None):
@@ -1192,6 +1247,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
             mbs.SetPostNewtonUserFunction(_post_newton)
     out = {"oContact": oContact, "nData": cs.nData, "nDissipation": cs.nTotal, "law": contactLaw, "points": points,
            "implementation": "compiled" if use_compiled else "numpy", "nativeCallbacks": use_native,
+           "jacobian": jacobian,
            # read-only views (exu_aniso.engines.exudyn_adapter.graphics); functions of (mbs, configuration=None), see _ContactSet
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,

@@ -16,6 +16,7 @@ import numpy as np
 from exudyn.misc.extensionRegistry import extends, install
 
 from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
+from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP
 
 _WHERE = "CreateAnisotropicContact"
 
@@ -30,7 +31,7 @@ def _named(error):
 def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, localPoints: Sequence = None,
                                        surface=None, adhesion=None, friction=None,
                                        normalStiffness: float = None, normalDamping: float = 0.,
-                                       tangentialDamping: float = 0., returnMap: str = "exact",
+                                       tangentialDamping: float = 0., returnMap: str = DEFAULT_RETURN_MAP,
                                        masterBodyNumber=None, jacobian: str = "analytic",
                                        initializeHistory: bool = True, storeSensors: bool = True,
                                        storeHistory: bool = False, implementation: str = "auto", contactLaw=None,
@@ -62,8 +63,8 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         normalStiffness: normal penalty stiffness per point [N/m], > 0
         normalDamping: normal dashpot per point [N s/m], >= 0
         tangentialDamping: tangential dashpot per point, parallel to friction while loaded [N s/m], >= 0
-        returnMap: 'seed' (the papers' closed form), 'exact' (associated closest-point projection) or
-            'radial' (adhesion-steered sliding); see README "Return maps"
+        returnMap: 'seed' (the papers' closed form), 'exact' (associated closest-point projection; the
+            default, DEFAULT_RETURN_MAP) or 'radial' (adhesion-steered sliding); see README "Conventions"
         masterBodyNumber: None (the surface is fixed to ground) or a 3D rigid body carrying the surface
         jacobian: 'analytic' (consistent tangent) or 'numerical' (Exudyn's finite differences)
         initializeHistory: if True, points in contact at the initial configuration start sticking there

@@ -262,6 +262,17 @@ def RunScene(model, p, name, contacts, partial, complete, progress=False, snapsh
     return Result(traj, summary, p, info)
 
 
+def SettingsInfo(simulationSettings, contacts):
+    """The settings every scene's run reports in its info, read from what was built (not from the
+    defaults of the options): the contacts' Jacobian ("analytic" | "numerical") and implementation
+    (the first contact's; a scene's contacts share them), their points K (the evaluated points: one
+    under the screw's symmetry) and Newton's variant ("modified" | "full") and relative tolerance."""
+    n = simulationSettings.timeIntegration.newton
+    return dict(jacobian=contacts[0]["jacobian"], implementation=contacts[0]["implementation"],
+                K=sum(len(c["points"]) for c in contacts), newton="modified" if n.useModifiedNewton else "full",
+                newton_tol=float(n.relativeTolerance))
+
+
 def CheckAllocations(before, contact_calls, newton_iterations, threshold):
     """Exudyn's check of a solve's memory allocations (``exudyn.solver.CheckSolverInfoStatistics``:
     a warning when the most new Exudyn arrays, vectors or matrices exceed ``threshold`` and at
