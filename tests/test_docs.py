@@ -1,0 +1,51 @@
+"""The documentation site (docs/, Sphinx with MyST pages, autodoc and a sphinx-gallery of the
+scripts in examples/) builds with warnings as errors, and every example runs in its quick form
+(EXU_ANISO_QUICK=1), as the gallery runs it in full when the site is built."""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXAMPLES = sorted(f for f in os.listdir(os.path.join(ROOT, "examples")) if f.startswith("plot_") and f.endswith(".py"))
+
+
+def test_the_site_builds_without_a_warning(tmp_path):
+    pytest.importorskip("sphinx")
+    pytest.importorskip("myst_parser")
+    pytest.importorskip("sphinx_gallery")
+    # a copy of the sources: the gallery writes its pages beside them
+    shutil.copytree(os.path.join(ROOT, "docs"), tmp_path / "docs", ignore=shutil.ignore_patterns("_build", "gallery"))
+    shutil.copytree(os.path.join(ROOT, "examples"), tmp_path / "examples")
+    env = dict(os.environ, EXU_ANISO_DOCS_NO_GALLERY="1")
+    out = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", str(tmp_path / "docs"),
+                          str(tmp_path / "html")], capture_output=True, text=True, env=env, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    pages = {p.name for p in (tmp_path / "html").rglob("*.html")}
+    assert {"index.html", "install.html", "api.html", "RESULTS.html", "contact_api.html"} <= pages
+    assert {e.replace(".py", ".html") for e in EXAMPLES} <= pages
+    api = (tmp_path / "html" / "api.html").read_text()
+    assert "MainSystemCreateAnisotropicContact" in api and "RecommendedSimulationSettings" in api
+
+
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_example_runs_in_its_quick_form(example, tmp_path):
+    env = dict(os.environ, EXU_ANISO_QUICK="1", MPLBACKEND="Agg")
+    out = subprocess.run([sys.executable, os.path.join(ROOT, "examples", example)], capture_output=True, text=True,
+                         env=env, cwd=tmp_path, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert "Warning" not in out.stderr, out.stderr[-3000:]
+
+
+def test_the_readme_model_runs():
+    """The README's five-minute model script runs as printed (a fresh process)."""
+    import re
+    text = open(os.path.join(ROOT, "README.md")).read()
+    code = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
+                         env=dict(os.environ, MPLBACKEND="Agg"))
+    assert out.returncode == 0, out.stderr[-3000:]
