@@ -11,7 +11,7 @@ part-to-part contact is modelled: ``spacing`` must exceed ``part_size``).
 The track's surface carries a net: ``net`` isotropic (mu_1, eps_1 in every direction) or
 orthotropic, direction 1 at ``net_angle`` from the track's x axis (the conveying direction), with
 friction mu_1 along it and mu_2 across, adhesion eps_1 / eps_2 likewise. Stiffnesses and the
-normal dashpot are a part's totals, split over its 4 corners (README "Parameter conventions"). An
+normal dashpot are a part's totals, split over its 4 corners (docs/guide/conventions.md, "Per point or per set"). An
 oblique net steers the parts sideways.
 
 Engines: Exudyn (``exu_aniso/models/feeder.py``: the plate is a free rigid body of ``plate_mass`` on C++
@@ -144,7 +144,7 @@ def plate_motion(p, t):
 
 def feeder_contact_law(p):
     a = math.radians(p.net_angle)
-    k = 1.0 / POINTS                                   # the parameters are a part's totals (README conventions)
+    k = 1.0 / POINTS                                   # the parameters are a part's totals (docs/guide/conventions.md)
     if p.net == "isotropic":
         B, F = Adhesion.isotropic(k * p.eps_1), Friction.isotropic(p.mu_1)
     else:
