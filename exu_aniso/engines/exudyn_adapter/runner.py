@@ -405,6 +405,21 @@ def SnapshotImage(model, size=SNAPSHOT_SIZE, modelRotation=None):
         general.showSolverInformation, general.minSceneSize = before
 
 
+def Snapshot(mbs, fileName=None, size=SNAPSHOT_SIZE, modelRotation=None):
+    """A picture of a model's current state, for any Exudyn model (a user's own too), without a
+    display: Exudyn's raytracer, the view fitted to everything drawn (the contact's surface with its
+    net, the bodies, the contact points), seen obliquely from above (or along ``modelRotation``,
+    3x3). Returns the RGB image (height, width, 3) as uint8 and writes it as PNG to ``fileName``
+    when given. ``exu_aniso.Snapshot(mbs, "final.png")`` after ``mbs.SolveDynamic(...)``; the
+    contact must be created with ``show=True`` (the default) for its surface to be drawn."""
+    model = dict(SC=mbs.GetSystemContainer(), mbs=mbs)
+    image = SnapshotImage(model, size=size, modelRotation=modelRotation)
+    if fileName is not None:
+        from matplotlib.image import imsave
+        atomic_write(fileName, lambda f: imsave(f, image, format="png"))
+    return image
+
+
 def WriteSnapshot(model, fileName, size=SNAPSHOT_SIZE, modelRotation=None):
     """Write ``SnapshotImage`` as PNG to fileName, atomically (temporary name, then moved into place)."""
     from matplotlib.image import imsave
