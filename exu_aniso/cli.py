@@ -27,6 +27,7 @@ import io
 import os
 import sys
 import tempfile
+import textwrap
 
 import numpy as np
 
@@ -126,8 +127,11 @@ def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=
     sc = SCENES[scene]
     fig = plt.figure(figsize=sc.figsize)
     sc.plot(traj, params, fig)
-    fig.suptitle(title, fontsize=9, color="red" if incomplete or warning else "black")
-    fig.tight_layout()
+    # the title wrapped to the figure's width (about 0.55 of the font size per character at 9 pt)
+    width = max(int(sc.figsize[0] * 72 / (9 * 0.55)), 40)
+    lines = [w for part in title.split("\n") for w in (textwrap.wrap(part, width) or [""])]
+    fig.suptitle("\n".join(lines), fontsize=9, color="red" if incomplete or warning else "black")
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.16 * len(lines) / sc.figsize[1]))
     if warning:      # the energy ledger does not close: say so on the figure itself
         fig.text(0.5, 0.01, warning, transform=fig.transFigure, ha="center", va="bottom", fontsize=8, color="red")
     if incomplete:   # a partial run must not pass for a finished one
