@@ -20,10 +20,11 @@ except ImportError:
 if _exudyn is not None:
     from exu_aniso.engines.exudyn_adapter import mainsystem as _mainsystem   # binds mbs.CreateAnisotropicContact (extension registry)
     from exu_aniso.engines.exudyn_adapter.solver_settings import RecommendedSimulationSettings
+    from exu_aniso.engines.exudyn_adapter.runner import Snapshot
 
 __version__ = "0.1.0"
 __all__ = ["Adhesion", "Friction", "TensorField", "Plane", "Cylinder", "Cone", "Sphere", "Torus", "Helicoid",
            "SurfaceOfRevolution", "ParametricSurface", "ContactLaw", "ContactState",
            "HISTORY_FIELDS", "OPEN", "STICK", "SLIP", "RETURN_MAPS", "return_map_point", "return_map_batch"]
 if _exudyn is not None:
-    __all__.append("RecommendedSimulationSettings")
+    __all__ += ["RecommendedSimulationSettings", "Snapshot"]

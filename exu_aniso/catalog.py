@@ -17,7 +17,7 @@ from typing import Callable
 
 from exu_aniso.scenes.base import ENERGY_COLUMNS
 
-# the main job of ``exu-aniso run all``: the papers' two scenes (README quick start)
+# the main job of ``exu-aniso run all``: the papers' two scenes (the README's quick start)
 MAIN_JOB = ("block", "screw")
 
 _LEDGER = {k: "J" for k in ENERGY_COLUMNS}

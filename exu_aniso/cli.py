@@ -27,11 +27,13 @@ import io
 import os
 import sys
 import tempfile
+import textwrap
 
 import numpy as np
 
 from exu_aniso.engines.failure import SimulationFailure
 from exu_aniso.util.output import atomic_write as _atomic_write
+from exu_aniso.engines.result import step_accounting, step_warning
 from exu_aniso.util.output import csv_rows, json_safe, write_json
 from exu_aniso.catalog import MAIN_JOB, SCENES
 from exu_aniso.util.validation import ParameterError
@@ -93,10 +95,24 @@ def view_solution(scene, params, solution_file):
     ViewSolution(SCENES[scene].build_exudyn(params), solution_file, title=f"exu-aniso {scene}")
 
 
-def write_csv(path, scene, traj):
+def output_rows(t, step):
+    """Indices of the samples written at the output step [s]: the first sample at or after each
+    multiple of ``step`` from t[0], and the last. Every sample when the run kept its nominal step
+    and ``step`` is that step; a run whose solver cut the step is written at the step asked for."""
+    t = np.asarray(t, dtype=float)
+    if len(t) < 2:
+        return np.arange(len(t))
+    k = np.floor((t - t[0]) / step * (1.0 + 1e-9) + 1e-9)     # the output interval of each sample
+    first = np.flatnonzero(np.diff(k, prepend=-1.0) > 0)
+    return first if first[-1] == len(t) - 1 else np.append(first, len(t) - 1)
+
+
+def write_csv(path, scene, traj, step=None):
+    """trajectory.csv: the scene's columns, at the output step ``step`` [s] (None: every sample)."""
     cols = [k for k in COLUMNS[scene] if k in traj]
+    rows = slice(None) if step is None or "t" not in traj else output_rows(traj["t"], step)
     # each number as repr writes it: the shortest text that reads back to the same double
-    rows = csv_rows(np.column_stack([np.asarray(traj[k], dtype=float) for k in cols])) if cols else b""
+    rows = csv_rows(np.column_stack([np.asarray(traj[k], dtype=float)[rows] for k in cols])) if cols else b""
     _atomic_write(path, lambda f: f.write((",".join(cols) + "\n").encode() + rows))
 
 
@@ -111,8 +127,11 @@ def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=
     sc = SCENES[scene]
     fig = plt.figure(figsize=sc.figsize)
     sc.plot(traj, params, fig)
-    fig.suptitle(title, fontsize=9, color="red" if incomplete or warning else "black")
-    fig.tight_layout()
+    # the title wrapped to the figure's width (about 0.55 of the font size per character at 9 pt)
+    width = max(int(sc.figsize[0] * 72 / (9 * 0.55)), 40)
+    lines = [w for part in title.split("\n") for w in (textwrap.wrap(part, width) or [""])]
+    fig.suptitle("\n".join(lines), fontsize=9, color="red" if incomplete or warning else "black")
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.16 * len(lines) / sc.figsize[1]))
     if warning:      # the energy ledger does not close: say so on the figure itself
         fig.text(0.5, 0.01, warning, transform=fig.transFigure, ha="center", va="bottom", fontsize=8, color="red")
     if incomplete:   # a partial run must not pass for a finished one
@@ -161,9 +180,10 @@ def check_out(out):
                              "remove it or choose another --out")
 
 
-def run_scene(scene, params, engine, out, progress=False, snapshot=False, solution_file=None):
+def run_scene(scene, params, engine, out, progress=False, snapshot=False, solution_file=None, output_step=None):
     """Simulate and write trajectory.csv, trajectory.png and summary.json ("complete": true), and
-    with ``snapshot`` snapshot.png (Exudyn engine; only when the run completes). ``out`` is created
+    with ``snapshot`` snapshot.png (Exudyn engine; only when the run completes); output_step: the
+    step of trajectory.csv [s] (None: the scene's dt; write_outputs). ``out`` is created
     only when the results are written, so a run killed while simulating leaves no empty directory.
 
     When the simulation fails with a SimulationFailure carrying a partial trajectory, the three
@@ -177,7 +197,7 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
         except SimulationFailure as failure:
             os.makedirs(out, exist_ok=True)
             if failure.partial is not None:
-                write_outputs(scene, params, engine, out, failure.partial, failure.as_dict())
+                write_outputs(scene, params, engine, out, failure.partial, failure.as_dict(), output_step)
             else:
                 write_summary(out, dict(failure.as_dict(), engine=engine, params=params.as_dict()))
             raise
@@ -194,11 +214,12 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
             message = (f"the state went non-finite: {bad['column']} at t = {bad['t']:.6g} s (an overflow or a NaN; "
                        "check the parameters' magnitudes)")
             write_outputs(scene, params, engine, out, res, dict(
-                complete=False, failure=message, time_reached=bad["t"], end_time=float(res.trajectory["t"][-1])))
+                complete=False, failure=message, time_reached=bad["t"], end_time=float(res.trajectory["t"][-1])),
+                output_step)
             raise NonFiniteState(message)
         if shot is not None and os.path.exists(shot):
             _atomic_write(os.path.join(out, "snapshot.png"), lambda f: f.write(open(shot, "rb").read()))
-        return write_outputs(scene, params, engine, out, res)
+        return write_outputs(scene, params, engine, out, res, output_step=output_step)
 
 
 def write_summary(out, summary):
@@ -210,16 +231,22 @@ def write_summary(out, summary):
     write_json(os.path.join(out, "summary.json"), clean)
 
 
-def write_outputs(scene, params, engine, out, res, failure=None):
-    """The three result files of one run; failure: None (complete) or SimulationFailure.as_dict()."""
+def write_outputs(scene, params, engine, out, res, failure=None, output_step=None):
+    """The three result files of one run; failure: None (complete) or SimulationFailure.as_dict();
+    output_step [s]: the step of trajectory.csv (None: the scene's nominal step dt). summary.json
+    also says how the steps went (nominal_steps, step_reductions, smallest_step, step_warning)."""
     summary = dict(complete=failure is None)
     summary.update(res.summary)
     if failure is not None:
         summary.update(failure)
     summary["engine"] = engine
+    if "t" in res.trajectory and len(res.trajectory["t"]) > 1:
+        summary.update(step_accounting(res.trajectory["t"], params.dt))
+        summary["step_warning"] = step_warning(summary, len(res.trajectory["t"]) - 1, params.dt)
+    summary["output_step"] = params.dt if output_step is None else output_step
     summary["params"] = params.as_dict()
     summary["units"] = {k: u for k, u in COLUMNS[scene].items() if k in res.trajectory}
-    write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory)
+    write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory, summary["output_step"])
     keys = SCENES[scene].title_keys
     model = getattr(params, "model", None)
     title = f"{scene} ({engine}, {params.return_map} map{', ' + model if model else ''}): " + ", ".join(
@@ -241,11 +268,15 @@ def main(argv=None):
     ap = argparse.ArgumentParser(prog="exu-aniso", description="Anisotropic frictional contact scenes for Exudyn")
     sub = ap.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run a scene and write trajectory.csv, summary.json, trajectory.png")
-    r.add_argument("scene", choices=(*SCENES, "all"))
+    r.add_argument("scene", choices=(*SCENES, "all"),
+                   help=f"a scene, or all: the main job, {' and '.join(MAIN_JOB)} (each into OUT/SCENE)")
     r.add_argument("--engine", choices=ENGINES, default="exudyn")
     r.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter (see 'exu-aniso params SCENE'); repeatable")
     r.add_argument("--out", default="results", help="output directory (default: results)")
+    r.add_argument("--output-step", type=float, default=None, metavar="DT",
+                   help="time step of trajectory.csv [s] (default: the scene's dt; a run whose solver cut the "
+                        "step is still written at this step)")
     r.add_argument("--quiet", action="store_true",
                    help="no progress display on stderr (shown for Exudyn runs longer than about 2 s)")
     r.add_argument("--snapshot", action="store_true",
@@ -259,11 +290,11 @@ def main(argv=None):
     a = ap.parse_args(argv)
     try:
         if a.command == "params":
-            cls = SCENES[a.scene].params
-            print(f"{'name':16s} {'default':14s} {'unit':14s} {'allowed':34s} description")
-            print(cls.describe())
+            print(SCENES[a.scene].params.describe())
             return 0
         sets = parse_sets(a.sets)
+        if a.output_step is not None and not (np.isfinite(a.output_step) and a.output_step > 0):
+            raise UsageError(f"--output-step must be a finite time step > 0 [s]; got {a.output_step!r}")
         scenes = MAIN_JOB if a.scene == "all" else (a.scene,)
         if a.scene == "all" and sets:
             raise UsageError(f"--set applies to one scene; run one of {', '.join(SCENES)} to override parameters")
@@ -286,13 +317,13 @@ def main(argv=None):
         return _run_jobs(jobs, a, tmp)
 
 
-def _run_job(scene, params, engine, out, progress, snapshot, solution_file):
+def _run_job(scene, params, engine, out, progress, snapshot, solution_file, output_step=None):
     """Run one scene (run_scene) and say how it went, as _run_jobs prints it: (exit code, the
     stdout line or None, the stderr message or None). Everything a worker process returns is this
     plain tuple."""
     try:
         summary = run_scene(scene, params, engine, out, progress=progress, snapshot=snapshot,
-                            solution_file=solution_file)
+                            solution_file=solution_file, output_step=output_step)
     except SimulationFailure as e:  # message with time, step size and contact state; partial results kept
         kept = "partial trajectory.csv, trajectory.png and" if e.partial is not None else "only"
         return 1, None, (f"exu-aniso: {scene} ({engine}) did not complete: {e}\n"
@@ -304,9 +335,11 @@ def _run_job(scene, params, engine, out, progress, snapshot, solution_file):
         return 2, None, f"exu-aniso: error: {scene}: {e}"
     except Exception as e:  # report the failure with context, keep the exit code meaningful
         return 1, None, f"exu-aniso: {scene} ({engine}) failed: {type(e).__name__}: {e}"
-    show = {k: v for k, v in summary.items() if k not in ("params", "units")}
+    show = {k: v for k, v in summary.items() if k not in ("params", "units", "step_warning")}
+    warning = summary.get("step_warning")
     return 0, f"{scene} [{engine}] -> {out}: " + ", ".join(
-        f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in show.items()), None
+        f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in show.items()), (
+        f"exu-aniso: warning: {scene}: {warning}" if warning else None)
 
 
 def _parallel(jobs, a):
@@ -330,7 +363,7 @@ def _run_jobs(jobs, a, tmp):
     parallel = _parallel(jobs, a)
     # in parallel, the first job alone shows its progress (two progress lines would overwrite each other)
     args = [(scene, params, a.engine, out, not a.quiet and (k == 0 or not parallel), a.snapshot,
-             os.path.join(tmp, f"{scene}.sol") if tmp is not None else None)
+             os.path.join(tmp, f"{scene}.sol") if tmp is not None else None, a.output_step)
             for k, (scene, params, out) in enumerate(jobs)]
     if parallel:
         import concurrent.futures
@@ -350,7 +383,7 @@ def _run_jobs(jobs, a, tmp):
         code = _print_reports(_run_job(*x) for x in args)
     if code:
         return code
-    for scene, params, _, _, _, _, solution_file in args:
+    for scene, params, _, _, _, _, solution_file, _ in args:
         if solution_file is None:
             continue
         sys.stdout.flush()

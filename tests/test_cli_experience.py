@@ -130,6 +130,27 @@ def test_view_without_display_exits_2_before_simulating(tmp_path, capsys, monkey
     assert not called and not out.exists() and os.listdir(tmp_path) == []
 
 
+def test_view_with_a_display_that_does_not_answer_exits_2_before_simulating(tmp_path, capsys, monkeypatch,
+                                                                             no_windows):
+    """DISPLAY set, but no X server behind it (Exudyn's renderer would abort the process): exit 2
+    with the display named, nothing simulated; a server that answers (a socket listening at the
+    display's address) passes the check."""
+    import socket
+    from exu_aniso.engines.exudyn_adapter.runner import DisplayProblem
+    monkeypatch.setenv("DISPLAY", ":4242")
+    called = []
+    monkeypatch.setattr(cli, "simulate", lambda *a, **k: called.append(a))
+    assert cli.main(["run", "block", "--view", "--out", str(tmp_path / "never")]) == 2
+    err = capsys.readouterr().err
+    assert "DISPLAY=:4242 does not answer (no X server at /tmp/.X11-unix/X4242)" in err and "xvfb-run -a" in err
+    assert not called and not (tmp_path / "never").exists()
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as server:   # Linux's abstract name of :4242
+        server.bind("\0/tmp/.X11-unix/X4242")
+        server.listen(1)
+        assert DisplayProblem() is None
+    assert "does not answer" in DisplayProblem()
+
+
 def test_view_solution_refuses_without_display(monkeypatch, no_windows):
     from exu_aniso.models.block import BuildBlock
     from exu_aniso.engines.exudyn_adapter.runner import ViewSolution
@@ -281,3 +302,51 @@ def test_drawn_lines_are_thinned_but_keep_their_ends():
     assert a[0] == 0 and a[-1] == 10000 and len(a) <= plots.PLOT_VERTICES + 1 and np.array_equal(b, 2 * a)
     short = np.arange(5.0)
     assert plots._drawn(short)[0] is short
+
+
+# ----------------------------------------------------------------------------------------------
+# what a run cost: the steps against the nominal step
+
+def test_step_accounting_and_its_warning():
+    from exu_aniso.engines.result import step_accounting, step_warning
+    dt = 0.01
+    regular = np.linspace(0.0, 1.0, 101)
+    acc = step_accounting(regular, dt)
+    assert acc == dict(nominal_steps=100, step_reductions=0, smallest_step=pytest.approx(dt))
+    assert step_warning(acc, 100, dt) is None
+    cut = np.concatenate([np.linspace(0.0, 0.5, 51), 0.5 + np.cumsum(np.full(16, dt / 16)), np.linspace(0.52, 1.0, 49)])
+    acc = step_accounting(cut, dt)
+    assert acc["nominal_steps"] == 100 and acc["step_reductions"] == 16 and acc["smallest_step"] == pytest.approx(dt / 16)
+    text = step_warning(acc, len(cut) - 1, dt)
+    assert "115 steps where 100 were planned" in text and "--set dt" in text and "eps_n" in text
+    # more than 10x the nominal steps
+    many = np.concatenate([np.linspace(0.0, 0.9, 10), 0.9 + np.cumsum(np.full(200, 0.1 / 200))])
+    assert "209 steps where 10 were planned" in step_warning(step_accounting(many, 0.1), 209, 0.1)
+
+
+def test_output_rows_are_the_output_step():
+    t = np.array([0.0, 0.1, 0.2, 0.3])
+    assert cli.output_rows(t, 0.1).tolist() == [0, 1, 2, 3]
+    refined = np.array([0.0, 0.05, 0.1, 0.125, 0.15, 0.175, 0.2, 0.3, 0.35])
+    assert cli.output_rows(refined, 0.1).tolist() == [0, 2, 6, 7, 8]        # 0, 0.1, 0.2, 0.3 and the last
+    assert cli.output_rows(refined, 0.2).tolist() == [0, 6, 8]
+
+
+def test_a_run_whose_solver_cut_the_step_says_so_and_writes_its_output_step(tmp_path, capsys):
+    """The full block with dt 0.05 s and eps_n 1e10 N/m: Newton needs smaller steps, so Exudyn takes
+    12 steps where 4 were planned (the step cut to dt / 4). summary.json counts them, and
+    trajectory.csv is written at the nominal step (or --output-step), not at every internal step."""
+    import csv
+    args = ["run", "block", "--quiet", "--set", "model=full", "--set", "dt=0.05", "--set", "eps_n=1e10",
+            "--set", "t_end=0.2"]
+    assert cli.main(args + ["--out", str(tmp_path / "a")]) == 0
+    s = json.loads((tmp_path / "a" / "summary.json").read_text())
+    assert s["nominal_steps"] == 4 and s["steps"] > 4 and s["step_reductions"] > 0 and s["smallest_step"] < 0.05
+    assert s["output_step"] == 0.05 and s["step_warning"] is None          # cut to dt / 4: below the warning
+    rows = list(csv.reader(open(tmp_path / "a" / "trajectory.csv")))[1:]
+    assert [round(float(r[0]), 9) for r in rows] == [0.0, 0.05, 0.1, 0.15, 0.2]
+    assert cli.main(args + ["--out", str(tmp_path / "b"), "--output-step", "0.1"]) == 0
+    rows = list(csv.reader(open(tmp_path / "b" / "trajectory.csv")))[1:]
+    assert [round(float(r[0]), 9) for r in rows] == [0.0, 0.1, 0.2]
+    assert cli.main(args + ["--out", str(tmp_path / "c"), "--output-step", "-1"]) == 2
+    assert "--output-step must be a finite time step > 0" in capsys.readouterr().err

@@ -564,3 +564,81 @@ def test_any_protocol_surface_is_drawn_from_its_chart(make):
     assert len(P) > 100
     gaps = np.array([surf.project(p).xi3 for p in P[::7]])
     assert np.max(np.abs(gaps)) < 1e-6, np.max(np.abs(gaps))
+
+
+def _drawn_share(image):
+    """Share of the picture's pixels that are not the white background."""
+    return float((np.asarray(image) < 245).any(axis=2).mean())
+
+
+def _without_contact_graphics(mbs, contacts):
+    for c in contacts:
+        mbs.SetObjectParameter(c["oContact"], "Vshow", False)
+
+
+# the scenes whose master surface the contact draws (the others' surface is a body's own face, drawn by
+# the body: the feeder's plate, the fastening's nut and seat)
+DRAWN_BY_THE_CONTACT = ("block", "screw", "particle", "capstan")
+
+
+def _changed_share(a, b):
+    """Share of the pixels that differ between two pictures by more than 30 in a channel."""
+    return float((np.abs(np.asarray(a, dtype=int) - np.asarray(b, dtype=int)).max(axis=2) > 30).mean())
+
+
+@pytest.mark.parametrize("scene", ["block", "screw", "particle", "capstan", "feeder", "fastening"])
+def test_every_scenes_snapshot_shows_its_surface(scene):
+    """The picture --snapshot takes (exu_aniso.engines.exudyn_adapter.runner.SnapshotImage, the view
+    fitted to everything drawn) is filled by the scene, not a white frame with a dot (the particle
+    scene's picture was a ball and an arrow, 7.5 % of the pixels, before its surface was drawn), and
+    where the contact draws the master surface, hiding the contact's graphics changes a twentieth
+    of the picture or more."""
+    from exu_aniso.catalog import SCENES
+    from exu_aniso.engines.exudyn_adapter.runner import SnapshotImage
+    sc = SCENES[scene]
+    model = sc.build_exudyn(sc.params())                     # the initial state is pictured: no solve
+    contacts = model.get("contacts") or [model["contact"]]
+    contacts = list(contacts.values()) if isinstance(contacts, dict) else contacts
+    shown = SnapshotImage(model, size=(240, 180))
+    assert _drawn_share(shown) > 0.15, (scene, _drawn_share(shown))
+    _without_contact_graphics(model["mbs"], contacts)
+    hidden = SnapshotImage(model, size=(240, 180))
+    if scene in DRAWN_BY_THE_CONTACT:
+        assert _changed_share(shown, hidden) > 0.05, (scene, _changed_share(shown, hidden))
+
+
+SURFACES = {
+    "plane": lambda: __import__("exu_aniso").Plane(),
+    "cylinder": lambda: __import__("exu_aniso").Cylinder(0.3, side="outside"),
+    "cone": lambda: __import__("exu_aniso").Cone(0.3, 0.5),
+    "sphere": lambda: __import__("exu_aniso").Sphere(0.5, axis_direction=(1, 0, 0)),
+    "torus": lambda: __import__("exu_aniso").Torus(1.0, 0.3),
+    "helicoid": lambda: __import__("exu_aniso.geometry").geometry.Helicoid(0.1, math.pi / 3, 0.4),
+    "revolution": lambda: __import__("exu_aniso").SurfaceOfRevolution(_bulge),
+}
+
+
+def _bulge(z):
+    """A surface of revolution's profile: r = 0.3 + 0.1 z^2 [m], with r' and r''."""
+    return 0.3 + 0.1 * z * z, 0.2 * z, 0.2
+
+
+@pytest.mark.parametrize("name", sorted(SURFACES))
+def test_a_users_model_on_every_surface_is_seen(name):
+    """A user's mass point on every surface class, pictured by the one call exu_aniso.Snapshot(mbs):
+    the surface is in the picture (hiding the contact's graphics gives back a tenth of it or more)."""
+    import exu_aniso
+    from exu_aniso import Adhesion, Friction
+    surf = SURFACES[name]()
+    g = surf.at((0.3, 1.2 if name == "sphere" else 0.2))
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    o = mbs.CreateMassPoint(referencePosition=list(g.point - 1e-6 * g.n), mass=0.1)
+    contact = mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=[[0.0, 0.0, 0.0]], surface=surf,
+                                           adhesion=Adhesion.isotropic(1e4), friction=Friction.isotropic(0.2),
+                                           normalStiffness=1e6, implementation="numpy")   # the drawing alone
+    mbs.Assemble()
+    shown = exu_aniso.Snapshot(mbs, size=(240, 180))
+    _without_contact_graphics(mbs, [contact])
+    hidden = exu_aniso.Snapshot(mbs, size=(240, 180))
+    assert _drawn_share(shown) > 0.15 and _changed_share(shown, hidden) > 0.1, (name, _changed_share(shown, hidden))

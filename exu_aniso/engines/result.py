@@ -1,7 +1,13 @@
 """The result of a run, the same for every engine: trajectory, summary, parameters and solver info."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+
+import numpy as np
+
+# a run whose steps shrank below the nominal step over this factor, or that took this factor more steps
+STEP_WARNING_FACTOR = 10.0
 
 
 @dataclass
@@ -13,3 +19,27 @@ class Result:
     summary: dict
     params: object
     info: dict = field(default_factory=dict)
+
+
+def step_accounting(t, dt):
+    """How a run's steps compare with its nominal step dt [s], from its time samples t (t0 and one
+    per accepted step), for any engine: nominal_steps over the time reached, step_reductions (the
+    steps shorter than 0.99 dt) and smallest_step [s] (NaN without a step)."""
+    t = np.asarray(t, dtype=float)
+    h = np.diff(t)
+    return dict(nominal_steps=int(round((t[-1] - t[0]) / dt)) if len(t) > 1 else 0,
+                step_reductions=int(np.count_nonzero(h < 0.99 * dt)),
+                smallest_step=float(h.min()) if len(h) else math.nan)
+
+
+def step_warning(accounting, steps, dt):
+    """A warning (str) when the solver had to cut the step by more than STEP_WARNING_FACTOR or took
+    that many times the nominal steps, naming the likely cause and the parameters; else None."""
+    nominal, smallest = accounting["nominal_steps"], accounting["smallest_step"]
+    if not (steps > STEP_WARNING_FACTOR * max(nominal, 1) or smallest < dt / STEP_WARNING_FACTOR):
+        return None
+    return (f"the solver cut the step: {steps} steps where {nominal} were planned ({accounting['step_reductions']} "
+            f"shorter than dt = {dt:g} s, the smallest {smallest:.3g} s). Newton did not converge at the nominal "
+            "step; the likely cause is a contact stiffness too high for dt (a penalty k against a mass m "
+            "oscillates with the period 2 pi sqrt(m / k), which dt must resolve): lower dt (--set dt=...) or "
+            "the stiffness (eps_n, eps_1, eps_2)")

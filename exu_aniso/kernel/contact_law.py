@@ -11,7 +11,7 @@ a user surface numba can compile), plain Python otherwise.
 
 History layout, one row per point, and the status codes: ``exu_aniso.law.history``.
 
-Decisions (documented in README):
+Decisions (documented in docs/guide/decisions.md):
 * rate form, papers' eq. (5): ``T_tr = T_n (transported to the new contact point) + B(C_new) du``
   with B evaluated at the new contact point (backward Euler); with a position-dependent B (polar
   orthotropy) or a curved surface (holonomy) the stick response is hypo-elastic (path dependent),

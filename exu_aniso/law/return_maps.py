@@ -1,6 +1,6 @@
 """Anisotropic Coulomb contact law for one slave point: trial traction and three return maps.
 
-Conventions (the same text stands in README.md, section "Conventions")
+Conventions (the same text stands in docs/guide/conventions.md)
 -----------------------------------------------------------------------
 * Units: SI throughout (m, kg, s, N, rad; stiffness in N/m, energy in J). Angles in the public
   API are radians unless a name ends in ``_deg`` (CLI parameters such as ``drive_angle``).

@@ -43,7 +43,7 @@ def plate_frequency(p):
     return 2.0 * math.pi * p.frequency
 
 
-def BuildFeeder(p: FeederParams, jacobian="analytic", implementation="auto", newton="modified", show=False):
+def BuildFeeder(p: FeederParams, jacobian="analytic", implementation="auto", newton="modified", show=True):
     """Build the feeder scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     oPlate, parts (object numbers), contacts (dicts of CreateAnisotropicContact) and sensors
     (dict of lists per part: sPosition, sVelocity, sAcceleration, sRotation, sOmega; plate:

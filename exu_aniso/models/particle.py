@@ -25,7 +25,7 @@ from exu_aniso.util.validation import check_instance
 
 
 def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoInf=0.8, newtonTolerance=1e-10,
-                  implementation="auto", contactLaw=None, show=False, newton="modified"):
+                  implementation="auto", contactLaw=None, show=True, newton="modified"):
     """Build the particle scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     oPoint, nPoint, contact (dict of CreateAnisotropicContact) and sensors (dict: sPosition, sVelocity).
 

@@ -271,8 +271,12 @@ class SceneParams:
         return dataclasses.asdict(self)
 
     @classmethod
-    def describe(cls):
-        """A text table: name, default, unit, allowed values, description."""
+    def describe(cls, width=None):
+        """A text table with a header: name, default, unit, allowed values, description. The
+        columns are as wide as their longest entry; the description wraps at ``width`` characters
+        (default: the terminal's, 130 in a pipe; at least 100) under its own column."""
+        import shutil
+        import textwrap
         rows = []
         for name, (default, unit, desc, rule) in cls.TABLE.items():
             allowed = " | ".join(rule) if isinstance(rule, tuple) else rule
@@ -283,8 +287,18 @@ class SceneParams:
                 allowed = {"real": f"[-{hi:g}, {hi:g}]",
                            "> 0": f"(0, {hi:g}]" if lo is None else f"[{lo:g}, {hi:g}]",
                            ">= 0": f"[0, {hi:g}]" if lo is None else f"0 or [{lo:g}, {hi:g}]"}[rule]
-            rows.append(f"{name:16s} {default!s:14s} {unit:14s} {allowed:34s} {desc}")
-        return "\n".join(rows)
+            rows.append((name, str(default), unit, allowed, desc))
+        head = ("name", "default", "unit", "allowed", "description")
+        w = [max(len(r[i]) for r in rows + [head]) for i in range(4)]
+        indent = sum(w) + 4 * 2
+        width = max(width or shutil.get_terminal_size((130, 24)).columns, 100)
+        lines = []
+        for r in [head] + rows:
+            first = "  ".join(f"{c:{w[i]}s}" for i, c in enumerate(r[:4])) + "  "
+            wrapped = textwrap.wrap(r[4], max(width - indent, 40)) or [""]
+            lines.append(first + wrapped[0])
+            lines += [" " * indent + more for more in wrapped[1:]]
+        return "\n".join(lines)
 
 
 def scene_parameters(table):

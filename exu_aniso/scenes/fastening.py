@@ -20,7 +20,7 @@ r2 = d2/2; its head's underside has ``head_points`` points on the mean bearing r
 
 Fields: isotropic on the flank (``mu_thread``), isotropic or orthotropic on the head bearing (a
 machined lay: ``mu_head`` along the lay at ``head_lay_angle`` from the part's x axis, ``mu_head_2``
-across). Stiffnesses are totals, split over the points of a contact (README conventions).
+across). Stiffnesses are totals, split over the points of a contact (docs/guide/conventions.md, "Per point or per set").
 
 Measured (``fastening_summary``): the torque-angle curve (drive torque = the torsional spring's),
 the thread and head torques (the contact forces' moments about the axis, as the drive must supply

@@ -11,7 +11,7 @@ part-to-part contact is modelled: ``spacing`` must exceed ``part_size``).
 The track's surface carries a net: ``net`` isotropic (mu_1, eps_1 in every direction) or
 orthotropic, direction 1 at ``net_angle`` from the track's x axis (the conveying direction), with
 friction mu_1 along it and mu_2 across, adhesion eps_1 / eps_2 likewise. Stiffnesses and the
-normal dashpot are a part's totals, split over its 4 corners (README "Parameter conventions"). An
+normal dashpot are a part's totals, split over its 4 corners (docs/guide/conventions.md, "Per point or per set"). An
 oblique net steers the parts sideways.
 
 Engines: Exudyn (``exu_aniso/models/feeder.py``: the plate is a free rigid body of ``plate_mass`` on C++
@@ -144,7 +144,7 @@ def plate_motion(p, t):
 
 def feeder_contact_law(p):
     a = math.radians(p.net_angle)
-    k = 1.0 / POINTS                                   # the parameters are a part's totals (README conventions)
+    k = 1.0 / POINTS                                   # the parameters are a part's totals (docs/guide/conventions.md)
     if p.net == "isotropic":
         B, F = Adhesion.isotropic(k * p.eps_1), Friction.isotropic(p.mu_1)
     else:
@@ -369,7 +369,9 @@ def feeder_energy(p, traj, motions, forces, law, H, plate):
 
 def PlotFeeder(traj, params, fig):
     """Two panels: part 0's and the mean x against t with the theory's transport line (when it
-    applies), and the parts' mean path in the track plane."""
+    applies: the 1D rigid-contact limit, which the penalty scene approaches as its stiffnesses
+    grow), and the paths in the track plane from each one's start, in mm (the parts start metres
+    apart, their paths are millimetres long)."""
     p = params
     a1, a2 = fig.subplots(2, 1)
     t = np.asarray(traj["t"], float)
@@ -379,13 +381,17 @@ def PlotFeeder(traj, params, fig):
     v, _ = feeder_theory(p, t0, t1)
     if v is not None:
         x0 = float(np.interp(t0, t, traj["mean_x"]))
-        a1.plot(t, x0 + v * (t - t0), "C3--", lw=1.0, label=f"1D theory: {v * 1e3:.2f} mm/s")
+        a1.plot(t, x0 + v * (t - t0), "C3--", lw=1.0,
+                label=f"1D theory, rigid contact: {v * 1e3:.2f} mm/s (approached as the stiffnesses grow)")
     a1.set(xlabel="t [s]", ylabel="x [m]", title="conveying")
     a1.grid(True, alpha=0.3)
     a1.legend(fontsize=7)
-    a2.plot(traj["mean_x"], traj["mean_y"], "C1-", label="mean path of the parts")
-    a2.plot(traj["x"], traj["y"], "C0-", lw=0.8, label="part 0")
-    a2.set(xlabel="x [m]", ylabel="y [m]", title=f"net {p.net}, net_angle {p.net_angle:g} deg")
+    for x, y, style, label in ((traj["mean_x"], traj["mean_y"], "C1-", "mean path of the parts"),
+                               (traj["x"], traj["y"], "C0-", "part 0")):
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        a2.plot(1e3 * (x - x[0]), 1e3 * (y - y[0]), style, lw=1.2 if style == "C1-" else 0.8, label=label)
+    a2.set(xlabel="x from the start [mm]", ylabel="y from the start [mm]",
+           title=f"paths, net {p.net}, net_angle {p.net_angle:g} deg")
     a2.set_aspect("equal", adjustable="datalim")        # a round-off drift across is not blown up to the axis
     a2.grid(True, alpha=0.3)
     a2.legend(fontsize=7)

@@ -112,7 +112,8 @@ SCREW_PARAMS = {
               ("reduced", "full")),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
     "normal_damping": (SCREW_NORMAL_DAMPING, "N s/m", "total normal contact damping (dashpot on the gap rate), split "
-                       "equally over the K points; the default damps the full screw's lateral mode (README)", ">= 0"),
+                       "equally over the K points; the default damps the full screw's lateral mode "
+                       "(docs/guide/command_line.md)", ">= 0"),
     "tangential_damping": (0.0, "N s/m", "total tangential dashpot parallel to friction while loaded, split equally "
                            "over the K points", ">= 0"),
     "surface": ("cylinder", "-", "thread surface: cylinder (the papers' hole) or cone (a tapered thread: the hole "

@@ -1,6 +1,6 @@
 """The one place that talks to Exudyn: ``CreateAnisotropicContact`` adds a contact set to an mbs.
 
-Mechanism (verified against Exudyn 1.13; see README "Exudyn connector"):
+Mechanism (verified against Exudyn 1.13; see docs/guide/contact_api.md, "How it works inside Exudyn"):
 
 * one ``ObjectGenericODE2`` per contact set acting on the slave body node (and the master body
   node when the surface moves), with a ``forceUserFunction`` returning the generalized contact
@@ -1139,8 +1139,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     Returns a dict with 'oContact' (ObjectGenericODE2), 'nDissipation' (NodeGenericData with the set's
     total dissipated energy [J], written with the history), 'nData' (NodeGenericData, the history:
     9 numbers per point, see HISTORY_FIELDS), 'sHistory' (sensor of the history, with storeHistory),
-    'sDissipation' (sensor of the total dissipated energy [J], with storeSensors), 'law', 'points', 'implementation' (the one used)
-    and 'nativeCallbacks' (True when Exudyn calls the native force),
+    'sDissipation' (sensor of the total dissipated energy [J], with storeSensors), 'law', 'points', 'implementation' (the one used),
+    'jacobian' (as given) and 'nativeCallbacks' (True when Exudyn calls the native force),
     and for graphics and post-processing: 'bodyNumber', 'masterBodyNumber' (as given), and three
     read-only functions of (mbs, configuration=None) (an exu.ConfigurationType; None: the initial
     coordinates, usable before Assemble): 'pointsAndMasterPose' -> (slave points in the master frame
@@ -1149,7 +1149,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     its first element); and 'generalizedForce', a function (q, q_t, history) -> the contact object's
     generalized force over its coordinates (reference values excluded; the slave's, then the
     master's) from a converged history (K, 9), as the solver evaluates it (post-processing of
-    stored states: contact torques, reaction forces).
+    stored states: contact torques, reaction forces); samples at once: q, q_t (n, nq) and history
+    (n, K, 9) give (n, nq).
     """
     if contactLaw is None:
         if normalStiffness is None:

@@ -64,7 +64,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         normalDamping: normal dashpot per point [N s/m], >= 0
         tangentialDamping: tangential dashpot per point, parallel to friction while loaded [N s/m], >= 0
         returnMap: 'seed' (the papers' closed form), 'exact' (associated closest-point projection; the
-            default, DEFAULT_RETURN_MAP) or 'radial' (adhesion-steered sliding); see README "Conventions"
+            default, DEFAULT_RETURN_MAP) or 'radial' (adhesion-steered sliding); see docs/guide/conventions.md
         masterBodyNumber: None (the surface is fixed to ground) or a 3D rigid body carrying the surface
         jacobian: 'analytic' (consistent tangent) or 'numerical' (Exudyn's finite differences)
         initializeHistory: if True, points in contact at the initial configuration start sticking there
@@ -84,8 +84,12 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
 
     Returns:
         :dict: 'oContact' (ObjectIndex of the ObjectGenericODE2), 'nData' (NodeIndex of the history:
-        9 numbers per point, see exu_aniso.HISTORY_FIELDS), 'sHistory' (SensorIndex, with storeHistory)
-        and 'sDissipation' (SensorIndex, with storeSensors), 'law' (the ContactLaw), 'points' (K x 3) and 'implementation'
+        9 numbers per point, see exu_aniso.HISTORY_FIELDS), 'nDissipation' (NodeIndex of the set's
+        total dissipated energy [J]), 'sHistory' (SensorIndex, with storeHistory) and 'sDissipation'
+        (SensorIndex of that total, with storeSensors), 'law' (the ContactLaw), 'points' (K x 3),
+        'implementation', 'jacobian', 'nativeCallbacks', and the functions of the free function
+        CreateAnisotropicContact (exu_aniso.engines.exudyn_adapter.glue): 'pointsAndMasterPose',
+        'historyAt', 'bodyPosition', 'generalizedForce'
 
     Example:
         import exudyn as exu

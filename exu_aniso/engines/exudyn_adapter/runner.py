@@ -405,6 +405,21 @@ def SnapshotImage(model, size=SNAPSHOT_SIZE, modelRotation=None):
         general.showSolverInformation, general.minSceneSize = before
 
 
+def Snapshot(mbs, fileName=None, size=SNAPSHOT_SIZE, modelRotation=None):
+    """A picture of a model's current state, for any Exudyn model (a user's own too), without a
+    display: Exudyn's raytracer, the view fitted to everything drawn (the contact's surface with its
+    net, the bodies, the contact points), seen obliquely from above (or along ``modelRotation``,
+    3x3). Returns the RGB image (height, width, 3) as uint8 and writes it as PNG to ``fileName``
+    when given. ``exu_aniso.Snapshot(mbs, "final.png")`` after ``mbs.SolveDynamic(...)``; the
+    contact must be created with ``show=True`` (the default) for its surface to be drawn."""
+    model = dict(SC=mbs.GetSystemContainer(), mbs=mbs)
+    image = SnapshotImage(model, size=size, modelRotation=modelRotation)
+    if fileName is not None:
+        from matplotlib.image import imsave
+        atomic_write(fileName, lambda f: imsave(f, image, format="png"))
+    return image
+
+
 def WriteSnapshot(model, fileName, size=SNAPSHOT_SIZE, modelRotation=None):
     """Write ``SnapshotImage`` as PNG to fileName, atomically (temporary name, then moved into place)."""
     from matplotlib.image import imsave
@@ -425,15 +440,45 @@ def StoreSolution(simulationSettings, fileName, frames=500):
 
 
 def DisplayProblem():
-    """Why no render window can open here ("DISPLAY is not set"), or None. Exudyn's renderer.Start()
-    aborts the whole process on Linux without a display, so check this before calling it."""
+    """Why no render window can open here ("DISPLAY is not set", a display that does not answer),
+    or None. Exudyn's renderer.Start() aborts the whole process on Linux without a display, so check
+    this before calling it."""
     if bool(exu.special.userInterface.suppressRenderer):   # Start() returns at once: harmless
         return None
     if sys.platform.startswith(("win", "cygwin", "darwin")):
         return None
-    if not os.environ.get("DISPLAY"):
+    display = os.environ.get("DISPLAY")
+    if not display:
         return "DISPLAY is not set"
-    return None
+    return _XServerProblem(display)
+
+
+def _XServerProblem(display):
+    """None if an X server answers at ``display`` ("[host]:N[.screen]"), else why not. A local
+    display is the socket /tmp/.X11-unix/XN (or Linux's abstract socket of that name), a remote
+    one TCP port 6000 + N; a display that does not answer makes Exudyn's renderer abort the
+    process ("terminate called without an active exception")."""
+    import socket
+    host, sep, rest = display.rpartition(":")
+    number = rest.split(".")[0]
+    if not sep or not number.isdigit():
+        return f"DISPLAY={display!r} is not of the form [host]:N[.screen]"
+    if host in ("", "unix") or host.startswith("/"):
+        path = f"/tmp/.X11-unix/X{number}"
+        for address in (path, "\0" + path):          # the file, then Linux's abstract name
+            with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
+                s.settimeout(1.0)
+                try:
+                    s.connect(address)
+                    return None
+                except OSError:
+                    continue
+        return f"DISPLAY={display} does not answer (no X server at {path})"
+    try:
+        with socket.create_connection((host, 6000 + int(number)), timeout=1.0):
+            return None
+    except OSError as e:
+        return f"DISPLAY={display} does not answer (no X server at {host}:{6000 + int(number)}: {e})"
 
 
 def ViewSolution(model, fileName, title=""):
