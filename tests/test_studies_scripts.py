@@ -70,12 +70,37 @@ def test_every_script_runs_quick_in_the_suite():
     assert set(COVERED) <= set(SCRIPTS), set(COVERED) - set(SCRIPTS)
     for name, module in COVERED.items():
         assert f'quick_study("{name}"' in (ROOT / "tests" / module).read_text(), (name, module)
-    assert set(RUN_HERE) == {"bench_kernels", "baseline", "cli_cost", "native_callbacks", "newton_settings",
-                             "run_all"}, RUN_HERE
+    assert set(RUN_HERE) == {"bench_kernels", "baseline", "claims", "cli_cost", "native_callbacks",
+                             "newton_settings", "run_all"}, RUN_HERE
 
 
 # ----------------------------------------------------------------------------------------------
 # the scripts no other test runs
+
+def test_the_pages_quote_their_result_files(tmp_path):
+    """studies/claims.py: every speed figure docs/guide/speed.md quotes as median [min-max] is its
+    result file's row as it stands (the script exits 0 and says so); a result file whose figure
+    moved is caught (the page no longer quotes it)."""
+    import shutil
+    out = subprocess.run([sys.executable, str(STUDIES / "claims.py")], capture_output=True, text=True, cwd=ROOT,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    import claims
+    n = len(claims.CLAIMS)
+    assert f"{n} of {n} quoted figures are their result files'" in out.stdout and n >= 20
+    results = tmp_path / "results"
+    for study in ("benchmarks", "cli_cost"):
+        shutil.copytree(ROOT / "docs" / "results" / study, results / study)
+    rows = (results / "benchmarks" / "targets.csv").read_text().splitlines()
+    i = next(k for k, r in enumerate(rows) if r.startswith('"full block, 4 corners"'))
+    cells = next(__import__("csv").reader([rows[i]]))
+    header = rows[0].split(",")
+    cells[header.index("ratio [-]")] = str(float(cells[header.index("ratio [-]")]) + 0.5)
+    rows[i] = ",".join(f'"{c}"' if "," in c else c for c in cells)
+    (results / "benchmarks" / "targets.csv").write_text("\n".join(rows) + "\n")
+    missing = [c.row for c, _, _, found in claims.check_pages(str(results)) if not found]
+    assert missing == ["full block, 4 corners"]
+
 
 def test_bench_kernels_quick(tmp_path, quick_study):
     quick_study("bench_kernels", tmp_path, timeout=120)
