@@ -642,3 +642,17 @@ def test_a_users_model_on_every_surface_is_seen(name):
     _without_contact_graphics(mbs, [contact])
     hidden = exu_aniso.Snapshot(mbs, size=(240, 180))
     assert _drawn_share(shown) > 0.15 and _changed_share(shown, hidden) > 0.1, (name, _changed_share(shown, hidden))
+
+
+def test_the_blocks_plane_is_drawn_under_its_whole_path():
+    """The block on its 8 x 8 grid pushed for 10 s (1 m of driver travel): the drawn polar disk
+    (its radius: models.block.drawn_plane_size) covers every position of the block's centre and its
+    half-diagonal, where the radius taken from the initial points left the block off its edge."""
+    import math
+    from exu_aniso.models.block import RunBlock, drawn_plane_size
+    from exu_aniso.scenes.block import BlockParams
+    p = BlockParams(model="full", points="grid:8", t_end=10.0)
+    res = RunBlock(p)
+    r = np.hypot(res.trajectory["x"], res.trajectory["y"])
+    assert r.max() + p.size / math.sqrt(2) <= drawn_plane_size(p), (r.max(), drawn_plane_size(p))
+    assert r.max() > 0.7                        # the block does leave the default disk's 0.6 m

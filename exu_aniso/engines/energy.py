@@ -272,7 +272,7 @@ def warn_if_open(summary, what="run", advice=DEFAULT_ADVICE):
                   f"{summary['energy']['residual']:.3g} > tolerance {summary['energy_tolerance']:.3g} "
                   f"(work in {summary['energy']['work_in']:.6g} J): energy is created or lost that the "
                   f"model does not account for, so the results may be wrong; {advice} (the ledger: "
-                  "docs/guide/command_line.md, 'Energy ledger')", EnergyWarning, stacklevel=_outside_the_package())
+                  "docs/guide/energy_ledger.md)", EnergyWarning, stacklevel=_outside_the_package())
 
 
 def _outside_the_package():

@@ -33,6 +33,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
+from exu_aniso.engines.exudyn_adapter.graphics import AddContactGraphics
 from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
                                                      BodyMotion, HistoryOutputs, RunScene,
                                                      SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
@@ -131,6 +132,7 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
                                                contactLaw=block_contact_law(p), jacobian=jacobian,
                                                initializeHistory=True, implementation=implementation,
                                                storeHistory=True)   # the ledger and the summary read it
+        AddContactGraphics(mbs, contact, size=drawn_plane_size(p))
     else:
         contact = contactBuilder(mbs, oBlock, localPoints)
     mbs.Assemble()
@@ -139,6 +141,15 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nBlock=nBlock, oBlock=oBlock,
                 contact=contact, sensors=sensors, oDrive=oDrive, driveDirection=d, nodeType=nodeType,
                 position=pos)
+
+
+def drawn_plane_size(p):
+    """The radius [m] of the plane drawn under the block (polar disk, square half-width): its start's
+    distance from the origin, plus the way the block can go in t_end (the driver's travel; under a
+    constant force, the free acceleration's F t^2 / 2m, at most 100 m), plus its size."""
+    way = (abs(p.drive_speed) * p.t_end if p.drive == "displacement"
+           else min(0.5 * p.force / p.mass * p.t_end ** 2, 100.0))
+    return math.hypot(p.x0, p.y0) + way + p.size
 
 
 def BlockTrajectory(model, history=None):

@@ -63,7 +63,7 @@ def RecommendedSimulationSettings(endTime, stepSize, newton="modified", newtonTo
       the residual then falls only ~40x per iteration and a sliding step takes 4 to 6 iterations. At
       0.01 a sliding step refreshes it (3.1 to 4.1 iterations per step on the scenes), and while the
       contact sticks (a linear spring) the old Jacobian is kept. On the scenes this costs 0.48 to 0.75
-      of full Newton and changes no result above 1.4e-11 (docs/guide/speed.md, "Solver settings: which to use
+      of full Newton and changes no result above 1.4e-11 (docs/guide/settings.md, "Solver settings: which to use
       when").
       ``newton="full"`` (a Jacobian at every iteration) solves each step to round-off: use it to
       compare two implementations to round-off or to close an energy ledger to round-off.
