@@ -656,3 +656,52 @@ def test_the_blocks_plane_is_drawn_under_its_whole_path():
     r = np.hypot(res.trajectory["x"], res.trajectory["y"])
     assert r.max() + p.size / math.sqrt(2) <= drawn_plane_size(p), (r.max(), drawn_plane_size(p))
     assert r.max() > 0.7                        # the block does leave the default disk's 0.6 m
+
+
+_LIVE = """
+import json, sys
+import numpy as np
+from exu_aniso.catalog import SCENES
+out = {}
+for scene in sys.argv[1:]:
+    sc = SCENES[scene]
+    m = sc.build_exudyn(sc.params())
+    SC, mbs = m["SC"], m["mbs"]
+    SC.visualizationSettings.view0.window.renderWindowSize = [320, 240]
+    contacts = m.get("contacts") or [m["contact"]]
+    contacts = list(contacts.values()) if isinstance(contacts, dict) else contacts
+    SC.renderer.Start()
+    pictures = []
+    for show in (True, False):
+        for c in contacts:
+            mbs.SetObjectParameter(c["oContact"], "Vshow", show)
+        SC.renderer.DoIdleTasks(waitSeconds=0.3)
+        SC.renderer.ZoomAll()
+        SC.renderer.DoIdleTasks(waitSeconds=0.3)
+        pictures.append(np.asarray(SC.renderer.RedrawAndGetImage())[..., :3].astype(int))
+    SC.renderer.Stop()
+    shown, hidden = pictures
+    out[scene] = [float((shown < 245).any(axis=-1).mean()), float((np.abs(shown - hidden).max(axis=-1) > 30).mean())]
+print(json.dumps(out))
+"""
+
+
+def test_the_live_renderer_frames_every_scene(tmp_path):
+    """Exudyn's live renderer (OpenGL in a window, here under Xvfb), zoomed to all: every scene fills
+    its picture, and where the contact draws the surface, hiding it changes a twentieth of it."""
+    import json
+    import shutil
+    import subprocess
+    import sys
+    if shutil.which("xvfb-run") is None:
+        pytest.skip("no xvfb-run (apt-get install xvfb): the live renderer needs a display")
+    scenes = ["block", "screw", "particle", "capstan", "feeder", "fastening"]
+    out = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", _LIVE, *scenes], capture_output=True, text=True,
+                         timeout=600, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr[-3000:]
+    figures = json.loads(out.stdout.strip().splitlines()[-1])
+    for scene in scenes:
+        drawn, changed = figures[scene]
+        assert drawn > 0.15, (scene, drawn)
+        if scene in DRAWN_BY_THE_CONTACT:
+            assert changed > 0.05, (scene, changed)

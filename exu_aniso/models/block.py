@@ -34,7 +34,7 @@ from exudyn.utilities import InertiaCuboid
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
 from exu_aniso.engines.exudyn_adapter.graphics import AddContactGraphics
-from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
+from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
                                                      BodyMotion, HistoryOutputs, RunScene,
                                                      SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.util.validation import check_instance
@@ -79,7 +79,7 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
     check_instance("p", p, BlockParams)
-    SC = exu.SystemContainer()
+    SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
 
     m, a = p.mass, p.size                       # mass [kg], edge length [m]

@@ -34,7 +34,8 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.law.history import HISTORY_FIELDS
 from exu_aniso.engines.energy import work_trapezoid
 from exu_aniso.engines.exudyn_adapter.glue import hermite_shape_functions
-from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor
+from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor,
+                                                     SceneView)
 from exu_aniso.scenes.capstan import (CapstanParams, capstan_contact_law, capstan_energy, capstan_summary,
                                      element_length, tension_in, tension_out)
 from exu_aniso.util.validation import check_instance
@@ -104,7 +105,7 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
     stop_displacement (pre-step function); show: renderer graphics of the drum and the contact points
     (mbs.CreateAnisotropicContact(show=...); drawn only when a scene is rendered)."""
     check_instance("p", p, CapstanParams)
-    SC = exu.SystemContainer()
+    SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
     pos, slope, lengths, ta, tb = RopeGeometry(p)
     nodes = [mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[x[0], x[1], s[0], s[1]]))

@@ -25,7 +25,7 @@ from exudyn.utilities import InertiaCuboid
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.law import oracles
-from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, RunScene,
+from exu_aniso.engines.exudyn_adapter.runner import (SceneView, NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, RunScene,
                                                      SettingsInfo, SimulationSettingsFor, Unwrap)
 from exu_aniso.scenes.fastening import (FasteningParams, bolt_inertia, contact_torques, fastening_energy,
                                        fastening_summary, head_contact_law, head_points, head_z, joint_damping, lead,
@@ -75,7 +75,7 @@ def BuildFastening(p: FasteningParams, jacobian="analytic", implementation="auto
     check_instance("p", p, FasteningParams)
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
-    SC = exu.SystemContainer()
+    SC = SceneView(exu.SystemContainer(), SNAPSHOT_VIEW)
     mbs = SC.AddSystem()
     m, J = bolt_inertia(p)
     # started in the thread's screw motion at the driver's speed: no start-up kick on the stiff contacts

@@ -25,7 +25,8 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
-from exu_aniso.engines.exudyn_adapter.runner import RunScene, SettingsInfo, SimulationSettingsFor
+from exu_aniso.engines.exudyn_adapter.runner import (RunScene, SettingsInfo, SimulationSettingsFor,
+                                                     SceneView)
 from exu_aniso.scenes.feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary,
                                     finish_trajectory, part_inertia, part_points, part_positions, throw_direction)
 from exu_aniso.engines.timing import time_step
@@ -50,7 +51,7 @@ def BuildFeeder(p: FeederParams, jacobian="analytic", implementation="auto", new
     sPlatePosition, sPlateVelocity). Options as BuildBlock; show: draw the nets and points."""
     check_instance("p", p, FeederParams)
     law = feeder_contact_law(p)
-    SC = exu.SystemContainer()
+    SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
     w = plate_frequency(p)
     Lx, Ly, Lz = PLATE_SIZE

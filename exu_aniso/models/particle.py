@@ -18,7 +18,8 @@ from exudyn import graphics
 from exudyn.itemInterface import SensorNode
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor
+from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor,
+                                                     SceneView)
 from exu_aniso.scenes.particle import (ParticleParams, finish_trajectory, gravity_vector, initial_state,
                                       particle_contact_law, particle_energy, particle_summary)
 from exu_aniso.util.validation import check_instance
@@ -37,7 +38,7 @@ def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoIn
     surface and the contact point in the renderer."""
     check_instance("p", p, ParticleParams)
     law = particle_contact_law(p) if contactLaw is None else contactLaw
-    SC = exu.SystemContainer()
+    SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
     x0, v0 = initial_state(p)
     r = 0.02 * p.radius

@@ -33,7 +33,7 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGene
 from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.exudyn_adapter.runner import (IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
+from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
                                                      AddYawDrive, BodyMotion, HistoryOutputs, RunScene,
                                                      SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.scenes.screw import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
@@ -94,7 +94,7 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     check_instance("p", p, ScrewParams)
     if p.model == "full" and p.points_per_ring < 3:
         raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
-    SC = exu.SystemContainer()
+    SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
 
     m, r, L = p.mass, p.radius, p.length        # mass [kg], hole radius [m], contact length [m]

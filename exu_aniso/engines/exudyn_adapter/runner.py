@@ -384,6 +384,18 @@ SNAPSHOT_SIZE = (800, 600)                      # [width, height] of snapshot.pn
 SNAPSHOT_ROTATION = (RotationMatrixX(-math.radians(55.0)) @ RotationMatrixZ(math.radians(150.0))).T
 
 
+def SceneView(SC, modelRotation=None):
+    """The view a scene's model starts with, in the live renderer and the SolutionViewer as in the
+    snapshot: obliquely from above (SNAPSHOT_ROTATION, or modelRotation 3x3) and zoomed onto small
+    bodies too (minSceneSize 1 mm: the screw is 2 cm long, and Exudyn's default 0.1 m shows it as a
+    dot seen from above). Every Build function of exu_aniso.models calls it on its SystemContainer."""
+    settings = SC.visualizationSettings
+    settings.general.minSceneSize = 1e-3
+    rotation = SNAPSHOT_ROTATION if modelRotation is None else np.asarray(modelRotation, dtype=float)
+    settings.openGL.advanced.initialModelRotation = np.asarray(rotation, dtype=float).tolist()
+    return SC
+
+
 def SnapshotImage(model, size=SNAPSHOT_SIZE, modelRotation=None):
     """The model's Current state (after a solve: the final one) as an RGB image (height, width, 3),
     uint8, rendered by Exudyn's software raytracer without a window (exudyn.interactive.ShowImage;
