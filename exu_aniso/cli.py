@@ -233,7 +233,8 @@ def write_summary(out, summary):
 
 def write_outputs(scene, params, engine, out, res, failure=None, output_step=None):
     """The three result files of one run; failure: None (complete) or SimulationFailure.as_dict();
-    output_step [s]: the step of trajectory.csv (None: the scene's nominal step dt). summary.json
+    output_step [s]: the step of trajectory.csv (None: the scene's nominal step dt; 0: every step
+    the solver took, the samples the energy ledger is integrated over). summary.json
     also says how the steps went (nominal_steps, step_reductions, smallest_step, step_warning)."""
     summary = dict(complete=failure is None)
     summary.update(res.summary)
@@ -246,7 +247,7 @@ def write_outputs(scene, params, engine, out, res, failure=None, output_step=Non
     summary["output_step"] = params.dt if output_step is None else output_step
     summary["params"] = params.as_dict()
     summary["units"] = {k: u for k, u in COLUMNS[scene].items() if k in res.trajectory}
-    write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory, summary["output_step"])
+    write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory, summary["output_step"] or None)
     keys = SCENES[scene].title_keys
     model = getattr(params, "model", None)
     title = f"{scene} ({engine}, {params.return_map} map{', ' + model if model else ''}): " + ", ".join(
@@ -276,7 +277,8 @@ def main(argv=None):
     r.add_argument("--out", default="results", help="output directory (default: results)")
     r.add_argument("--output-step", type=float, default=None, metavar="DT",
                    help="time step of trajectory.csv [s] (default: the scene's dt; a run whose solver cut the "
-                        "step is still written at this step)")
+                        "step is still written at this step; 0: every step the solver took, from which the energy "
+                        "ledger can be recomputed)")
     r.add_argument("--quiet", action="store_true",
                    help="no progress display on stderr (shown for Exudyn runs longer than about 2 s)")
     r.add_argument("--snapshot", action="store_true",
@@ -293,8 +295,9 @@ def main(argv=None):
             print(SCENES[a.scene].params.describe())
             return 0
         sets = parse_sets(a.sets)
-        if a.output_step is not None and not (np.isfinite(a.output_step) and a.output_step > 0):
-            raise UsageError(f"--output-step must be a finite time step > 0 [s]; got {a.output_step!r}")
+        if a.output_step is not None and not (np.isfinite(a.output_step) and a.output_step >= 0):
+            raise UsageError(f"--output-step must be a finite time step >= 0 [s] (0: every step the solver "
+                             f"took); got {a.output_step!r}")
         scenes = MAIN_JOB if a.scene == "all" else (a.scene,)
         if a.scene == "all" and sets:
             raise UsageError(f"--set applies to one scene; run one of {', '.join(SCENES)} to override parameters")

@@ -348,5 +348,8 @@ def test_a_run_whose_solver_cut_the_step_says_so_and_writes_its_output_step(tmp_
     assert cli.main(args + ["--out", str(tmp_path / "b"), "--output-step", "0.1"]) == 0
     rows = list(csv.reader(open(tmp_path / "b" / "trajectory.csv")))[1:]
     assert [round(float(r[0]), 9) for r in rows] == [0.0, 0.1, 0.2]
-    assert cli.main(args + ["--out", str(tmp_path / "c"), "--output-step", "-1"]) == 2
-    assert "--output-step must be a finite time step > 0" in capsys.readouterr().err
+    assert cli.main(args + ["--out", str(tmp_path / "c"), "--output-step", "0"]) == 0    # every step taken
+    rows = list(csv.reader(open(tmp_path / "c" / "trajectory.csv")))[1:]
+    assert len(rows) == s["steps"] + 1
+    assert cli.main(args + ["--out", str(tmp_path / "d"), "--output-step", "-1"]) == 2
+    assert "--output-step must be a finite time step >= 0" in capsys.readouterr().err
