@@ -686,6 +686,7 @@ print(json.dumps(out))
 """
 
 
+@pytest.mark.slow
 def test_the_live_renderer_frames_every_scene(tmp_path):
     """Exudyn's live renderer (OpenGL in a window, here under Xvfb), zoomed to all: every scene fills
     its picture, and where the contact draws the surface, hiding it changes a twentieth of it."""
