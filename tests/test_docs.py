@@ -41,11 +41,12 @@ def test_example_runs_in_its_quick_form(example, tmp_path):
     assert "Warning" not in out.stderr, out.stderr[-3000:]
 
 
-def test_the_readme_model_runs():
-    """The README's five-minute model script runs as printed (a fresh process)."""
+def test_the_readme_model_runs(tmp_path):
+    """The README's five-minute model script runs as printed (a fresh process) and leaves its picture."""
     import re
     text = open(os.path.join(ROOT, "README.md")).read()
     code = re.search(r"```python\n(.*?)```", text, re.S).group(1)
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
-                         env=dict(os.environ, MPLBACKEND="Agg"))
+                         env=dict(os.environ, MPLBACKEND="Agg"), cwd=tmp_path)
     assert out.returncode == 0, out.stderr[-3000:]
+    assert (tmp_path / "final.png").stat().st_size > 10000
