@@ -2,8 +2,9 @@
 
     python studies/claims.py [--rerun] [--quick] [--out DIR]
 
-Each claim is a figure a page of docs/ quotes as "median [min-max]" with the row of a committed
-result file it comes from (the file names the command that makes it). Without ``--rerun`` this
+Each claim is a figure a page of docs/ quotes as "median [min-max]" (the speed targets and the
+command line's cost on docs/guide/speed.md, the Newton settings on docs/guide/settings.md) with the
+row of a committed result file it comes from (the file names the command that makes it). Without ``--rerun`` this
 checks that every page quotes its file as it stands (the text is on the page); with ``--rerun`` it
 also runs each claim's study afresh (``python studies/STUDY.py --out DIR/STUDY``, ``--quick`` for
 the short form, whose figures are not comparable) and prints the new median beside the quoted one
@@ -27,8 +28,9 @@ ROOT = os.path.dirname(HERE)
 
 @dataclass(frozen=True)
 class Claim:
-    """A quoted figure: the page, the study and its result file, the row (key column, value), the
-    figure's column (its _min and _max beside it) and how the page prints it."""
+    """A quoted figure: the page, the study and its result file, the row (key column, value; more
+    pairs in ``also``), the figure's column (its _min and _max beside it), how the page prints it
+    and the factor from the file's unit to the page's."""
     page: str
     study: str
     file: str
@@ -36,6 +38,8 @@ class Claim:
     row: str
     column: str
     fmt: str = "{:.2f}"
+    also: tuple = ()
+    scale: float = 1.0
 
 
 SPEED = "docs/guide/speed.md"
@@ -52,7 +56,15 @@ CLAIMS = ([Claim(SPEED, "benchmarks", "targets.csv", "scene [-]", r, "ratio [-]"
              for part in ("fixed part [us]", "per point [us]")]
           + [Claim(SPEED, "cli_cost", "cli_cost.csv", "overrides [-]", r, c, f)
              for r in ("model=full points=corners", "model=full points=grid:8", "defaults")
-             for c, f in (("total [us]", "{:.1f}"), ("ratio [-]", "{:.2f}"))])
+             for c, f in (("total [us]", "{:.1f}"), ("ratio [-]", "{:.2f}"))]
+          # the solver settings' table: us per step of each scene at each of five Newton settings
+          + [Claim("docs/guide/settings.md", "newton_settings", "newton_settings.csv", "settings [-]", setting,
+                   "cpu_per_step [s]", "{:.1f}", (("scene [-]", scene), ("model [-]", model), ("points [-]", points)),
+                   1e6)
+             for scene, model, points in (("block", "planar", "corners"), ("block", "full", "corners"),
+                                          ("block", "full", "grid:8"), ("screw", "reduced", "3 x 8"),
+                                          ("screw", "full", "3 x 8"))
+             for setting in ("full_newton_1e-10", "package", "package_1e-8", "exudyn", "jacobian_per_step")])
 
 
 def _read(path):
@@ -63,10 +75,10 @@ def _read(path):
 def figure(rows, claim):
     """(median, min, max) of the claim's row in the rows of its file."""
     for r in rows:
-        if r[claim.key] == claim.row:
+        if r[claim.key] == claim.row and all(r[k] == v for k, v in claim.also):
             base, unit = claim.column.rsplit(" ", 1)
-            return tuple(float(r[f"{base}{s} {unit}"]) for s in ("", "_min", "_max"))
-    raise KeyError(f"{claim.file}: no row {claim.key} = {claim.row!r}")
+            return tuple(claim.scale * float(r[f"{base}{s} {unit}"]) for s in ("", "_min", "_max"))
+    raise KeyError(f"{claim.file}: no row {claim.key} = {claim.row!r} {dict(claim.also)}")
 
 
 def quoted_text(claim, values):
