@@ -142,23 +142,16 @@ def dissipated(H):
     return _history(H)[:, :, _DISS].sum(axis=1)
 
 
-def contact_energy(law, X, V, H):
-    """Stored and dissipated energy [J] per sample of the contact of ``law`` (a fixed master: X, V
-    (n, K, 3) slave points in the master frame, H (n, K, 9) converged history at each sample).
-
-    stored = sum eps_N min(gap, 0)^2 / 2 + T . C^-1 T / 2; dissipated = history dissipation +
-    cumulative trapezoid of -(f_d,n + f_d,n+1)/2 . (X_n+1 - X_n) over the dashpot forces f_d =
-    (total normal force - elastic normal force) - d_T v_t (loaded points), so that clipping
-    N <= 0 counts as part of the dashpot."""
-    X = np.asarray(X, dtype=float)
-    V = np.asarray(V, dtype=float)
-    H = _history(H)
+def _contact_terms(law, X, V, H):
+    """The stored energy [J] per sample and the dashpots' dissipation [J] per interval (n - 1) of
+    the contact of ``law``: the two parts of ``contact_energy`` before the history's dissipation
+    and the cumulative sum (H as _history gives it)."""
     n, K, _ = X.shape
     x = X.reshape(n * K, 3)
     gap, normal = law.gap_and_normal(x)
     inside = gap < 0.0
     stored = 0.5 * law.eps_N * np.where(inside, gap, 0.0) ** 2
-    diss = dissipated(H)
+    steps = np.zeros(max(n - 1, 0))
     if law.d_N > 0.0 or law.d_T > 0.0:
         fd = np.zeros((n * K, 3))
         if np.any(inside):
@@ -169,9 +162,21 @@ def contact_energy(law, X, V, H):
             vt = v - nrm * np.einsum("ki,ki->k", nrm, v)[:, None]
             fd[inside] = -Nd[:, None] * nrm - np.where(N < 0.0, law.d_T, 0.0)[:, None] * vt
         fd = fd.reshape(n, K, 3)
-        dD = -np.sum(0.5 * (fd[1:] + fd[:-1]) * np.diff(X, axis=0), axis=(1, 2))
-        diss = diss + np.concatenate([[0.0], np.cumsum(dD)])
-    return stored.reshape(n, K).sum(axis=1) + stored_tangential(H, law), diss
+        steps = -np.sum(0.5 * (fd[1:] + fd[:-1]) * np.diff(X, axis=0), axis=(1, 2))
+    return stored.reshape(n, K).sum(axis=1) + stored_tangential(H, law), steps
+
+
+def contact_energy(law, X, V, H):
+    """Stored and dissipated energy [J] per sample of the contact of ``law`` (a fixed master: X, V
+    (n, K, 3) slave points in the master frame, H (n, K, 9) converged history at each sample).
+
+    stored = sum eps_N min(gap, 0)^2 / 2 + T . C^-1 T / 2; dissipated = history dissipation +
+    cumulative trapezoid of -(f_d,n + f_d,n+1)/2 . (X_n+1 - X_n) over the dashpot forces f_d =
+    (total normal force - elastic normal force) - d_T v_t (loaded points), so that clipping
+    N <= 0 counts as part of the dashpot."""
+    H = _history(H)
+    stored, steps = _contact_terms(law, np.asarray(X, dtype=float), np.asarray(V, dtype=float), H)
+    return stored, dissipated(H) + np.concatenate([[0.0], np.cumsum(steps)])
 
 
 def rigid_contact_energy(law, motion, b, H, chunk=128):
@@ -180,19 +185,17 @@ def rigid_contact_energy(law, motion, b, H, chunk=128):
     velocities exist for one block only, so the temporaries stay in the cache and are reused instead
     of taking fresh memory of (n, K, 3) each (the 8 x 8 block over 5.5 s: 8 MB apiece, whose page
     faults cost more than the arithmetic). The same result as contact_energy(law,
-    *point_motion(motion, b), H) to round-off (the dashpot's cumulative sum is formed per block)."""
+    *point_motion(motion, b), H) (the blocks' dashpot intervals joined, one cumulative sum)."""
     H = _history(H)
     n = len(motion.position)
     if chunk < 1:
         raise ValueError(f"chunk must be a positive number of samples; got {chunk}")
-    stored, step = np.empty(n), np.zeros(n)        # step[i]: dashpot dissipation from sample i-1 to i
+    stored, steps = np.empty(n), np.zeros(max(n - 1, 0))   # steps[i]: dashpot dissipation from sample i to i+1
     for a in range(0, n, chunk):
         e = min(a + chunk + 1, n)                  # one sample past the block: its last interval
         X, V = point_motion(RigidMotion(*(x[a:e] for x in motion)), b)
-        s, d = contact_energy(law, X, V, H[a:e])
-        stored[a:e] = s
-        step[a + 1:e] = np.diff(d - dissipated(H[a:e]))
-    return stored, dissipated(H) + np.cumsum(step)
+        stored[a:e], steps[a:e - 1] = _contact_terms(law, X, V, H[a:e])
+    return stored, dissipated(H) + np.concatenate([[0.0], np.cumsum(steps)])
 
 
 ROUND_OFF_FLOOR = 1e-9

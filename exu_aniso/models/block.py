@@ -33,7 +33,6 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
-from exu_aniso.engines.exudyn_adapter.graphics import AddContactGraphics
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
                                                      BodyMotion, HistoryOutputs, RunScene,
                                                      SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
@@ -131,8 +130,8 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
         contact = mbs.CreateAnisotropicContact(name="blockContact", bodyNumber=oBlock, localPoints=localPoints,
                                                contactLaw=block_contact_law(p), jacobian=jacobian,
                                                initializeHistory=True, implementation=implementation,
-                                               storeHistory=True)   # the ledger and the summary read it
-        AddContactGraphics(mbs, contact, size=drawn_plane_size(p))
+                                               storeHistory=True,   # the ledger and the summary read it
+                                               graphicsSize=drawn_plane_size(p))
     else:
         contact = contactBuilder(mbs, oBlock, localPoints)
     mbs.Assemble()

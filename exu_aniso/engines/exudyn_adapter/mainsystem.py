@@ -37,7 +37,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
                                        storeHistory: bool = False, implementation: str = "auto", contactLaw=None,
                                        show: bool = True, color: Sequence[float] = None,
                                        showTraction: bool = False, tractionScale: float = None,
-                                       nativeCallbacks: bool = None) -> dict:
+                                       graphicsSize: float = None, nativeCallbacks: bool = None) -> dict:
     """Create anisotropic frictional contact (Konyukhov & Schweizerhof) between points fixed on a body and
     an analytical surface; the sticking stiffness (adhesion tensor B) and the sliding limit (friction
     tensor F) follow a net on the surface (polar orthotropy on a plane, a thread-like spiral on a cylinder)
@@ -81,6 +81,8 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         color: RGBA colour of the surface, e.g. exudyn.graphics.color.lightgrey; None: a default
         showTraction: if True, traction arrows are drawn at the contact points
         tractionScale: arrow length per Newton [m/N]; None: chosen from the scene size
+        graphicsSize: the drawn surface's extent L [m] (polar disk radius, square half-width, tube
+            half-length); None: from the contact points (AddContactGraphics)
 
     Returns:
         :dict: 'oContact' (ObjectIndex of the ObjectGenericODE2), 'nData' (NodeIndex of the history:
@@ -151,7 +153,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
     from exu_aniso.engines.exudyn_adapter.graphics import AddContactGraphics
     try:
         AddContactGraphics(mbs, contact, show=show, color=color, showTraction=showTraction,
-                           tractionScale=tractionScale)
+                           tractionScale=tractionScale, size=graphicsSize)
     except (TypeError, ValueError) as e:
         raise _named(e) from None
     return contact
