@@ -1,22 +1,29 @@
-"""The speed figures the documentation quotes, against their result files and rerun.
+"""The figures the documentation quotes, against their result files and rerun.
 
     python studies/claims.py [--rerun] [--quick] [--out DIR]
 
-Each claim is a figure a page of docs/ quotes as "median [min-max]" (the speed targets and the
-command line's cost on docs/guide/speed.md, the Newton settings on docs/guide/settings.md) with the
-row of a committed result file it comes from (the file names the command that makes it). Without ``--rerun`` this
-checks that every page quotes its file as it stands (the text is on the page); with ``--rerun`` it
-also runs each claim's study afresh (``python studies/STUDY.py --out DIR/STUDY``, ``--quick`` for
-the short form, whose figures are not comparable) and prints the new median beside the quoted one
-with whether it lands inside the quoted spread. Speed figures move with the machine's load (up to
-about 10 % on a ratio from hour to hour on the 2-core machine of the figures), so a rerun can land
-outside the spread of a quiet hour; the spread says how far one run of the command scatters.
-Writes ``claims.csv`` and ``report.md`` with ``--rerun`` (default ``studies/results/claims``).
+Two kinds of figure. A **speed figure** is quoted as "median [min-max]" of interleaved repeats (the
+speed targets and the command line's cost on docs/guide/speed.md, the Newton settings on
+docs/guide/settings.md, the native callbacks' table on docs/native_callbacks.md) with the row of a
+committed result file it comes from (the file names the command that makes it). A **run figure**
+is a number of one ``exu-aniso run ...`` summary.json quoted in the text (``RUNS``): the runs are
+deterministic, a repeat gives the same digits, so it has no spread. Without ``--rerun`` this checks
+that every page quotes its file as it stands and says every run figure as registered; with
+``--rerun`` it also runs each speed claim's study afresh (``python studies/STUDY.py --out
+DIR/STUDY``, ``--quick`` for the short form, whose figures are not comparable) and prints the new
+median beside the quoted one with whether it lands inside the quoted spread, and runs each command
+line once and prints its figure beside the quoted digits (exit 1 when they differ). Speed figures
+move with the machine's load (up to about 10 % on a ratio from hour to hour on the 2-core machine of
+the figures), so a rerun can land outside the spread of a quiet hour; the spread says how far one
+run of the command scatters. docs/RESULTS.md is not listed here: it is generated whole by
+``python studies/run_all.py``, every section naming its command. Writes ``claims.csv`` and
+``report.md`` with ``--rerun`` (default ``studies/results/claims``).
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import json
 import os
 import subprocess
 import sys
@@ -40,6 +47,32 @@ class Claim:
     fmt: str = "{:.2f}"
     also: tuple = ()
     scale: float = 1.0
+    spread: tuple = ()      # the min and max columns when they are not COLUMN_min, COLUMN_max
+
+    def columns(self):
+        """The file's median, min and max columns of the figure."""
+        if self.spread:
+            return (self.column,) + tuple(self.spread)
+        base, unit = self.column.rsplit(" ", 1)
+        return tuple(f"{base}{s} {unit}" for s in ("", "_min", "_max"))
+
+
+@dataclass(frozen=True)
+class RunClaim:
+    """A figure of one command line run, quoted on a page: ``exu-aniso run ARGS`` and the value
+    ``value(summary)`` of its summary.json, printed with ``fmt`` where ``{}`` stands in ``text``
+    (the page's words around it). The runs are deterministic: a repeat on one machine gives the same
+    digits (they move with the versions of Exudyn, numpy and numba), so the figure has no spread and
+    ``quoted`` is its digits as the page prints them."""
+    page: str
+    args: tuple
+    text: str
+    quoted: str
+    value: object
+    fmt: str
+
+    def command(self):
+        return "exu-aniso run " + " ".join(self.args)
 
 
 SPEED = "docs/guide/speed.md"
@@ -64,7 +97,48 @@ CLAIMS = ([Claim(SPEED, "benchmarks", "targets.csv", "scene [-]", r, "ratio [-]"
              for scene, model, points in (("block", "planar", "corners"), ("block", "full", "corners"),
                                           ("block", "full", "grid:8"), ("screw", "reduced", "3 x 8"),
                                           ("screw", "full", "3 x 8"))
-             for setting in ("full_newton_1e-10", "package", "package_1e-8", "exudyn", "jacobian_per_step")])
+             for setting in ("full_newton_1e-10", "package", "package_1e-8", "exudyn", "jacobian_per_step")]
+          # the native callbacks' table: us per step with Python and with native callbacks
+          + [Claim("docs/native_callbacks.md", "native_callbacks", "native_callbacks.csv", "scene [-]", scene,
+                   f"{kind}_per_step [s]", "{:.1f}", (("layout [-]", layout),), 1e6,
+                   (f"{kind}_min [s]", f"{kind}_max [s]"))
+             for scene, layout in (("block", "corners"), ("block", "grid:8"), ("screw", "default"),
+                                   ("particle", "default"))
+             for kind in ("python", "native")])
+
+_FASTENING = ("fastening",)
+RUNS = [
+    RunClaim("docs/guide/conventions.md", ("block", "--set", "return_map=exact"), "heading {} deg against", "90",
+             lambda s: s["heading_deg"], "{:.0f}"),
+    RunClaim("docs/guide/conventions.md", ("block",), "heading 90 deg against {} deg", "112.9",
+             lambda s: s["heading_deg"], "{:.1f}"),
+    RunClaim("docs/guide/contact_api.md", _FASTENING, "T/F = {} mm", "1.66203",
+             lambda s: 1e3 * s["torque_per_clamp_force"], "{:.5f}"),
+    RunClaim("docs/guide/contact_api.md", _FASTENING, "against the formula's {}", "1.66223",
+             lambda s: 1e3 * s["torque_per_clamp_force_theory"], "{:.5f}"),
+    RunClaim("docs/guide/contact_api.md", _FASTENING, "seating at {} deg", "30.0112",
+             lambda s: s["seating_angle"], "{:.4f}"),
+    RunClaim("docs/guide/contact_api.md", _FASTENING, "against the theory's {}", "30.0112",
+             lambda s: s["seating_angle_theory"], "{:.4f}"),
+    RunClaim("docs/guide/contact_api.md", _FASTENING, "gives mu_thread {} for", "0.1211",
+             lambda s: s["mu_thread_iso16047"], "{:.4f}"),
+    RunClaim("docs/guide/contact_api.md", _FASTENING, "tilt {} deg with either head", "0.0032",
+             lambda s: s["tilt_max_deg"], "{:.4f}"),
+    RunClaim("docs/guide/contact_api.md", ("feeder",), "lies within 20 % of it: {} % on the defaults", "-12.3",
+             lambda s: 100 * (s["transport_velocity"] / s["transport_velocity_theory"] - 1), "{:.1f}"),
+    RunClaim("docs/guide/contact_api.md", ("capstan",), "T_out / T_in = {} against", "2.5660",
+             lambda s: s["tension_ratio"], "{:.4f}"),
+    RunClaim("docs/guide/contact_api.md", ("capstan",), "against exp(0.3 pi) = {}.", "2.5663",
+             lambda s: s["tension_ratio_theory"], "{:.4f}"),
+    RunClaim("docs/guide/command_line.md", ("capstan",), "(the capstan's default run: {} steps cut", "118",
+             lambda s: s["step_reductions"], "{:d}"),
+    RunClaim("docs/guide/command_line.md", ("capstan",), "steps cut between t = 0 and {} s", "0.0147",
+             lambda s: s["reduced_between"][1], "{:.4f}"),
+    RunClaim("docs/guide/command_line.md", ("capstan",), "dashpot, {} steps where", "2049",
+             lambda s: s["steps"], "{:d}"),
+    RunClaim("docs/guide/command_line.md", ("capstan",), "steps where {} were planned; `exu-aniso run capstan`", "1946",
+             lambda s: s["nominal_steps"], "{:d}"),
+]
 
 
 def _read(path):
@@ -76,8 +150,7 @@ def figure(rows, claim):
     """(median, min, max) of the claim's row in the rows of its file."""
     for r in rows:
         if r[claim.key] == claim.row and all(r[k] == v for k, v in claim.also):
-            base, unit = claim.column.rsplit(" ", 1)
-            return tuple(claim.scale * float(r[f"{base}{s} {unit}"]) for s in ("", "_min", "_max"))
+            return tuple(claim.scale * float(r[c]) for c in claim.columns())
     raise KeyError(f"{claim.file}: no row {claim.key} = {claim.row!r} {dict(claim.also)}")
 
 
@@ -86,11 +159,44 @@ def quoted_text(claim, values):
     return f"{med} [{lo}-{hi}]"
 
 
+def _words(text):
+    """The text with every run of white space one blank (a page breaks its lines anywhere)."""
+    return " ".join(text.split())
+
+
+def _page(pages, name):
+    if name not in pages:
+        with open(os.path.join(ROOT, name)) as f:
+            pages[name] = _words(f.read())
+    return pages[name]
+
+
+def check_runs():
+    """[(run claim, the page's text with the quoted figure, found on the page)] for every run claim."""
+    pages = {}
+    return [(c, c.text.format(c.quoted), c.text.format(c.quoted) in _page(pages, c.page)) for c in RUNS]
+
+
+def rerun_runs(out_dir):
+    """Run each run claim's command once (one run per distinct command) into out_dir/runs/K;
+    [(run claim, the figure as the page would print it now)]."""
+    summaries = {}
+    for args in dict.fromkeys(c.args for c in RUNS):
+        folder = os.path.join(out_dir, "runs", str(len(summaries)))
+        cmd = [sys.executable, "-c", "import sys; from exu_aniso.cli import main; sys.exit(main())",
+               "run", *args, "--out", folder]
+        print("claims: exu-aniso " + " ".join(cmd[3:]), flush=True)
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        with open(os.path.join(folder, "summary.json")) as f:
+            summaries[args] = json.load(f)
+    return [(c, c.fmt.format(c.value(summaries[c.args]))) for c in RUNS]
+
+
 def check_pages(results=os.path.join(ROOT, "docs", "results")):
     """[(claim, quoted (median, min, max), the text, found on the page)] for every claim."""
     out, pages, files = [], {}, {}
     for c in CLAIMS:
-        page = pages.setdefault(c.page, open(os.path.join(ROOT, c.page)).read())
+        page = _page(pages, c.page)
         rows = files.setdefault((c.study, c.file), _read(os.path.join(results, c.study, c.file)))
         values = figure(rows, c)
         text = quoted_text(c, values)
@@ -112,35 +218,46 @@ def rerun(out_dir, quick):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="studies/claims.py", description=__doc__.splitlines()[0])
-    ap.add_argument("--rerun", action="store_true", help="run the studies afresh and compare")
+    ap.add_argument("--rerun", action="store_true", help="run the studies and the command lines afresh and compare")
     ap.add_argument("--quick", action="store_true", help="with --rerun: the studies' short forms (not comparable)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "claims"))
     a = ap.parse_args(argv)
-    checked = check_pages()
+    checked, runs = check_pages(), check_runs()
     missing = [(c, text) for c, _, text, found in checked if not found]
     for c, text in missing:
         print(f"claims: {c.page} does not quote {c.file} {c.row!r} {c.column} as it stands: {text}", file=sys.stderr)
+    absent = [(c, text) for c, text, found in runs if not found]
+    for c, text in absent:
+        print(f"claims: {c.page} does not say {text!r} ({c.command()})", file=sys.stderr)
+    failed = 1 if missing or absent else 0
     if not a.rerun:
-        print(f"claims: {len(checked) - len(missing)} of {len(checked)} quoted figures are their result files' "
+        print(f"claims: {len(checked) - len(missing)} of {len(checked)} quoted figures are their result files'; "
+              f"{len(runs) - len(absent)} of {len(runs)} figures of command line runs are on their pages "
               "(rerun them with --rerun)")
-        return 1 if missing else 0
+        return failed
     folders = rerun(a.out, a.quick)
-    head = ["page", "file", "row", "column", "quoted median [min-max]", "rerun", "inside the spread"]
+    head = ["page", "source", "row", "column", "quoted median [min-max]", "rerun", "inside the spread"]
     lines = []
     for c, values, text, _ in checked:
         new = figure(_read(os.path.join(folders[c.study], c.file)), c)[0]
         inside = values[1] <= new <= values[2]
-        lines.append([c.page, c.file, c.row, c.column, text, c.fmt.format(new), "yes" if inside else "no"])
+        row = ", ".join([c.row] + [v for _, v in c.also])
+        lines.append([c.page, c.file, row, c.column, text, c.fmt.format(new), "yes" if inside else "no"])
+    for c, new in rerun_runs(a.out):
+        same = new == c.quoted
+        failed |= not same
+        lines.append([c.page, c.command(), c.text.replace("{}", "..."), "summary.json", c.quoted + " (deterministic)",
+                      new, "yes" if same else "no"])
     os.makedirs(a.out, exist_ok=True)
     with open(os.path.join(a.out, "claims.csv"), "w", newline="") as f:
         csv.writer(f).writerows([head] + lines)
     report = "| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n" + "\n".join(
         "| " + " | ".join(r) + " |" for r in lines)
     with open(os.path.join(a.out, "report.md"), "w") as f:
-        f.write("## The quoted speed figures, rerun\n\n`python studies/claims.py --rerun`"
+        f.write("## The quoted figures, rerun\n\n`python studies/claims.py --rerun`"
                 + (" --quick" if a.quick else "") + "\n\n" + report + "\n")
     print(report)
-    return 1 if missing else 0
+    return failed
 
 
 if __name__ == "__main__":

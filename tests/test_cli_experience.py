@@ -312,13 +312,14 @@ def test_step_accounting_and_its_warning():
     dt = 0.01
     regular = np.linspace(0.0, 1.0, 101)
     acc = step_accounting(regular, dt)
-    assert acc == dict(nominal_steps=100, step_reductions=0, smallest_step=pytest.approx(dt))
+    assert acc == dict(nominal_steps=100, step_reductions=0, smallest_step=pytest.approx(dt), reduced_between=[])
     assert step_warning(acc, 100, dt) is None
     cut = np.concatenate([np.linspace(0.0, 0.5, 51), 0.5 + np.cumsum(np.full(16, dt / 16)), np.linspace(0.52, 1.0, 49)])
     acc = step_accounting(cut, dt)
     assert acc["nominal_steps"] == 100 and acc["step_reductions"] == 16 and acc["smallest_step"] == pytest.approx(dt / 16)
     text = step_warning(acc, len(cut) - 1, dt)
     assert "115 steps where 100 were planned" in text and "--set dt" in text and "eps_n" in text
+    assert acc["reduced_between"] == pytest.approx([0.5, 0.51]) and "between t = 0.5 and 0.51 s" in text
     # more than 10x the nominal steps
     many = np.concatenate([np.linspace(0.0, 0.9, 10), 0.9 + np.cumsum(np.full(200, 0.1 / 200))])
     assert "209 steps where 10 were planned" in step_warning(step_accounting(many, 0.1), 209, 0.1)

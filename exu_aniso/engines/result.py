@@ -24,12 +24,16 @@ class Result:
 def step_accounting(t, dt):
     """How a run's steps compare with its nominal step dt [s], from its time samples t (t0 and one
     per accepted step), for any engine: nominal_steps over the time reached, step_reductions (the
-    steps shorter than 0.99 dt) and smallest_step [s] (NaN without a step)."""
+    steps shorter than 0.99 dt), smallest_step [s] (NaN without a step) and reduced_between [s]: the
+    start of the first and the end of the last shortened step ([] without one), which tells a start
+    transient from a run that struggles throughout."""
     t = np.asarray(t, dtype=float)
     h = np.diff(t)
+    cut = np.flatnonzero(h < 0.99 * dt)
     return dict(nominal_steps=int(round((t[-1] - t[0]) / dt)) if len(t) > 1 else 0,
-                step_reductions=int(np.count_nonzero(h < 0.99 * dt)),
-                smallest_step=float(h.min()) if len(h) else math.nan)
+                step_reductions=int(len(cut)),
+                smallest_step=float(h.min()) if len(h) else math.nan,
+                reduced_between=[float(t[cut[0]]), float(t[cut[-1] + 1])] if len(cut) else [])
 
 
 def step_warning(accounting, steps, dt):
@@ -38,8 +42,11 @@ def step_warning(accounting, steps, dt):
     nominal, smallest = accounting["nominal_steps"], accounting["smallest_step"]
     if not (steps > STEP_WARNING_FACTOR * max(nominal, 1) or smallest < dt / STEP_WARNING_FACTOR):
         return None
+    window = accounting.get("reduced_between") or []
+    when = f" between t = {window[0]:.4g} and {window[1]:.4g} s" if window else ""
     return (f"the solver cut the step: {steps} steps where {nominal} were planned ({accounting['step_reductions']} "
-            f"shorter than dt = {dt:g} s, the smallest {smallest:.3g} s). Newton did not converge at the nominal "
-            "step; the likely cause is a contact stiffness too high for dt (a penalty k against a mass m "
-            "oscillates with the period 2 pi sqrt(m / k), which dt must resolve): lower dt (--set dt=...) or "
-            "the stiffness (eps_n, eps_1, eps_2)")
+            f"shorter than dt = {dt:g} s{when}, the smallest {smallest:.3g} s). Newton did not converge at the "
+            "nominal step; the likely causes are a contact stiffness too high for dt (a penalty k against a mass m "
+            "oscillates with the period 2 pi sqrt(m / k), which dt must resolve: lower dt (--set dt=...) or the "
+            "stiffness (eps_n, eps_1, eps_2)) or, where the cuts stay in a short window, a force that jumps there "
+            "(a normal dashpot as points close on the surface: lower the normal damping)")
