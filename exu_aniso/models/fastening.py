@@ -68,10 +68,11 @@ def BoltGraphics(p):
 
 
 def BuildFastening(p: FasteningParams, jacobian="analytic", implementation="auto", newton="modified",
-                   show=False, nodeType="RotVecLG", newtonTolerance=NEWTON_TOLERANCE):
+                   show=True, nodeType="RotVecLG", newtonTolerance=NEWTON_TOLERANCE):
     """Build the fastening scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     oBolt, oPart, contacts (dict thread, head of CreateAnisotropicContact), sensors, oDrive. Options as
-    BuildBlock; show: draw the nets and points; newtonTolerance: see NEWTON_TOLERANCE."""
+    BuildBlock; show: draw the nets and points (the nut's flank a quarter of d2 about the pitch radius,
+    the bearing face's net 1.6 head radii wide); newtonTolerance: see NEWTON_TOLERANCE."""
     check_instance("p", p, FasteningParams)
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
@@ -107,10 +108,12 @@ def BuildFastening(p: FasteningParams, jacobian="analytic", implementation="auto
     contacts = dict(
         thread=mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=oBolt, localPoints=thread_points(p),
                                             contactLaw=thread_contact_law(p), jacobian=jacobian,
-                                            implementation=implementation, show=show, storeHistory=True),
+                                            implementation=implementation, show=show, storeHistory=True,
+                                            graphicsSize=0.25 * p.d2),
         head=mbs.CreateAnisotropicContact(name="headContact", bodyNumber=oBolt, localPoints=head_points(p),
                                           contactLaw=head_contact_law(p), masterBodyNumber=oPart, jacobian=jacobian,
-                                          implementation=implementation, show=show, storeHistory=True))
+                                          implementation=implementation, show=show, storeHistory=True,
+                                          graphicsSize=1.6 * p.head_radius))
     sensors = {}
     nPart = mbs.GetObject(oPart)["nodeNumber"]
     for prefix, node in (("s", nBolt), ("sPart", nPart)):
