@@ -1,6 +1,7 @@
 """Analytic contact Jacobians of every supported node type.
 
 1. Finite differences: for every slave node type (NodeRigidBody2D, screw-joint NodeGenericODE2,
+   mass points, the mesh nodes of a linear FE body,
    NodeRigidBodyRotVecLG, NodeRigidBodyEP), both routes (numpy glue, compiled kernel), every return
    map, with and without normal damping, the matrix returned by the contact's jacobianUserFunction
    equals central differences of the generalized force returned by its forceUserFunction:
@@ -27,7 +28,7 @@ from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
 from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 
-NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D"]
+NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D", "FEMesh"]
 SOS = exu.ConfigurationType.StartOfStep
 H_LENGTH = 1e-9          # FD step of a length coordinate [m]: penetrations are ~1e-5 m
 ARM = 0.05               # lever arm of the points [m]: FD step of an angle = H_LENGTH / ARM
@@ -73,6 +74,19 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
             o = mbs.AddObject(ObjectMassPoint2D(nodeNumber=n, mass=1.0))
             q, qt = np.array([0.01, -0.02]), np.array([0.1, 0.2])
         points = np.array([[sx * ARM, sy * ARM, -rng.uniform(1e-5, 3e-5)] for sx in (-1, 1) for sy in (-1, 1)])
+    elif node_kind == "FEMesh":    # the bottom nodes of a linear FE block (an ObjectGenericODE2 of NodePoints)
+        pytest.importorskip("skfem")
+        from exu_aniso.engines.exudyn_adapter.fem import AddLinearFEBody
+        from exu_aniso.fe import block_mesh
+        mesh = block_mesh((2 * ARM, 2 * ARM, ARM), (2, 2, 1), E=1e6)
+        o = AddLinearFEBody(mbs, mesh, position=[0.3, 0.1, 0.0])["oBody"]
+        points = mesh.node_sets["bottom"]                  # mesh node indices: the points are the nodes
+        K = len(points)
+        q = np.zeros(3 * K)
+        q[0::3], q[1::3] = rng.normal(scale=1e-3, size=(2, K))
+        q[2::3] = -rng.uniform(1e-5, 3e-5, K)
+        qt = rng.normal(scale=0.2, size=3 * K)
+        qt[2::3] = -rng.uniform(0.01, 0.05, K)             # approaching: the dashpot keeps every point loaded
     elif node_kind == "GenericODE2":
         n = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
                                         initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))
@@ -120,6 +134,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
     H[:, 2:4] += rng.normal(scale=1e-7, size=(K, 2))
     status = _glue_state(cs, mbs, q, qt, H).status
     assert set(status) == {1, 2}, f"{node_kind}: want sticking and sliding points; got status {status}"
+    assert cs.slave.n == len(q) == len(qt)
     data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=SOS), dtype=float)
     data[np.asarray(mbs.systemData.GetNodeLTGData(cs.nData), dtype=int)] = H.ravel()
     mbs.systemData.SetDataCoordinates(data, configuration=SOS)

@@ -9,7 +9,7 @@ import os
 
 import exu_aniso
 
-LAYERS = {"util": 0, "geometry": 1, "law": 1, "fields": 2, "kernel": 3, "engines": 4, "scenes": 5, "models": 6,
+LAYERS = {"util": 0, "geometry": 1, "law": 1, "fe": 1, "fields": 2, "kernel": 3, "engines": 4, "scenes": 5, "models": 6,
           "calibration": 7, "plots": 7, "catalog": 8, "cli": 9}
 ROOT = os.path.dirname(exu_aniso.__file__)
 

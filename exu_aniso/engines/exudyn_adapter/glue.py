@@ -440,6 +440,76 @@ class _LinearSlave:
         return Jp
 
 
+class _MeshNodes(_LinearSlave):
+    """The surface nodes of a full linear finite-element body (an ObjectGenericODE2 of NodePoint
+    nodes, e.g. ``exu_aniso.engines.exudyn_adapter.fem.AddLinearFEBody`` or Exudyn's
+    ``FEMinterface.CreateLinearFEMObjectGenericODE2``) as contact points: point k is mesh node j_k,
+    x_k = q_total of that node (S = I, c = 0), a linear slave like a mass point. The set's
+    coordinates are those of the listed nodes only (the contact object connects to them alone).
+
+    localPoints: mesh node indices (positions in the object's nodeNumbers, as the mesh numbers them)
+    or (K, 3) reference positions of mesh nodes [m] (each must be a node's, to 1e-9 of the body's
+    size)."""
+
+    def __init__(self, mbs, body, localPoints):
+        obj = mbs.GetObject(body)
+        mesh_nodes = [int(nd) for nd in obj["nodeNumbers"]]
+        self.kind, self.dim = "Point", 3
+        self.objects = [body]
+        self.mesh_indices = self._resolve(mbs, mesh_nodes, localPoints)
+        self.nodes = [mesh_nodes[j] for j in self.mesh_indices]
+        self.elements = [[nd] for nd in self.nodes]
+        self.lengths = [0.0] * len(self.nodes)
+        self.node = self.nodes[0]
+        self.nc = 3
+        self.n = 3 * len(self.nodes)
+        self.ref, self.q0, self.v0 = (np.concatenate([self._node_vector(mbs, nd, name) for nd in self.nodes])
+                                      for name in ("referenceCoordinates", "initialCoordinates", "initialVelocities"))
+
+    @staticmethod
+    def _resolve(mbs, mesh_nodes, localPoints):
+        """Mesh node indices of localPoints (class docstring)."""
+        a = np.asarray(localPoints)
+        if a.ndim == 1 and a.size and (a.dtype.kind in "iu" or np.all(np.equal(np.mod(a, 1), 0))) and a.dtype != bool:
+            ids = [int(j) for j in a]
+            for k, j in enumerate(ids):
+                if not 0 <= j < len(mesh_nodes):
+                    raise ValueError(f"CreateAnisotropicContact: localPoints[{k}] = {j} is not a mesh node index of the "
+                                     f"finite-element body (0 ... {len(mesh_nodes) - 1})")
+        else:
+            X = check_points("localPoints", localPoints)
+            R = np.array([mbs.GetNodeParameter(nd, "referenceCoordinates") for nd in mesh_nodes], dtype=float)
+            tol = 1e-9 * float(np.ptp(R, axis=0).max())
+            ids = []
+            for k, x in enumerate(X):
+                d = np.linalg.norm(R - x, axis=1)
+                j = int(np.argmin(d))
+                if d[j] > tol:
+                    raise ValueError(f"CreateAnisotropicContact: localPoints[{k}] = {x.tolist()} is not a node of the "
+                                     f"finite-element body (the closest, mesh node {j} at {R[j].tolist()}, is "
+                                     f"{d[j]:.3g} m away): give mesh node indices or their reference positions")
+                ids.append(j)
+        if len(set(ids)) < len(ids):
+            raise ValueError(f"CreateAnisotropicContact: localPoints lists a mesh node more than once; got {ids}")
+        return ids
+
+    def number_of_points(self, b):
+        return len(self.nodes)
+
+    def linear_map(self, b):
+        """idx (K, 3) = the node's three set coordinates, S = I, c = 0 (b: (K, 3) zeros)."""
+        K = len(self.nodes)
+        idx = 3 * np.arange(K, dtype=np.int64)[:, None] + np.arange(3, dtype=np.int64)
+        return idx, np.broadcast_to(np.eye(3), (K, 3, 3)).copy(), np.zeros((K, 3))
+
+
+def _is_mesh_body(mbs, obj):
+    """An ObjectGenericODE2 of NodePoint nodes only (a linear FE body), not the 2-coordinate screw joint."""
+    if obj["objectType"] != "GenericODE2":
+        return False
+    return all(mbs.GetNode(nd)["nodeType"] == "Point" for nd in obj["nodeNumbers"])
+
+
 class _PointTangent(NamedTuple):
     """q-derivatives of the slave point kinematics for the Jacobian: dx (K, 3, n) = dx/dq,
     dJp (K, 3, n, n) = dJp/dq (_BodyKinematics.point_derivatives), dv (K, 3, n) = dv/dq at fixed
@@ -957,9 +1027,10 @@ def _body_node(mbs, bodyNumber):
     return nodes[0]
 
 
-def _slave_kinematics(mbs, bodyNumber, nObjects):
-    """The slave kinematics of bodyNumber: one body, a list of ANCF cable elements (one set) or a
-    list of rigid bodies of one node type (a group, _RigidGroup)."""
+def _slave_kinematics(mbs, bodyNumber, nObjects, localPoints=None):
+    """The slave kinematics of bodyNumber: one body, a list of ANCF cable elements (one set), a
+    list of rigid bodies of one node type (a group, _RigidGroup) or a linear FE body (its nodes
+    chosen by localPoints, _MeshNodes)."""
     many = isinstance(bodyNumber, (list, tuple, np.ndarray))
     objects = list(bodyNumber) if many else [bodyNumber]
     if many and not objects:
@@ -992,6 +1063,8 @@ def _slave_kinematics(mbs, bodyNumber, nObjects):
         raise ValueError(f"CreateAnisotropicContact: bodyNumber lists a cable element more than once; got {objects}")
     if cables[0] or types[0] in _MASS_POINTS:
         return _LinearSlave(mbs, objects)
+    if not many and _is_mesh_body(mbs, mbs.GetObject(bodyNumber)):
+        return _MeshNodes(mbs, bodyNumber, localPoints)
     return _BodyKinematics(mbs, _body_node(mbs, bodyNumber))
 
 
@@ -1096,7 +1169,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     them (one contact set over all their distinct nodes, e.g. a whole rope), or a list of rigid
     bodies with nodes of one type (a group: one contact set over all of them with localPoints on
     each, one ObjectGenericODE2, one compiled call per user function, the Jacobian as the bodies'
-    diagonal blocks in a sparse matrix; a fixed surface only; history rows body by body); localPoints: (K, 3)
+    diagonal blocks in a sparse matrix; a fixed surface only; history rows body by body), or a full
+    linear finite-element body (an ObjectGenericODE2 of NodePoint nodes, _MeshNodes: its mesh nodes
+    are the points, given in localPoints as mesh node indices or reference positions; the result's
+    'meshNodes' lists them); localPoints: (K, 3)
     body-local contact points [m]; for cables element-local points [x, 0, 0] with 0 <= x <= element
     length, applied to every element of the list (points ordered element by element: K = elements x
     points; x = Exudyn's Hermite shape functions, linear in the node coordinates, so the analytic
@@ -1170,7 +1246,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     check_instance("mbs", mbs, exu.MainSystem, "MainSystem of Exudyn (SC.AddSystem())")
     check_instance("contactLaw", contactLaw, ContactLaw)
     nObjects = mbs.systemData.NumberOfObjects()
-    slave = _slave_kinematics(mbs, bodyNumber, nObjects)
+    slave = _slave_kinematics(mbs, bodyNumber, nObjects, localPoints)
     if masterBodyNumber is not None and check_index("masterBodyNumber", masterBodyNumber, nObjects, "object") in (
             [int(o) for o in (bodyNumber if isinstance(bodyNumber, (list, tuple, np.ndarray)) else [bodyNumber])]):
         raise ValueError(f"CreateAnisotropicContact: masterBodyNumber must differ from bodyNumber; got both "
@@ -1180,7 +1256,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     check_bool("storeHistory", storeHistory)
     if jacobian not in ("analytic", "numerical"):
         raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
-    points = check_points("localPoints", localPoints)
+    if isinstance(slave, _MeshNodes):      # every point is a node: no offset from it
+        points = np.zeros((len(slave.nodes), 3))
+    else:
+        points = check_points("localPoints", localPoints)
     _check_cable_points(slave, points)
     master = None
     if masterBodyNumber is not None:
@@ -1253,6 +1332,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
            "bodyPosition": cs.body_position, "generalizedForce": cs.generalized_force}
+    if isinstance(slave, _MeshNodes):
+        out["meshNodes"] = list(slave.mesh_indices)
     if storeHistory:     # 9 numbers per point and step: only when asked for
         out["sHistory"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nData,
                                                    outputVariableType=exu.OutputVariableType.Coordinates,

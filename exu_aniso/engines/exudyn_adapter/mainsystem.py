@@ -52,10 +52,13 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
             ObjectANCFCable2D / ObjectANCFCable or a list of them (one contact set for a whole rope),
             or a list of rigid bodies with nodes of one type (a group: one contact set, one Exudyn
             object and one compiled call for all of them, the same localPoints on each; many parts
-            on one fixed surface)
+            on one fixed surface), or a full linear finite-element body (an ObjectGenericODE2 of
+            NodePoint nodes: exu_aniso.engines.exudyn_adapter.fem.AddLinearFEBody or Exudyn's
+            FEMinterface.CreateLinearFEMObjectGenericODE2; the contact points are its mesh nodes)
         localPoints: list of K body-local contact points, each a 3D list or numpy array [m]; for cable
             elements [x, 0, 0] with 0 <= x <= element length, applied to every element in bodyNumber;
-            for a group applied to every body (history rows body by body)
+            for a group applied to every body (history rows body by body); for a finite-element body
+            the mesh node indices (positions in its nodeNumbers) or the nodes' reference positions
         surface: a surface of exu_aniso (Plane, Cylinder, Cone, Sphere, Torus, Helicoid, SurfaceOfRevolution,
             ParametricSurface), in the frame of the master (ground or masterBodyNumber)
         adhesion: exu_aniso Adhesion field (B), stiffness per point [N/m]
