@@ -51,6 +51,8 @@ P, V = mbs.GetSensorStoredData(sPos), mbs.GetSensorStoredData(sVel)
 D = mbs.GetSensorStoredData(contact["sDissipation"])
 t = P[:, 0]
 loss = (0.5 * m * np.sum(V[0, 1:] ** 2) + m * g * P[0, 3]) - (0.5 * m * np.sum(V[:, 1:] ** 2, axis=1) + m * g * P[:, 3])
+print(f"kinetic + potential energy lost {loss[-1]:.4f} J, dissipated by the contact {D[-1, 1]:.4f} J: "
+      f"lost - dissipated = {loss[-1] - D[-1, 1]:.2e} J")
 
 fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4.2))
 a.plot(P[:, 1], P[:, 2], lw=0.8)

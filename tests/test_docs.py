@@ -50,3 +50,37 @@ def test_the_readme_model_runs(tmp_path):
                          env=dict(os.environ, MPLBACKEND="Agg"), cwd=tmp_path)
     assert out.returncode == 0, out.stderr[-3000:]
     assert (tmp_path / "final.png").stat().st_size > 10000
+    # it says what happened: pushed along +y from (0.5, 0), the polar net turns the block towards the
+    # origin (x falls), and friction takes most of its 0.125 J
+    x, y, z, dissipated = (float(v) for v in re.findall(r"[-+]?\d*\.\d+(?:e[-+]?\d+)?", out.stdout.split("final position")[1]))
+    assert x < 0.5 and 0.05 < y < 0.25 and 0.9 * 0.125 < dissipated < 0.125, out.stdout
+
+
+# the pages' whole scripts (a block that starts with its imports), run as a reader copies them; the
+# lines that open a window are left out (ViewSolution: a display)
+_SCRIPT_PAGES = ["docs/guide/command_line.md", "docs/guide/contact_api.md", "docs/guide/reference_engine.md",
+                 "docs/guide/surfaces_and_fields.md", "docs/guide/calibration.md", "docs/adding_a_surface.md"]
+
+
+_QUICK_PAGES = ("docs/guide/surfaces_and_fields.md",)     # 1 s; the others 5 to 19 s each: -m slow
+
+
+def _scripts():
+    import re
+    out = []
+    for page in _SCRIPT_PAGES:
+        with open(os.path.join(ROOT, page)) as f:
+            blocks = re.findall(r"```python\n(.*?)```", f.read(), re.S)
+        whole = [b for b in blocks if b.lstrip().startswith(("import ", "from "))]
+        marks = [] if page in _QUICK_PAGES else [pytest.mark.slow]
+        out += [pytest.param(page, b, id=f"{os.path.basename(page)}-{i}", marks=marks) for i, b in enumerate(whole)]
+    return out
+
+
+@pytest.mark.parametrize("page,code", _scripts())
+def test_the_pages_scripts_run(page, code, tmp_path):
+    code = "\n".join(line for line in code.splitlines() if "ViewSolution(" not in line)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, timeout=600,
+                         env=dict(os.environ, MPLBACKEND="Agg"))
+    assert out.returncode == 0, f"{page}:\n{code}\n{out.stderr[-3000:]}"
+    assert "Traceback" not in out.stderr and "Exception ignored" not in out.stderr, out.stderr[-3000:]

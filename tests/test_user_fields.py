@@ -152,3 +152,35 @@ def test_bad_user_field_is_a_clear_error():
     law = ContactLaw(s, Adhesion.isotropic(1e3), Friction.field(lambda a, b: bad.v), 1e5)
     with pytest.raises(ValueError, match=r"Friction.field: function\(xi1, xi2\) must return 3 numbers"):
         law.evaluate(x)
+
+
+_EXIT_SCRIPT = """
+import exudyn as exu, exu_aniso
+from exu_aniso import Plane, Adhesion, Friction
+def B(x1, x2):
+    return 1e4, 2e3, 0.3
+def F(x1, x2):
+    return 0.3, 0.5, 0.3
+SC = exu.SystemContainer()
+mbs = SC.AddSystem()
+o = mbs.CreateMassPoint(referencePosition=[0.1, 0.2, 0.0], initialVelocity=[0.2, 0, 0], mass=1.0,
+                        gravity=[0, 0, -9.81])
+c = mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=[[0, 0, 0]], surface=Plane(), adhesion=Adhesion.field(B),
+                                 friction=Friction.field(F), normalStiffness=1e5)
+mbs.Assemble()
+s, solver = exu_aniso.RecommendedSimulationSettings(endTime=0.01, stepSize=1e-3)
+mbs.SolveDynamic(s, solverType=solver)
+print("done", c["nativeCallbacks"])
+"""
+
+
+def test_a_user_field_leaves_quietly_at_exit(tmp_path):
+    """A model with user fields left alive at interpreter exit: the stored arguments of its native
+    callbacks are dropped without a word (their __del__ printed 'Exception ignored ... NoneType has
+    no attribute is_finalizing' twice: the module's globals are gone by then)."""
+    import subprocess
+    import sys
+    out = subprocess.run([sys.executable, "-c", _EXIT_SCRIPT], capture_output=True, text=True, cwd=tmp_path,
+                         timeout=300)
+    assert out.returncode == 0 and out.stdout.strip().startswith("done"), out.stderr[-2000:]
+    assert "Exception ignored" not in out.stderr and "Traceback" not in out.stderr, out.stderr[-2000:]

@@ -228,7 +228,8 @@ class StoredArguments:
         self.type = typeof(values)
         self.memory = np.zeros(_native_size(self.type) // 8 + 1)
         self.address = int(self.memory.ctypes.data)
-        self._drop = drop_block                # held: at interpreter exit the module may be gone first
+        self._drop = drop_block                # held: at interpreter exit the module may be gone first,
+        self._finalizing = sys.is_finalizing   # and its globals (sys) None
         self.store(values)
 
     def store(self, values):
@@ -246,7 +247,7 @@ class StoredArguments:
             self._drop(self.address, self.values)
 
     def __del__(self):
-        if not sys.is_finalizing():            # at exit the process gives the memory back itself
+        if not self._finalizing():             # at exit the process gives the memory back itself
             self.release()
 
 

@@ -60,11 +60,11 @@ def RecommendedSimulationSettings(endTime, stepSize, newton="modified", newtonTo
       iterations and steps and computes a fresh one whenever an iteration reduces the residual by
       less than a factor 0.01. The contact's tangent changes when points change between stick and
       slip; with Exudyn's own threshold, 0.5, a stale Jacobian keeps being used through sliding, where
-      the residual then falls only ~40x per iteration and a sliding step takes 4 to 6 iterations. At
-      0.01 a sliding step refreshes it (3.1 to 4.1 iterations per step on the scenes), and while the
-      contact sticks (a linear spring) the old Jacobian is kept. On the scenes this costs 0.48 to 0.75
-      of full Newton and changes no result above 1.4e-11 (docs/guide/settings.md, "Solver settings: which to use
-      when").
+      the residual then falls only ~40x per iteration (Exudyn's defaults take 2.9 to 6.7 iterations
+      per step on the scenes, at their tolerance 1e-8). At 0.01 a sliding step refreshes it (3.1 to
+      4.1 iterations per step at 1e-10), and while the contact sticks (a linear spring) the old
+      Jacobian is kept. On the scenes this costs 0.26 to 0.55 of full Newton's CPU time and changes
+      no result above 1.4e-11 (``python studies/newton_settings.py``; docs/guide/settings.md).
       ``newton="full"`` (a Jacobian at every iteration) solves each step to round-off: use it to
       compare two implementations to round-off or to close an energy ledger to round-off.
     * **Tolerance 1e-10, relative and absolute** (Exudyn's defaults: 1e-8 relative): the contact
