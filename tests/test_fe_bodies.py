@@ -11,8 +11,14 @@ surface nodes, and oracles:
 * the energy ledger of a block pushed over a rough plane closes with the strain energy as a stored
   term and the Rayleigh damping's dissipation beside the contact's.
 
+* a reduced-order body (ObjectFFRFreducedOrder) converges to the full one as modes are added: with
+  Craig-Bampton's static modes of every loaded node (top and bottom faces) it is the full body's
+  static solution to round-off; with free-free eigenmodes it misses the local compliance and
+  approaches slowly (the contact then takes what the missing compliance would have);
+* the reduced body's contact points are where Exudyn puts its mesh nodes.
+
 The Jacobian of the contact on mesh nodes against finite differences: tests/test_jacobian_nodes.py
-(node kind "FEMesh")."""
+(node kinds "FEMesh" and "FFRF")."""
 import sys
 
 import numpy as np
@@ -21,8 +27,11 @@ import pytest
 exu = pytest.importorskip("exudyn")
 pytest.importorskip("skfem")
 import scipy.sparse.linalg as sla  # noqa: E402
-from exudyn.itemInterface import (LoadForceVector, MarkerNodeCoordinate, MarkerNodePosition,  # noqa: E402
-                                  NodePointGround, ObjectConnectorCoordinate, SensorBody)
+from exudyn.FEM import HCBstaticModeSelection, ObjectFFRFreducedOrderInterface  # noqa: E402
+from exudyn.itemInterface import (LoadForceVector, MarkerBodyPosition, MarkerNodeCoordinate,  # noqa: E402
+                                  MarkerNodePosition, MarkerSuperElementPosition, NodePointGround,
+                                  ObjectConnectorCartesianSpringDamper, ObjectConnectorCoordinate, ObjectGround,
+                                  SensorBody)
 
 import exu_aniso  # noqa: E402,F401
 from exu_aniso import Adhesion, Friction, Plane  # noqa: E402
@@ -271,3 +280,110 @@ def test_energy_ledger_closes_with_the_strain_energy():
     assert (dissipated[-1] - dissipated[0]) > 0.5 * work_in[-1]         # mostly into friction
     assert mesh.strain_energy(U[-1]) > 0.0 and damping[-1] > 0.0
     assert residual < 1e-9, residual
+
+
+# --- the reduced-order body (floating frame of reference) ----------------------------------------
+
+def test_a_basis_without_rigid_motion():
+    """mesh.without_rigid_motion: mass-orthonormal, mass-orthogonal to the six rigid-body modes, and
+    spanning the rest of what it was given (the rigid modes plus it span the input)."""
+    mesh = block_mesh(SIZE, (2, 2, 1))
+    R = mesh.rigid_body_modes()
+    rng = np.random.default_rng(1)
+    given = np.concatenate([R @ rng.normal(size=(6, 4)), rng.normal(size=(mesh.number_of_coordinates, 10))], axis=1)
+    P = mesh.without_rigid_motion(given)
+    M = mesh.mass.toarray()
+    assert P.shape[1] == 10
+    np.testing.assert_allclose(P.T @ M @ P, np.eye(10), atol=1e-10)
+    assert np.abs(P.T @ M @ R).max() < 1e-10 * np.abs(M @ R).max()
+    both = np.concatenate([R, P], axis=1)
+    coef = np.linalg.lstsq(both, given, rcond=None)[0]
+    assert np.abs(both @ coef - given).max() < 1e-9 * np.abs(given).max()
+
+
+def _reduced(mesh, modes, position=(0.0, 0.0, 0.0)):
+    """(SC, mbs, oFFRF) of mesh as an ObjectFFRFreducedOrder: modes = the number of free-free
+    eigenmodes, or a list of node sets whose every coordinate gets a static (Craig-Bampton) mode."""
+    fem = FEMinterfaceOf(mesh)
+    if isinstance(modes, int):
+        fem.ComputeEigenmodes(modes, excludeRigidBodyModes=6, useSparseSolver=False)
+    else:
+        fem.ComputeHurtyCraigBamptonModes([list(m) for m in modes], 0, useSparseSolver=False,
+                                          computationMode=HCBstaticModeSelection.allBoundaryNodes)
+        fem.modeBasis["matrix"] = mesh.without_rigid_motion(fem.modeBasis["matrix"])
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    o = ObjectFFRFreducedOrderInterface(fem).AddObjectFFRFreducedOrder(mbs, positionRef=list(position))
+    return SC, mbs, o["oFFRFreducedOrder"]
+
+
+def test_reduced_contact_points_are_exudyns_mesh_nodes():
+    mesh = block_mesh(SIZE, (2, 2, 1))
+    _, mbs, o = _reduced(mesh, 5, position=(0.3, 0.1, 0.0))
+    bottom = mesh.node_sets["bottom"]
+    c = mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=mesh.nodes[bottom], **_law_kw())
+    assert c["meshNodes"] == bottom.tolist() and c["implementation"] == "numpy"
+    mbs.Assemble()
+    sd = mbs.systemData
+    q = np.random.default_rng(2).normal(scale=1e-2, size=sd.ODE2Size())
+    nR = mbs.GetObject(o)["nodeNumbers"][0]
+    ltg = sd.GetNodeLTGODE2(nR)
+    e = np.asarray(mbs.GetNodeParameter(nR, "referenceCoordinates"))[3:7] + q[ltg[3:7]]
+    q[ltg[3:7]] = e / np.linalg.norm(e) - np.asarray(mbs.GetNodeParameter(nR, "referenceCoordinates"))[3:7]
+    sd.SetODE2Coordinates(q, configuration=exu.ConfigurationType.Current)
+    X = c["pointsAndMasterPose"](mbs, exu.ConfigurationType.Current)[0]
+    for k, j in enumerate(bottom):
+        exudyns = mbs.GetObjectOutputSuperElement(o, exu.OutputVariableType.Position, int(j),
+                                                  configuration=exu.ConfigurationType.Current)
+        np.testing.assert_allclose(X[k], exudyns, rtol=0, atol=1e-15)
+    with pytest.raises(ValueError, match="no node kind for an ObjectFFRFreducedOrder"):
+        mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=bottom, implementation="compiled", **_law_kw())
+
+
+def _pressed_on_springs(mesh, body, w, eps_n, k_top=1e8):
+    """Static normal force [N] of the block's top nodes pulled down by w [m] by springs k_top [N/m]
+    (a spring per node and direction to its pressed position: a reduced body cannot take one
+    constraint per node), onto a frictionless plane under its bottom nodes; body: "full" or the
+    _reduced argument."""
+    top, bottom = mesh.node_sets["top"], mesh.node_sets["bottom"]
+    if body == "full":
+        _, mbs, fe = _body(mesh)
+        o = fe["oBody"]
+
+        def marker(j):
+            return mbs.AddMarker(MarkerNodePosition(nodeNumber=fe["nodes"][j]))
+    else:
+        _, mbs, o = _reduced(mesh, body)
+
+        def marker(j):
+            return mbs.AddMarker(MarkerSuperElementPosition(bodyNumber=o, meshNodeNumbers=[int(j)],
+                                                            weightingFactors=[1.0]))
+    g = mbs.AddObject(ObjectGround())
+    for j in top:
+        mG = mbs.AddMarker(MarkerBodyPosition(bodyNumber=g, localPosition=(mesh.nodes[j] + [0.0, 0.0, -w]).tolist()))
+        mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mG, marker(j)], stiffness=[k_top] * 3))
+    c = mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=bottom, **_law_kw(eps_n))
+    mbs.Assemble()
+    ss = exu.SimulationSettings()
+    ss.staticSolver.newton.relativeTolerance = ss.staticSolver.newton.absoluteTolerance = 1e-12
+    ss.linearSolver.solverType = exu.LinearSolverType.EigenSparse
+    ss.staticSolver.verboseMode = 0
+    mbs.SolveStatic(ss)
+    H = np.asarray(mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates)).reshape(-1, N_HISTORY)
+    return -float(H[:, NORMAL].sum())
+
+
+def test_the_reduced_body_converges_to_the_full_body():
+    """The pressed block on springs (3 x 3 x 2 cells): Craig-Bampton's static modes of every top and
+    bottom coordinate (90 after the rigid motion goes to the frame) give the full body's normal
+    force to round-off (measured 4e-12); free-free eigenmodes converge towards it from above as they
+    are added, slowly: with few the block is nearly rigid and the contact penalty takes all of w
+    (6 modes: 73 times the full force; 96 modes: +8 %, measured)."""
+    mesh = block_mesh(SIZE, (3, 3, 2), E=1e6, nu=0.3)
+    w, eps_n = 1e-3, 1e6
+    full = _pressed_on_springs(mesh, "full", w, eps_n)
+    cb = _pressed_on_springs(mesh, [mesh.node_sets["top"], mesh.node_sets["bottom"]], w, eps_n)
+    assert cb == pytest.approx(full, rel=1e-9)
+    errors = [(_pressed_on_springs(mesh, m, w, eps_n) - full) / full for m in (6, 24, 96)]
+    assert errors[0] > 10.0 and errors[-1] > 0.0
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 0.2, errors

@@ -28,7 +28,7 @@ from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
 from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 
-NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D", "FEMesh"]
+NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D", "FEMesh", "FFRF"]
 SOS = exu.ConfigurationType.StartOfStep
 H_LENGTH = 1e-9          # FD step of a length coordinate [m]: penetrations are ~1e-5 m
 ARM = 0.05               # lever arm of the points [m]: FD step of an angle = H_LENGTH / ARM
@@ -87,6 +87,30 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
         q[2::3] = -rng.uniform(1e-5, 3e-5, K)
         qt = rng.normal(scale=0.2, size=3 * K)
         qt[2::3] = -rng.uniform(0.01, 0.05, K)             # approaching: the dashpot keeps every point loaded
+    elif node_kind == "FFRF":      # the bottom nodes of a reduced-order flexible block (floating frame + 4 modes)
+        pytest.importorskip("skfem")
+        from exudyn.FEM import ObjectFFRFreducedOrderInterface
+        from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf
+        from exu_aniso.fe import block_mesh
+        if implementation == "compiled":
+            pytest.skip("no compiled node kind for ObjectFFRFreducedOrder yet (the numpy route)")
+        mesh = block_mesh((2 * ARM, 2 * ARM, ARM), (2, 2, 1), E=1e6)
+        fem = FEMinterfaceOf(mesh)
+        fem.ComputeEigenmodes(4, excludeRigidBodyModes=6, useSparseSolver=False)
+        o = ObjectFFRFreducedOrderInterface(fem).AddObjectFFRFreducedOrder(mbs, positionRef=[0.3, 0.1, 0.0])[
+            "oFFRFreducedOrder"]
+        points = mesh.node_sets["bottom"]
+        kin = glue._BodyKinematics(mbs, mbs.GetObject(o)["nodeNumbers"][0])
+        q = np.zeros(kin.n + 4)
+        q[0:2] = rng.normal(scale=1e-3, size=2)
+        q[2] = -2e-5
+        e = kin.ref[3:7] + rng.normal(scale=2e-4, size=4)          # a small tilt: every point stays pressed
+        q[3:7] = e / np.linalg.norm(e) - kin.ref[3:7]
+        q[7:] = rng.normal(scale=2e-6, size=4)                      # modal coordinates: ~1e-6 m of deformation
+        qt = rng.normal(scale=0.2, size=kin.n + 4)
+        qt[2] = -0.03
+        qt[3:7] -= e @ qt[3:7] / (e @ e) * e
+        qt[3:7] *= 0.05
     elif node_kind == "GenericODE2":
         n = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
                                         initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))

@@ -71,6 +71,36 @@ class ElasticMesh:
         v = np.asarray(v, dtype=float)
         return 0.5 * np.einsum("...i,...i->...", v, (self.mass @ v.T).T)
 
+    def rigid_body_modes(self):
+        """(3N, 6): the translations along x, y, z and the infinitesimal rotations about the axes
+        through the origin of the body frame, as nodal displacements."""
+        X = self.nodes
+        out = []
+        for i in range(3):
+            t = np.zeros_like(X)
+            t[:, i] = 1.0
+            w = np.zeros(3)
+            w[i] = 1.0
+            out += [t.ravel(), np.cross(w, X).ravel()]
+        return np.array(out).T
+
+    def without_rigid_motion(self, basis, tolerance=1e-9):
+        """A mode basis (3N, m) for a floating frame of reference: its rigid-body motion removed in
+        the mass metric (Psi^T M R = 0, so the frame carries all of it), the columns that become
+        dependent dropped (relative mass below tolerance) and the rest mass-orthonormal
+        (Psi^T M Psi = I). It spans what basis spans beyond rigid motion: Craig-Bampton's static
+        modes of every boundary coordinate contain the rigid-body modes themselves, which beside the
+        frame's coordinates would make the system singular."""
+        P = np.asarray(basis, dtype=float)
+        R = self.rigid_body_modes()
+        MR = self.mass @ R
+        P = P - R @ np.linalg.solve(R.T @ MR, MR.T @ P)
+        Mr = P.T @ (self.mass @ P)
+        Mr = 0.5 * (Mr + Mr.T)
+        lam, V = np.linalg.eigh(Mr)
+        keep = lam > tolerance * lam.max()
+        return P @ (V[:, keep] / np.sqrt(lam[keep]))
+
     def node_at(self, point, tolerance=None):
         """Index of the node at the reference position point (3,) [m], within tolerance (default
         1e-9 of the mesh's size); a ValueError naming the point and the closest node otherwise."""

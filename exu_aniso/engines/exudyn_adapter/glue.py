@@ -469,16 +469,22 @@ class _MeshNodes(_LinearSlave):
     @staticmethod
     def _resolve(mbs, mesh_nodes, localPoints):
         """Mesh node indices of localPoints (class docstring)."""
+        R = np.array([mbs.GetNodeParameter(nd, "referenceCoordinates") for nd in mesh_nodes], dtype=float)
+        return _MeshNodes._resolve_points(R, localPoints, "their reference positions")
+
+    @staticmethod
+    def _resolve_points(R, localPoints, positions):
+        """Indices into the mesh nodes at reference positions R (N, 3) of localPoints: indices
+        themselves, or positions (each a node's to 1e-9 of the mesh's size)."""
         a = np.asarray(localPoints)
-        if a.ndim == 1 and a.size and (a.dtype.kind in "iu" or np.all(np.equal(np.mod(a, 1), 0))) and a.dtype != bool:
+        if a.ndim == 1 and a.size and a.dtype != bool and (a.dtype.kind in "iu" or np.all(np.equal(np.mod(a, 1), 0))):
             ids = [int(j) for j in a]
             for k, j in enumerate(ids):
-                if not 0 <= j < len(mesh_nodes):
+                if not 0 <= j < len(R):
                     raise ValueError(f"CreateAnisotropicContact: localPoints[{k}] = {j} is not a mesh node index of the "
-                                     f"finite-element body (0 ... {len(mesh_nodes) - 1})")
+                                     f"finite-element body (0 ... {len(R) - 1})")
         else:
             X = check_points("localPoints", localPoints)
-            R = np.array([mbs.GetNodeParameter(nd, "referenceCoordinates") for nd in mesh_nodes], dtype=float)
             tol = 1e-9 * float(np.ptp(R, axis=0).max())
             ids = []
             for k, x in enumerate(X):
@@ -487,7 +493,7 @@ class _MeshNodes(_LinearSlave):
                 if d[j] > tol:
                     raise ValueError(f"CreateAnisotropicContact: localPoints[{k}] = {x.tolist()} is not a node of the "
                                      f"finite-element body (the closest, mesh node {j} at {R[j].tolist()}, is "
-                                     f"{d[j]:.3g} m away): give mesh node indices or their reference positions")
+                                     f"{d[j]:.3g} m away): give mesh node indices or {positions}")
                 ids.append(j)
         if len(set(ids)) < len(ids):
             raise ValueError(f"CreateAnisotropicContact: localPoints lists a mesh node more than once; got {ids}")
@@ -501,6 +507,91 @@ class _MeshNodes(_LinearSlave):
         K = len(self.nodes)
         idx = 3 * np.arange(K, dtype=np.int64)[:, None] + np.arange(3, dtype=np.int64)
         return idx, np.broadcast_to(np.eye(3), (K, 3, 3)).copy(), np.zeros((K, 3))
+
+
+class _FloatingFrame:
+    """The mesh nodes of a reduced-order flexible body (Exudyn's ObjectFFRFreducedOrder: a floating
+    frame of reference, a 3D rigid node (position p, rotation A), and modal coordinates eta of a
+    NodeGenericODE2) as contact points: mesh node k at
+
+        x_k = p + A (r_k + Psi_k eta)
+
+    with its reference position r_k in the body frame (the object's referencePositions) and its
+    three rows Psi_k (3, m) of the object's modeBasis. The set's coordinates are the rigid node's
+    (6 or 7) and then the m modal ones. Jp = [I, -A [r_k + Psi_k eta]x G, A Psi_k]: the rigid node's
+    point Jacobian at the deformed body-frame point, and the modes turned with the frame; v = Jp q_t.
+    Its derivatives (point_derivatives): the rigid node's at the deformed point, and the coupling of
+    the rotation and the modes, dJp_rot/deta_j = the rotation columns of Jp at the point Psi_k e_j
+    (linear in the point), dJp_modal_j/dq_rot = dx/dq_rot at that point; dJp_modal/deta = 0.
+
+    localPoints: mesh node indices or (K, 3) body-frame reference positions of mesh nodes [m]. On
+    the numpy route (the compiled kernel has no node kind for it yet)."""
+
+    linear = False
+
+    def __init__(self, mbs, body, localPoints):
+        obj = mbs.GetObject(body)
+        node_rigid, node_modal = (int(nd) for nd in obj["nodeNumbers"])
+        self.frame_node = _BodyKinematics(mbs, node_rigid)
+        if self.frame_node.kind not in ("RigidBodyEP", "RigidBodyRotVecLG"):
+            raise ValueError(f"CreateAnisotropicContact: the floating frame of ObjectFFRFreducedOrder {body} must be a "
+                             f"3D rigid node (EP or RotVecLG); got {self.frame_node.kind}")
+        self.kind = "FFRFreducedOrder"
+        self.objects = [body]
+        self.node = node_rigid
+        self.nodes = [node_rigid, node_modal]
+        R = np.asarray(obj["referencePositions"], dtype=float).reshape(-1, 3)
+        Psi = np.asarray(obj["modeBasis"], dtype=float)
+        self.mesh_indices = _MeshNodes._resolve_points(R, localPoints, "its referencePositions (body frame)")
+        rows = (3 * np.asarray(self.mesh_indices)[:, None] + np.arange(3)).ravel()
+        self.r = R[self.mesh_indices]
+        self.Psi = Psi[rows].reshape(len(self.mesh_indices), 3, Psi.shape[1])
+        self.nr, self.m = self.frame_node.n, Psi.shape[1]
+        self.n = self.nr + self.m
+        modal = mbs.GetNodeParameter(node_modal, "referenceCoordinates")
+        q0m = mbs.GetNodeParameter(node_modal, "initialCoordinates")
+        v0m = mbs.GetNodeParameter(node_modal, "initialCoordinates_t")
+        zeros = np.zeros(self.m)
+        self.ref = np.concatenate([self.frame_node.ref, np.asarray(modal, dtype=float) if len(modal) else zeros])
+        self.q0 = np.concatenate([self.frame_node.q0, np.asarray(q0m, dtype=float) if len(q0m) else zeros])
+        self.v0 = np.concatenate([self.frame_node.v0, np.asarray(v0m, dtype=float) if len(v0m) else zeros])
+
+    def number_of_points(self, b):
+        return len(self.mesh_indices)
+
+    def coordinates(self, mbs, variable, configuration):
+        return np.concatenate([np.asarray(mbs.GetNodeOutput(nd, variable, configuration=configuration), dtype=float)
+                               for nd in self.nodes])
+
+    def _deformed(self, q):
+        """Body-frame positions r_k + Psi_k eta (K, 3) at the set's coordinates q (reference excluded)."""
+        eta = self.ref[self.nr:] + np.asarray(q, dtype=float)[self.nr:]
+        return self.r + self.Psi @ eta
+
+    def points(self, q, q_t, b):
+        """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) and the frame's A."""
+        q, q_t = np.asarray(q, dtype=float), np.asarray(q_t, dtype=float)
+        x, v, J, A = self.frame_node.points(q[:self.nr], q_t[:self.nr], self._deformed(q))
+        turned = np.einsum("ij,kjm->kim", A, self.Psi)                     # A Psi_k
+        return x, v + turned @ q_t[self.nr:], np.concatenate([J, turned], axis=2), A
+
+    def point_derivatives(self, q, b):
+        q = np.asarray(q, dtype=float)
+        K, nr, m = len(self.r), self.nr, self.m
+        dJ = np.zeros((K, 3, self.n, self.n))
+        dJ[:, :, :nr, :nr] = self.frame_node.point_derivatives(q[:nr], self._deformed(q))
+        zero_v = np.zeros(nr)
+        for j in range(m):
+            e = self.Psi[:, :, j]                                           # (K, 3): the point Psi_k e_j
+            Jj = self.frame_node.points(q[:nr], zero_v, e)[2]
+            dJ[:, :, 3:nr, nr + j] = Jj[:, :, 3:]                            # d(rotation columns)/d eta_j
+            dJ[:, :, nr + j, 3:nr] = self.frame_node.position_jacobian(q[:nr], e, Jj)[:, :, 3:]   # d(A Psi e_j)/dq_rot
+        return dJ
+
+    def position_jacobian(self, q, b, Jp):
+        Jx = Jp.copy()
+        Jx[:, :, :self.nr] = self.frame_node.position_jacobian(q[:self.nr], self._deformed(q), Jp[:, :, :self.nr])
+        return Jx
 
 
 def _is_mesh_body(mbs, obj):
@@ -1065,6 +1156,8 @@ def _slave_kinematics(mbs, bodyNumber, nObjects, localPoints=None):
         return _LinearSlave(mbs, objects)
     if not many and _is_mesh_body(mbs, mbs.GetObject(bodyNumber)):
         return _MeshNodes(mbs, bodyNumber, localPoints)
+    if not many and types[0] == "FFRFreducedOrder":
+        return _FloatingFrame(mbs, bodyNumber, localPoints)
     return _BodyKinematics(mbs, _body_node(mbs, bodyNumber))
 
 
@@ -1256,8 +1349,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     check_bool("storeHistory", storeHistory)
     if jacobian not in ("analytic", "numerical"):
         raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
-    if isinstance(slave, _MeshNodes):      # every point is a node: no offset from it
-        points = np.zeros((len(slave.nodes), 3))
+    if isinstance(slave, (_MeshNodes, _FloatingFrame)):      # every point is a mesh node: no offset from it
+        points = np.zeros((len(slave.mesh_indices), 3))
     else:
         points = check_points("localPoints", localPoints)
     _check_cable_points(slave, points)
@@ -1269,7 +1362,10 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     if implementation not in ("auto", "compiled", "numpy"):
         raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
                          f"got {implementation!r}")
-    compiled_ok = contactLaw.compiled
+    compiled_ok = contactLaw.compiled and not isinstance(slave, _FloatingFrame)
+    if implementation == "compiled" and isinstance(slave, _FloatingFrame):
+        raise ValueError("CreateAnisotropicContact: implementation='compiled' has no node kind for an "
+                         "ObjectFFRFreducedOrder slave yet; use 'numpy' or 'auto' (which takes the numpy route)")
     if implementation == "compiled" and not compiled_ok:
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a surface and fields numba can "
                          "compile; use 'numpy' or 'auto'")
@@ -1332,7 +1428,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
            "pointsAndMasterPose": cs.points_and_master_pose, "historyAt": cs.history_at,
            "bodyPosition": cs.body_position, "generalizedForce": cs.generalized_force}
-    if isinstance(slave, _MeshNodes):
+    if isinstance(slave, (_MeshNodes, _FloatingFrame)):
         out["meshNodes"] = list(slave.mesh_indices)
     if storeHistory:     # 9 numbers per point and step: only when asked for
         out["sHistory"] = mbs.AddSensor(SensorNode(nodeNumber=cs.nData,
