@@ -38,7 +38,8 @@ class Scene:
 
     def _model_function(self, prefix):
         module = importlib.import_module(f"exu_aniso.models.{self.model}")
-        return getattr(module, prefix + self.model[:1].upper() + self.model[1:])   # block: BuildBlock, RunBlock
+        camel = "".join(w[:1].upper() + w[1:] for w in self.model.split("_"))
+        return getattr(module, prefix + camel)   # block: BuildBlock, RunBlock; fe_block: BuildFeBlock
 
     def run_exudyn(self, params, **kw):
         """Run<Model>(params, progress=, snapshot=, solutionFile=) -> Result."""
@@ -104,6 +105,11 @@ def _fastening():     # no reference-engine model: the oracles are ISO 16047 / V
     return Scene("fastening", FasteningParams, COLUMNS, TITLE_KEYS, PlotFastening, "fastening", None, (7.0, 7.0))
 
 
-_ENTRIES = (_block, _screw, _particle, _capstan, _feeder, _fastening)
+def _fe_block():   # no reference-engine model of the FE body: its limit is scenes.fe_block.rigid_limit
+    from exu_aniso.scenes.fe_block import COLUMNS, TITLE_KEYS, FeBlockParams, PlotFeBlock
+    return Scene("fe_block", FeBlockParams, COLUMNS, TITLE_KEYS, PlotFeBlock, "fe_block", None, (11.0, 4.8))
+
+
+_ENTRIES = (_block, _screw, _particle, _capstan, _feeder, _fastening, _fe_block)
 
 SCENES = {s.name: s for s in (entry() for entry in _ENTRIES)}

@@ -152,7 +152,7 @@ def test_point_steps_and_memory_bounds():
 def _real_parameters():
     for name, sc in SCENES.items():
         for k, (default, unit, _, rule) in sc.params.TABLE.items():
-            if isinstance(rule, tuple) or rule in ("int >= 1",) or "grid" in str(rule):
+            if isinstance(rule, tuple) or rule in ("int >= 1", "int >= 0") or "grid" in str(rule):
                 continue
             if MAGNITUDE_LIMITS.get(unit, (None, None))[1] is not None:
                 yield name, k, unit, rule

@@ -54,7 +54,7 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.timing import step_count
 
 SOLVERS = ("trapezoidal", "generalized_alpha")
-# rules: "real", "> 0", ">= 0", "int >= 1", "(-90, 90)", "(-45, 45)", "points" or a tuple of choices
+# rules: "real", "> 0", ">= 0", "int >= 1", "int >= 0", "(-90, 90)", "(-45, 45)", "points" or a tuple of choices
 _POINTS_RULE = "'center' | 'corners' | 'grid:N' (N >= 2)"
 
 
@@ -117,6 +117,7 @@ MAGNITUDE_LIMITS = {
     "N/m": (None, 1e14), "N/m^2": (None, 1e14), "N m/rad": (None, 1e12), "N m/rad | N/m": (None, 1e14),
     "N m^2": (None, 1e9), "N s/m": (None, 1e12), "N s/m^2": (None, 1e12), "m/s": (None, 1e4),
     "m/s^2": (None, 1e4), "rad/s": (None, 1e5), "Hz": (None, 1e6), "1/s": (None, 1e6),
+    "Pa": (None, 1e13), "kg/m^3": (1e-3, 1e5),
 }
 MAX_COUNT = 1_000_000        # largest value of any integer count parameter (before the cost checks below)
 
@@ -177,10 +178,11 @@ def _check(name, value, rule, unit=None):
             if m and int(m.group(1)) >= 2:
                 return f"grid:{int(m.group(1))}"
         raise ValueError(f"{name} must be {_POINTS_RULE}; got {value!r}")
-    if rule == "int >= 1":
+    if rule in ("int >= 1", "int >= 0"):
         v = _parse_number(name, value, integer=True)
-        if not 1 <= v <= MAX_COUNT:
-            raise ValueError(f"{name} must be an integer >= 1 and <= {MAX_COUNT} (a bound on a run's cost); "
+        least = 1 if rule == "int >= 1" else 0
+        if not least <= v <= MAX_COUNT:
+            raise ValueError(f"{name} must be an integer >= {least} and <= {MAX_COUNT} (a bound on a run's cost); "
                              f"got {value!r}")
         return v
     v = _check_magnitude(name, _parse_number(name, value), unit)
@@ -281,8 +283,8 @@ class SceneParams:
         for name, (default, unit, desc, rule) in cls.TABLE.items():
             allowed = " | ".join(rule) if isinstance(rule, tuple) else rule
             lo, hi = MAGNITUDE_LIMITS.get(unit, (None, None)) if rule in ("real", "> 0", ">= 0") else (None, None)
-            if rule == "int >= 1":
-                allowed = f"int in [1, {MAX_COUNT:.0e}]"
+            if rule in ("int >= 1", "int >= 0"):
+                allowed = f"int in [{rule[-1]}, {MAX_COUNT:.0e}]"
             elif hi is not None:       # the physical range of the unit (MAGNITUDE_LIMITS)
                 allowed = {"real": f"[-{hi:g}, {hi:g}]",
                            "> 0": f"(0, {hi:g}]" if lo is None else f"[{lo:g}, {hi:g}]",

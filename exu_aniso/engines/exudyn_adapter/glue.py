@@ -580,12 +580,11 @@ class _FloatingFrame:
         K, nr, m = len(self.r), self.nr, self.m
         dJ = np.zeros((K, 3, self.n, self.n))
         dJ[:, :, :nr, :nr] = self.frame_node.point_derivatives(q[:nr], self._deformed(q))
-        zero_v = np.zeros(nr)
-        for j in range(m):
-            e = self.Psi[:, :, j]                                           # (K, 3): the point Psi_k e_j
-            Jj = self.frame_node.points(q[:nr], zero_v, e)[2]
-            dJ[:, :, 3:nr, nr + j] = Jj[:, :, 3:]                            # d(rotation columns)/d eta_j
-            dJ[:, :, nr + j, 3:nr] = self.frame_node.position_jacobian(q[:nr], e, Jj)[:, :, 3:]   # d(A Psi e_j)/dq_rot
+        e = self.Psi.transpose(0, 2, 1).reshape(K * m, 3)                   # the points Psi_k e_j, all at once
+        Je = self.frame_node.points(q[:nr], np.zeros(nr), e)[2]
+        Jx = self.frame_node.position_jacobian(q[:nr], e, Je)
+        dJ[:, :, 3:nr, nr:] = Je[:, :, 3:].reshape(K, m, 3, nr - 3).transpose(0, 2, 3, 1)   # d(rotation columns)/d eta_j
+        dJ[:, :, nr:, 3:nr] = Jx[:, :, 3:].reshape(K, m, 3, nr - 3).transpose(0, 2, 1, 3)   # d(A Psi e_j)/dq_rot
         return dJ
 
     def position_jacobian(self, q, b, Jp):
