@@ -102,3 +102,18 @@ def test_reduced_equals_full_with_the_faces_static_modes():
 def test_bad_parameters_name_the_rule(kw, message):
     with pytest.raises(ValueError, match=message):
         FeBlockParams(**kw)
+
+
+def test_fe_block_study_quick(tmp_path, quick_study):
+    """studies/fe_block.py --quick: the paths of two ratios (the stiff radial net, 100, pulls the bottom
+    towards the origin, the soft one, 0.1, lets it out), the speed-against-error table with the finest
+    full body as its zero, the report and the figure."""
+    from exu_aniso.util.output import read_table
+    quick_study("fe_block", tmp_path, timeout=300)
+    P = read_table(tmp_path / "paths.csv")
+    steer = dict(zip(P["eps_r/eps_phi [-]"], P["steer_end [m]"]))
+    assert steer[100.0] > 0.0 > steer[0.1]
+    C = read_table(tmp_path / "convergence.csv")
+    finest = C["body [-]"].index("full, 2 cells")
+    assert C["steer_error [m]"][finest] == 0.0 and all(w > 0.0 for w in C["solve_wall [s]"])
+    assert (tmp_path / "fe_block.png").stat().st_size > 10000 and "Regenerate" in (tmp_path / "report.md").read_text()
