@@ -175,15 +175,21 @@ def _pressed_block(mesh, w, eps_n):
                 top_z.append(o)
     c = mbs.CreateAnisotropicContact(bodyNumber=body["oBody"], localPoints=mesh.node_sets["bottom"],
                                      **_law_kw(eps_n))
+    N = _static_normal_force(mbs, c)
+    return N, sum(float(mbs.GetObjectOutput(o, exu.OutputVariableType.Force)) for o in top_z)
+
+
+def _static_normal_force(mbs, contact):
+    """Assemble and solve mbs statically (Newton to 1e-12, sparse); the total normal force of the
+    contact's points [N] from its history."""
     mbs.Assemble()
     ss = exu.SimulationSettings()
     ss.staticSolver.newton.relativeTolerance = ss.staticSolver.newton.absoluteTolerance = 1e-12
     ss.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     ss.staticSolver.verboseMode = 0
     mbs.SolveStatic(ss)
-    H = np.asarray(mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates)).reshape(-1, N_HISTORY)
-    reaction = sum(float(mbs.GetObjectOutput(o, exu.OutputVariableType.Force)) for o in top_z)
-    return -float(H[:, NORMAL].sum()), reaction
+    H = np.asarray(mbs.GetNodeOutput(contact["nData"], exu.OutputVariableType.Coordinates)).reshape(-1, N_HISTORY)
+    return -float(H[:, NORMAL].sum())
 
 
 def _fe_static(mesh, w, eps_n=None):
@@ -362,15 +368,7 @@ def _pressed_on_springs(mesh, body, w, eps_n, k_top=1e8):
     for j in top:
         mG = mbs.AddMarker(MarkerBodyPosition(bodyNumber=g, localPosition=(mesh.nodes[j] + [0.0, 0.0, -w]).tolist()))
         mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mG, marker(j)], stiffness=[k_top] * 3))
-    c = mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=bottom, **_law_kw(eps_n))
-    mbs.Assemble()
-    ss = exu.SimulationSettings()
-    ss.staticSolver.newton.relativeTolerance = ss.staticSolver.newton.absoluteTolerance = 1e-12
-    ss.linearSolver.solverType = exu.LinearSolverType.EigenSparse
-    ss.staticSolver.verboseMode = 0
-    mbs.SolveStatic(ss)
-    H = np.asarray(mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates)).reshape(-1, N_HISTORY)
-    return -float(H[:, NORMAL].sum())
+    return _static_normal_force(mbs, mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=bottom, **_law_kw(eps_n)))
 
 
 def test_the_reduced_body_converges_to_the_full_body():

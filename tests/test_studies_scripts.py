@@ -361,3 +361,18 @@ def test_the_cluster_recipe_reads_the_one_list_of_studies(capsys):
     for name in run_all.STUDIES:    # a timing study asks for serial arguments (parallel=False: no --mpi)
         serial = "parallel=False" in (STUDIES / f"{name}.py").read_text()
         assert serial == (name in run_all.TIMING), name
+
+
+def test_the_results_document_is_its_reports(tmp_path):
+    """docs/RESULTS.md is the assembly of the committed reports (docs/results/STUDY/report.md) as
+    run_all.py makes it, nothing typed by hand and nothing left behind: reassembled from a copy of
+    the reports without running a study (``--only`` with no name), it is the committed document (the
+    figures' links relative to the copy)."""
+    import shutil
+    shutil.copytree(ROOT / "docs" / "results", tmp_path / "results")
+    out = subprocess.run([sys.executable, str(STUDIES / "run_all.py"), "--only", "--out", str(tmp_path / "results")],
+                         capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert out.returncode == 0, out.stderr
+    made = (tmp_path / "results" / "RESULTS.md").read_text()
+    committed = (ROOT / "docs" / "RESULTS.md").read_text().replace("](results/", "](")
+    assert made == committed
