@@ -6,9 +6,11 @@ linear FE body: M u'' + D u' + K u = f, small deformations).
 matrices, the boundary triangles for drawing), so Exudyn's own tools (eigenmodes, Craig-Bampton
 modes, node searches, ``ObjectFFRFreducedOrder``) work on it. ``AddLinearFEBody`` adds the full body
 and gives it a Jacobian function: without one Exudyn differentiates the object numerically, one
-force evaluation per coordinate (about 0.35 s per Jacobian for 1215 coordinates); with one that
-adds nothing, Exudyn assembles the object's K and D into the system Jacobian itself (its
-ObjectGenericODE2 adds mass, damping and stiffness matrices to the user function's part).
+force evaluation per coordinate; with one that adds nothing, Exudyn assembles the object's K and D
+into the system Jacobian itself (its ObjectGenericODE2 adds mass, damping and stiffness matrices to
+the user function's part). Measured on the fe_block scene's defaults over 0.3 s (192 coordinates,
+300 steps, 61 Jacobians; the jacobianUserFunction set back to 0 for the comparison): 0.41 s of
+CPU against 1.19 s, the same steps and Newton iterations.
 """
 from __future__ import annotations
 
