@@ -98,12 +98,21 @@ def BuildFeBlock(p: FeBlockParams, jacobian="analytic", implementation="auto", n
     nDriver = mbs.GetObject(oDriver)["nodeNumber"]
     mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0))
     constraints = []
+    last = {}
+
+    def prescribed(t):
+        """The drive's displacement and velocity at t as lists, evaluated once per time for the six
+        offset functions (Exudyn calls them at every Newton iteration)."""
+        if last.get("t") != t:
+            u, v = drive(p, t)
+            last.update(t=t, value=(u[0].tolist(), v[0].tolist()))
+        return last["value"]
     for i in range(3):
         def offset(mbs, t, itemNumber, lOffset, i=i):
-            return float(drive(p, t)[0][0, i])
+            return prescribed(t)[0][i]
 
         def offset_t(mbs, t, itemNumber, lOffset, i=i):      # the index-2 solvers hold the velocity
-            return float(drive(p, t)[1][0, i])
+            return prescribed(t)[1][i]
         m = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nDriver, coordinate=i))
         constraints.append(mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mGround, m],
                                                                    offsetUserFunction=offset,
@@ -133,10 +142,10 @@ def BuildFeBlock(p: FeBlockParams, jacobian="analytic", implementation="auto", n
 
 
 def _node_motion(model):
-    """Every mesh node's displacement-free positions X (n, N, 3), velocities V (n, N, 3), and the
-    body's kinetic and strain energy and its damping's force per sample, from the stored sensors:
-    (t, X, V, kinetic, strain, damping_force_rate) with damping dissipation left to the caller
-    (generalized damping force and coordinates: f_d (n, m), q (n, m))."""
+    """From the stored sensors, per sample: (t, X, V, kinetic, strain, f_d, q) with every mesh node's
+    global position X and velocity V (n, N, 3), the body's kinetic and strain energy (n,) [J], and
+    its damping force f_d (n, m) over its coordinates q (n, m) (the nodes' displacements of the full
+    body, the modal coordinates of the reduced one), whose work the caller integrates."""
     mbs, S, mesh, p = model["mbs"], model["sensors"], model["mesh"], model["params"]
     origin = np.array([p.x0, p.y0, 0.0])
     if p.model == "full":
