@@ -110,6 +110,11 @@ def _fe_block():   # no reference-engine model of the FE body: its limit is scen
     return Scene("fe_block", FeBlockParams, COLUMNS, TITLE_KEYS, PlotFeBlock, "fe_block", None, (11.0, 4.8))
 
 
-_ENTRIES = (_block, _screw, _particle, _capstan, _feeder, _fastening, _fe_block)
+def _fe_screw():   # its limit is the screw scene's rigid screw with the same points (scenes.fe_screw.rigid_screw)
+    from exu_aniso.scenes.fe_screw import COLUMNS, TITLE_KEYS, FeScrewParams, PlotFeScrew
+    return Scene("fe_screw", FeScrewParams, COLUMNS, TITLE_KEYS, PlotFeScrew, "fe_screw", None, (13.0, 4.8))
+
+
+_ENTRIES = (_block, _screw, _particle, _capstan, _feeder, _fastening, _fe_block, _fe_screw)
 
 SCENES = {s.name: s for s in (entry() for entry in _ENTRIES)}

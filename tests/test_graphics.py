@@ -581,7 +581,8 @@ def _without_contact_graphics(mbs, contacts):
 # the share of the picture the contact's drawing must change, per scene whose contact draws its surface:
 # the fastening's are fine nets about a large bolt (the bearing face's 1.6 head radii, the nut's flank a
 # quarter of d2 wide), 2.0 % of the snapshot, 2.7 % of the live window, 3.2 % of the SolutionViewer's
-DRAWN_BY_THE_CONTACT = dict(block=0.05, screw=0.05, particle=0.05, capstan=0.05, fastening=0.01, fe_block=0.05)
+DRAWN_BY_THE_CONTACT = dict(block=0.05, screw=0.05, particle=0.05, capstan=0.05, fastening=0.01, fe_block=0.05,
+                            fe_screw=0.05)
 
 
 def _changed_share(a, b):
@@ -589,7 +590,7 @@ def _changed_share(a, b):
     return float((np.abs(np.asarray(a, dtype=int) - np.asarray(b, dtype=int)).max(axis=2) > 30).mean())
 
 
-@pytest.mark.parametrize("scene", ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block"])
+@pytest.mark.parametrize("scene", ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block", "fe_screw"])
 def test_every_scenes_snapshot_shows_its_surface(scene):
     """The picture --snapshot takes (exu_aniso.engines.exudyn_adapter.runner.SnapshotImage, the view
     fitted to everything drawn) is filled by the scene, not a white frame with a dot (the particle
@@ -699,7 +700,7 @@ def test_the_live_renderer_frames_every_scene(tmp_path):
     import sys
     if shutil.which("xvfb-run") is None:
         pytest.skip("no xvfb-run (apt-get install xvfb): the live renderer needs a display")
-    scenes = ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block"]
+    scenes = ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block", "fe_screw"]
     out = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", _LIVE, *scenes], capture_output=True, text=True,
                          timeout=600, cwd=tmp_path)
     assert out.returncode == 0, out.stderr[-3000:]
@@ -762,7 +763,7 @@ def test_the_solution_viewer_frames_every_scene(tmp_path):
     import sys
     if shutil.which("xvfb-run") is None:
         pytest.skip("no xvfb-run (apt-get install xvfb): the SolutionViewer needs a display")
-    for scene in ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block"]:
+    for scene in ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block", "fe_screw"]:
         for show in ("1", "0"):
             out = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", _VIEWER, scene, show], capture_output=True,
                                  text=True, timeout=300, cwd=tmp_path)

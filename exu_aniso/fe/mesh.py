@@ -101,6 +101,32 @@ class ElasticMesh:
         keep = lam > tolerance * lam.max()
         return P @ (V[:, keep] / np.sqrt(lam[keep]))
 
+    def clamped_modes(self, fixed_nodes, count=None):
+        """A mode basis (3N, m) that vanishes at fixed_nodes (every coordinate of those nodes held):
+        with count None, every other coordinate as its own column (the identity: the full body
+        relative to the fixed nodes); else the count lowest eigenmodes of the body clamped there
+        (K phi = omega^2 M phi on the other coordinates), mass-orthonormal (Psi^T M Psi = I). In a
+        floating frame of reference this basis makes the frame the fixed nodes' rigid motion."""
+        fixed = np.zeros(self.number_of_nodes, dtype=bool)
+        fixed[np.asarray(fixed_nodes, dtype=np.int64)] = True
+        free = np.flatnonzero(np.repeat(~fixed, 3))
+        if not fixed.any() or free.size == 0:
+            raise ValueError(f"fixed_nodes must hold some but not all of the {self.number_of_nodes} nodes")
+        P = np.zeros((self.number_of_coordinates, free.size if count is None else 0))
+        if count is None:
+            P[free, np.arange(free.size)] = 1.0
+            return P
+        count = check_integer("count", count, 1)
+        if count > free.size:
+            raise ValueError(f"count must be <= {free.size} (the free coordinates); got {count}")
+        import scipy.linalg
+        Kf = self.stiffness[free][:, free].toarray()
+        Mf = self.mass[free][:, free].toarray()
+        _, V = scipy.linalg.eigh(Kf, Mf, subset_by_index=[0, count - 1])
+        P = np.zeros((self.number_of_coordinates, count))
+        P[free] = V
+        return P
+
     def node_at(self, point, tolerance=None):
         """Index of the node at the reference position point (3,) [m], within tolerance (default
         1e-9 of the mesh's size); a ValueError naming the point and the closest node otherwise."""
@@ -126,12 +152,54 @@ def block_mesh(size=(0.1, 0.1, 0.1), cells=(4, 4, 4), E=1e7, nu=0.3, rho=1000.0)
     lx, ly, lz = size
     mesh = sk.MeshHex.init_tensor(np.linspace(-lx / 2, lx / 2, cells[0] + 1), np.linspace(-ly / 2, ly / 2, cells[1] + 1),
                                   np.linspace(0.0, lz, cells[2] + 1))
-    nodes = mesh.p.T.copy()
-    M, K = assemble(mesh, E, nu, rho)
+    nodes = mesh.p.T
     tol = 1e-9 * max(size)
-    sets = {"bottom": np.flatnonzero(np.abs(nodes[:, 2]) < tol), "top": np.flatnonzero(np.abs(nodes[:, 2] - lz) < tol)}
-    return ElasticMesh(nodes, mesh.t.T.copy(), M, K, sets, boundary_triangles(mesh), float(E), float(nu), float(rho),
-                       dict(size=size, cells=cells))
+    sets = {"bottom": np.abs(nodes[:, 2]) < tol, "top": np.abs(nodes[:, 2] - lz) < tol}
+    return _elastic_mesh(mesh, E, nu, rho, sets, dict(size=size, cells=cells))
+
+
+def shank_mesh(radius=0.005, bore=0.0025, length=0.02, cells=(1, 8, 4), E=2e9, nu=0.3, rho=1200.0):
+    """ElasticMesh of a hollow cylindrical shank (a tube: outer radius ``radius``, inner radius
+    ``bore``, length ``length`` [m]) in cells (n_r, n_theta, n_z) trilinear hexahedra of a polar grid
+    (rings of nodes at equal radii, angles 2 pi j / n_theta, equal z steps); body frame: axis z, the
+    shank in -length/2 <= z <= length/2 (its centre at the origin). Node sets "thread" (the outer
+    surface r = radius, ordered ring by ring from the tip, angle within a ring), "head"
+    (z = +length/2), "tip" (z = -length/2). The cross-section is the annulus between two regular
+    n_theta-gons (straight element edges), of area n_theta sin(2 pi / n_theta) (radius^2 -
+    bore^2) / 2. A solid shank would need an O-grid at the axis; the bore keeps every element a
+    regular polar cell (cannulated screws have one)."""
+    sk = _skfem()
+    radius, length = check_positive("radius", radius), check_positive("length", length)
+    if not 0.0 < check_real("bore", bore) < radius:
+        raise ValueError(f"bore (inner radius [m]) must lie in (0, radius); got bore={bore!r}, radius={radius!r}")
+    if len(cells) != 3:
+        raise ValueError(f"cells must have three entries (n_r, n_theta, n_z); got {cells!r}")
+    n_r, n_theta, n_z = (check_integer(f"cells[{i}]", c, m) for i, (c, m) in enumerate(zip(cells, (1, 6, 1))))
+    grid = sk.MeshHex.init_tensor(np.linspace(bore, radius, n_r + 1), np.arange(n_theta + 1, dtype=float),
+                                  np.linspace(-length / 2, length / 2, n_z + 1))
+    r, j, z = grid.p
+    j = np.rint(j).astype(np.int64) % n_theta                     # the seam: angle index n_theta is 0
+    ir = np.rint((r - bore) / (radius - bore) * n_r).astype(np.int64)
+    iz = np.rint((z + length / 2) / length * n_z).astype(np.int64)
+    key = (iz * n_theta + j) * (n_r + 1) + ir                    # ring by ring from the tip, angle, radius
+    unique, index = np.unique(key, return_inverse=True)
+    angle = 2.0 * np.pi * j / n_theta
+    nodes = np.zeros((len(unique), 3))
+    nodes[index] = np.column_stack([r * np.cos(angle), r * np.sin(angle), z])
+    mesh = sk.MeshHex(nodes.T, index[grid.t])                     # (r, theta, z) -> (x, y, z): right-handed
+    tol = 1e-9 * max(radius, length)
+    rho_n = np.hypot(nodes[:, 0], nodes[:, 1])
+    sets = {"thread": np.abs(rho_n - radius) < tol, "head": np.abs(nodes[:, 2] - length / 2) < tol,
+            "tip": np.abs(nodes[:, 2] + length / 2) < tol}
+    return _elastic_mesh(mesh, E, nu, rho, sets, dict(radius=radius, bore=bore, length=length, cells=(n_r, n_theta, n_z)))
+
+
+def _elastic_mesh(mesh, E, nu, rho, sets, meta):
+    """The ElasticMesh of a scikit-fem hexahedral mesh; sets: name -> boolean mask over the nodes."""
+    M, K = assemble(mesh, E, nu, rho)
+    sets = {name: np.flatnonzero(mask) for name, mask in sets.items()}
+    return ElasticMesh(mesh.p.T.copy(), mesh.t.T.copy(), M, K, sets, boundary_triangles(mesh), float(E), float(nu),
+                       float(rho), meta)
 
 
 def assemble(mesh, E, nu, rho):

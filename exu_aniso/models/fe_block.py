@@ -20,10 +20,9 @@ from exudyn.itemInterface import (MarkerBodyPosition, MarkerNodeCoordinate, Mark
                                   MarkerSuperElementPosition, NodePointGround, ObjectConnectorCartesianSpringDamper,
                                   ObjectConnectorCoordinate, SensorBody, SensorNode, SensorObject,
                                   VObjectConnectorCartesianSpringDamper)
-from exudyn.rigidBodyUtilities import EulerParameters2GLocal, EulerParameters2RotationMatrix
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.exudyn_adapter.fem import AddLinearFEBody, FEMinterfaceOf
+from exu_aniso.engines.exudyn_adapter.fem import AddLinearFEBody, FEMinterfaceOf, FloatingFrameMotion
 from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, RunScene, SceneView, SettingsInfo,
                                                      SimulationSettingsFor)
 from exu_aniso.scenes.fe_block import (DRIVER_MASS_FACTOR, FeBlockParams, contact_columns, drive, fe_block_contact_law,
@@ -160,18 +159,8 @@ def _node_motion(model):
     ref = np.asarray(mbs.GetNodeParameter(model["body"]["nRigid"], "referenceCoordinates"), dtype=float)
     Psi = model["body"]["basis"]
     eta, eta_t = E[:, 1:], Et[:, 1:]
-    Kr = Psi.T @ (mesh.stiffness @ Psi)
-    X, V = np.empty((len(t), mesh.number_of_nodes, 3)), np.empty((len(t), mesh.number_of_nodes, 3))
-    for i in range(len(t)):
-        q = ref + R[i, 1:]
-        A = np.asarray(EulerParameters2RotationMatrix(q[3:7]))
-        w_local = np.asarray(EulerParameters2GLocal(q[3:7])) @ Rt[i, 4:8]
-        b = mesh.nodes + (Psi @ eta[i]).reshape(-1, 3)
-        X[i] = q[0:3] + b @ A.T
-        V[i] = Rt[i, 1:4] + (np.cross(w_local, b) + (Psi @ eta_t[i]).reshape(-1, 3)) @ A.T
-    kinetic = mesh.kinetic_energy(V.reshape(len(t), -1))
-    strain = 0.5 * np.einsum("ni,ij,nj->n", eta, Kr, eta)
-    fd = p.stiffness_damping * eta_t @ Kr
+    X, V, kinetic, strain = FloatingFrameMotion(mesh, Psi, ref + R[:, 1:], Rt[:, 1:], eta, eta_t)
+    fd = p.stiffness_damping * eta_t @ (Psi.T @ (mesh.stiffness @ Psi))
     return t, X, V, kinetic, strain, fd, eta
 
 

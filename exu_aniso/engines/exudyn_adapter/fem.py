@@ -18,6 +18,7 @@ import numpy as np
 import exudyn as exu
 from exudyn.FEM import FEMinterface
 from exudyn.itemInterface import NodePoint, ObjectGenericODE2, VObjectGenericODE2
+from exudyn.rigidBodyUtilities import EulerParameters2GLocal, EulerParameters2RotationMatrix
 
 from exu_aniso.util.validation import check_nonnegative, check_vector
 
@@ -74,3 +75,22 @@ def AddLinearFEBody(mbs, mesh, position=(0.0, 0.0, 0.0), stiffnessDamping=0.0, c
                                             visualization=VObjectGenericODE2(triangleMesh=mesh.triangles.tolist(),
                                                                              color=list(color)), **kw))
     return dict(oBody=oBody, nodes=nodes, fem=fem)
+
+
+def FloatingFrameMotion(mesh, basis, rigid, rigid_t, modal, modal_t):
+    """Every mesh node's global position X and velocity V (n, N, 3) of an ObjectFFRFreducedOrder
+    (Euler-parameter frame) over n samples, with the body's kinetic energy 0.5 v.M v and strain
+    energy 0.5 eta.Psi^T K Psi eta (n,) [J]. rigid, rigid_t (n, 7): the frame node's coordinates with
+    their reference values and its velocities; modal, modal_t (n, m); basis Psi (3N, m):
+    x_k = p + A (r_k + Psi_k eta), v_k = p' + A (omega_local x (r_k + Psi_k eta) + Psi_k eta')."""
+    n = len(rigid)
+    X, V = np.empty((n, mesh.number_of_nodes, 3)), np.empty((n, mesh.number_of_nodes, 3))
+    for i in range(n):
+        q = rigid[i]
+        A = np.asarray(EulerParameters2RotationMatrix(q[3:7]))
+        w_local = np.asarray(EulerParameters2GLocal(q[3:7])) @ rigid_t[i, 3:7]
+        b = mesh.nodes + (basis @ modal[i]).reshape(-1, 3)
+        X[i] = q[0:3] + b @ A.T
+        V[i] = rigid_t[i, 0:3] + (np.cross(w_local, b) + (basis @ modal_t[i]).reshape(-1, 3)) @ A.T
+    Kr = basis.T @ (mesh.stiffness @ basis)
+    return X, V, mesh.kinetic_energy(V.reshape(n, -1)), 0.5 * np.einsum("ni,ij,nj->n", modal, Kr, modal)

@@ -1,0 +1,123 @@
+"""The elastic screw in a hole with a spiral net as an Exudyn model (the fe_screw scene).
+
+The scene (mesh, contact law, basis, the twist's closed form, summary, ledger, its rigid limit) is
+``exu_aniso.scenes.fe_screw`` (read its module docstring). Here: the shank is Exudyn's
+ObjectFFRFreducedOrder (``exudyn.FEM.ObjectFFRFreducedOrderInterface``: an Euler-parameter frame and
+the modal coordinates) of the mesh with the scene's basis, which vanishes at the head, so that the
+frame is the head's rigid motion; the drive is a torsional spring from a driver at constant speed
+to the frame's yaw (``AddYawDrive``); the axial load an Exudyn load on the frame's node; the contact
+one ``mbs.CreateAnisotropicContact`` on the thread nodes.
+
+Run ``python -m exu_aniso.models.fe_screw`` for a plot of the default scene.
+"""
+from __future__ import annotations
+
+import numpy as np
+import exudyn as exu
+from exudyn.FEM import ObjectFFRFreducedOrderInterface
+from exudyn.itemInterface import LoadForceVector, MarkerNodePosition, SensorNode
+from exudyn.rigidBodyUtilities import EulerParameters2GLocal, EulerParameters2RotationMatrix
+
+import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
+from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf, FloatingFrameMotion
+from exu_aniso.engines.exudyn_adapter.runner import (AddYawDrive, HistoryOutputs, RunScene, SceneView, SettingsInfo,
+                                                     SimulationSettingsFor, Unwrap)
+from exu_aniso.scenes.fe_screw import (FeScrewParams, fe_screw_basis, fe_screw_columns, fe_screw_contact_law,
+                                      fe_screw_energy, fe_screw_mesh, fe_screw_summary, ring_twist)
+from exu_aniso.util.validation import check_instance
+
+
+def BuildFeScrew(p: FeScrewParams, jacobian="analytic", implementation="auto", newton="modified",
+                 newtonTolerance=1e-10, show=True):
+    """Build the fe_screw scene; returns dict with SC, mbs, simulationSettings, solverType, params,
+    mesh, body (oBody, nRigid, nModal, basis), contact, sensors, oDrive. Options as BuildBlock; show:
+    draw the hole's net and the contact states (Exudyn draws the deformed shank itself)."""
+    check_instance("p", p, FeScrewParams)
+    SC = SceneView(exu.SystemContainer())
+    mbs = SC.AddSystem()
+    mesh = fe_screw_mesh(p)
+    fem = FEMinterfaceOf(mesh)
+    fem.modeBasis = {"matrix": fe_screw_basis(p, mesh), "type": "NormalModes"}
+    ffrf = ObjectFFRFreducedOrderInterface(fem).AddObjectFFRFreducedOrder(
+        mbs, positionRef=[0.0, 0.0, 0.0], stiffnessProportionalDamping=p.stiffness_damping,
+        color=[0.55, 0.65, 0.8, 1.0])
+    body = dict(oBody=ffrf["oFFRFreducedOrder"], nRigid=ffrf["nRigidBody"], nModal=ffrf["nGenericODE2"],
+                basis=np.asarray(fem.modeBasis["matrix"]))
+    k, w = p.drive_stiffness, p.rotation_speed
+    oDrive = AddYawDrive(mbs, body["nRigid"], "EP", lambda yaw, t: (k * (w * t - yaw), -k))
+    if p.axial_load != 0.0:
+        mbs.AddLoad(LoadForceVector(markerNumber=mbs.AddMarker(MarkerNodePosition(nodeNumber=body["nRigid"])),
+                                    loadVector=[0.0, 0.0, p.axial_load]))
+    contact = mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=body["oBody"],
+                                           localPoints=mesh.node_sets["thread"], contactLaw=fe_screw_contact_law(p),
+                                           jacobian=jacobian, implementation=implementation, show=show,
+                                           storeHistory=True)
+    sensors = {}
+    for node, key in ((body["nRigid"], "Rigid"), (body["nModal"], "Modal")):
+        for ovt in ("Coordinates", "Coordinates_t"):
+            sensors[f"s{key}{ovt}"] = mbs.AddSensor(SensorNode(nodeNumber=node, storeInternal=True,
+                                                               outputVariableType=getattr(exu.OutputVariableType, ovt)))
+    mbs.Assemble()
+    ss, st = SimulationSettingsFor(p, newtonTolerance=newtonTolerance, newton=newton)
+    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, mesh=mesh, body=body,
+                contact=contact, sensors=sensors, oDrive=oDrive)
+
+
+def FeScrewTrajectory(model):
+    """Trajectory dict (scenes.fe_screw.COLUMNS without the ledger, and twist_rings (n, rings)), the
+    thread nodes' X, V (n, K, 3), the history H (n, K, 9) and the ledger's kinetic energy and
+    Rayleigh damping's dissipation (n,) [J], from the stored sensors of a solved model."""
+    mbs, S, mesh, p, body = model["mbs"], model["sensors"], model["mesh"], model["params"], model["body"]
+    R, Rt = mbs.GetSensorStoredData(S["sRigidCoordinates"]), mbs.GetSensorStoredData(S["sRigidCoordinates_t"])
+    E, Et = mbs.GetSensorStoredData(S["sModalCoordinates"]), mbs.GetSensorStoredData(S["sModalCoordinates_t"])
+    t = R[:, 0]
+    q = np.asarray(mbs.GetNodeParameter(body["nRigid"], "referenceCoordinates"), dtype=float) + R[:, 1:]
+    Psi, eta, eta_t = body["basis"], E[:, 1:], Et[:, 1:]
+    X, V, kinetic, strain = FloatingFrameMotion(mesh, Psi, q, Rt[:, 1:], eta, eta_t)
+    A = np.array([EulerParameters2RotationMatrix(e) for e in q[:, 3:7]])
+    angle = Unwrap(np.arctan2(A[:, 1, 0], A[:, 0, 0]))
+    # the frame's angular velocity about the world z: (A G_local e')_z
+    omega = np.array([(a @ (np.asarray(EulerParameters2GLocal(e)) @ et))[2] for a, e, et in zip(A, q[:, 3:7], Rt[:, 4:8])])
+    twist = ring_twist(p, mesh, (eta @ Psi.T).reshape(len(t), -1, 3))
+    diss, _, H = HistoryOutputs(mbs, model["contact"])
+    traj = dict(t=t, angle=angle, z=q[:, 2], omega=omega, vz=Rt[:, 3],
+                torque=p.drive_stiffness * (p.rotation_speed * t - angle), axial_force=np.full(len(t), p.axial_load),
+                twist_tip=twist[:, 0], twist_rings=twist, strain_energy=strain, dissipated_energy=diss)
+    fe_screw_columns(traj, H)
+    fd = p.stiffness_damping * eta_t @ (Psi.T @ (mesh.stiffness @ Psi))
+    damping = np.concatenate([[0.0], np.cumsum(np.einsum("ni,ni->n", 0.5 * (fd[1:] + fd[:-1]), np.diff(eta, axis=0)))])
+    thread = mesh.node_sets["thread"]
+    return traj, X[:, thread], V[:, thread], H, dict(kinetic=kinetic, damping=damping)
+
+
+def RunFeScrew(p: FeScrewParams = None, progress=False, snapshot=None, solutionFile=None, **options):
+    """Build and solve the fe_screw scene; returns exu_aniso.engines.result.Result (trajectory,
+    summary = scenes.fe_screw.fe_screw_summary with the energy ledger, params, info). options: see
+    BuildFeScrew. progress, snapshot, solutionFile: as RunBlock."""
+    p = FeScrewParams() if p is None else p
+    model = BuildFeScrew(p, **options)
+
+    def partial(failure):
+        traj = FeScrewTrajectory(model)[0]
+        return traj, fe_screw_summary(p, traj, float("nan"), failure.steps, failure.newton_iterations)
+
+    def complete(wall, steps, iters, info):
+        traj, X, V, H, terms = FeScrewTrajectory(model)
+        summary = fe_screw_summary(p, traj, wall, steps, iters)
+        summary.update(fe_screw_energy(p, traj, X, V, H, **terms))
+        info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
+        return traj, summary
+    return RunScene(model, p, "fe_screw", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
+
+
+if __name__ == "__main__":
+    import matplotlib.pyplot as plt
+
+    from exu_aniso.scenes.fe_screw import PlotFeScrew
+
+    result = RunFeScrew(FeScrewParams(), progress=True)
+    print({k: v for k, v in result.summary.items() if not isinstance(v, (dict, list))})
+    fig = plt.figure(figsize=(13, 4.5))
+    PlotFeScrew(result.trajectory, result.params, fig)
+    fig.tight_layout()
+    plt.show()

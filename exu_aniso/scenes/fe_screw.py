@@ -1,0 +1,247 @@
+"""The elastic screw in a hole with a spiral net (the second paper's finite-element experiment).
+
+An elastic shank (a tube: outer radius ``radius + interference``, inner radius ``bore``, length
+``length``; ``cells_r`` x ``cells_theta`` x ``cells_z`` trilinear hexahedra of a polar grid; Young's
+modulus ``E``, Poisson's ratio ``nu``, ``density``; ``exu_aniso.fe.shank_mesh``) turns in the rigid
+hole of the screw scene (``exu_aniso.scenes.screw``: the cylinder of radius ``radius``, axis z,
+adhesion and friction on a spiral net of helix angle ``helix_angle``). Every node of its outer
+surface (the thread side) carries the contact, the stiffnesses totals over those nodes, so that the
+nodes sit where the rigid screw's ``rings x points_per_ring`` points do (rings = cells_z + 1,
+points_per_ring = cells_theta) and the interference fit presses them onto the hole. It is turned at
+its head (the face z = +length/2) by a torsional spring ``drive_stiffness`` to a driver rotating at
+``rotation_speed``; a constant ``axial_load`` acts along +z.
+
+The body is Exudyn's ObjectFFRFreducedOrder (a floating frame of reference and modes, so the shank
+turns through whole revolutions with linear elasticity in its frame), with a basis that vanishes at
+the head: the frame is the head's rigid motion, and the drive acts on it. ``model=full``: every
+coordinate of the other nodes is a mode (the full FE body in that frame); ``model=reduced``: the
+``modes`` lowest eigenmodes of the shank clamped at its head (``ElasticMesh.clamped_modes``).
+Stiffness-proportional damping ``stiffness_damping`` (D = beta K) damps the body's own vibration.
+
+What it measures: the advance per revolution and the drive's torque (as the rigid screw), and the
+twist along the shank: each ring's rotation relative to the head, from the modal displacements of
+its nodes. In steady sliding every node slides with the same friction force, so the shank carries
+equal torques T / rings at its rings; statics of a shaft gives the twist of ring j (at s_j = j L /
+cells_z from the tip) relative to the head
+
+    phi_j = -(T / (G J)) (L / cells_z) sum_{i=j}^{cells_z-1} (i + 1) / (cells_z + 1),
+
+G = E / (2 (1 + nu)), J = pi (R^4 - bore^4) / 2 (R the shank's outer radius); at the tip this is
+-T L / (2 G J), the value of the shaft under a uniformly distributed torque T / L, whose twist is
+phi(s) = -T (L^2 - s^2) / (2 G J L) (``twist_closed_form``). The FE mesh approaches it as it is
+refined (its polygonal section and trilinear elements are stiffer or softer by a few per cent).
+
+Its limit: as E grows the shank becomes the rigid screw of the screw scene with the same points
+(``rigid_screw``, model "full"), and the advance and torque approach that run's like 1/E
+(tests/test_fe_screw.py).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from exu_aniso.engines import energy
+from exu_aniso.fe import shank_mesh
+from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters, solver_advice
+from exu_aniso.scenes.fe_block import contact_columns
+from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, ScrewParams, screw_contact_law, screw_summary
+
+FE_SCREW_PARAMS = {
+    "model": ("reduced", "-", "the elastic body in its floating frame: full (every coordinate of the nodes off the "
+              "head) or reduced (the `modes` lowest eigenmodes of the shank clamped at its head)", ("full", "reduced")),
+    "modes": (12, "-", "reduced: the number of clamped-head eigenmodes", "int >= 1"),
+    "radius": (0.005, "m", "radius of the hole (the shank's outer radius is radius + interference)", "> 0"),
+    "bore": (0.0025, "m", "inner radius of the hollow shank (a cannulated screw), in (0, radius)", "> 0"),
+    "length": (0.02, "m", "length of the shank, all of it engaged in the hole", "> 0"),
+    "cells_r": (1, "-", "hexahedra across the wall", "int >= 1"),
+    "cells_theta": (8, "-", "hexahedra around the circumference (the thread nodes per ring), at least 6", "int >= 1"),
+    "cells_z": (4, "-", "hexahedra along the shank (cells_z + 1 rings of thread nodes)", "int >= 1"),
+    "E": (3e9, "Pa", "Young's modulus (3 GPa: a polyamide screw)", "> 0"),
+    "nu": (0.3, "-", "Poisson's ratio, in (-1, 0.5)", "real"),
+    "density": (1150.0, "kg/m^3", "density", "> 0"),
+    "stiffness_damping": (1e-4, "s", "stiffness-proportional damping beta (D = beta K) of the shank", ">= 0"),
+    "interference": (1e-5, "m", "interference fit: the shank's outer radius minus the hole's", ">= 0"),
+    "helix_angle": (10.0, "deg", "helix angle alpha of the spiral net (pitch 2 pi R tan(alpha))", "(-90, 90)"),
+    "eps_n": (1e7, "N/m", "total normal penalty stiffness, split equally over the thread nodes", "> 0"),
+    "adhesion": ("spiral", "-", "adhesion (sticking stiffness) field B", ("isotropic", "spiral")),
+    "eps_1": (1e4, "N/m", "total tangential stiffness along the helix (isotropic: both)", "> 0"),
+    "eps_2": (1e6, "N/m", "total tangential stiffness across the helix", "> 0"),
+    "friction": ("spiral", "-", "friction field F", ("isotropic", "spiral")),
+    "mu_1": (0.2, "-", "friction coefficient along the helix (isotropic: both)", "> 0"),
+    "mu_2": (0.6, "-", "friction coefficient across the helix", "> 0"),
+    "return_map": ("radial", "-", "sliding return map (the screw scene's choice)", RETURN_MAPS),
+    "rotation_speed": (2.0 * math.pi, "rad/s", "angular speed of the driver at the head", "real"),
+    "drive_stiffness": (1.0, "N m/rad", "stiffness of the torsional spring from the driver to the head", "> 0"),
+    "axial_load": (0.0, "N", "constant axial force along +z on the head", "real"),
+    "normal_damping": (SCREW_NORMAL_DAMPING, "N s/m", "total normal contact damping, split equally over the thread "
+                       "nodes (the screw scene's default)", ">= 0"),
+    "tangential_damping": (0.0, "N s/m", "total tangential dashpot parallel to friction while loaded", ">= 0"),
+    "t_end": (1.0, "s", "simulated time", "> 0"),
+    "dt": (1e-3, "s", "time step", "> 0"),
+    "solver": ("generalized_alpha", "-", "time integrator: generalized-alpha (rho_inf 0.8) damps the shank's modes "
+               "above what dt resolves; the trapezoidal rule keeps them and its Newton iterations stall at the "
+               "contact (module docstring)", SOLVERS),
+}
+
+
+@scene_parameters(FE_SCREW_PARAMS)
+class FeScrewParams(SceneParams):
+    """Elastic screw in a hole with a spiral net; see FE_SCREW_PARAMS for units and meaning."""
+
+    def _check_scene(self):
+        if self.cells_theta < 6:
+            raise ValueError(f"cells_theta must be >= 6 (a polygon close to the circle); got {self.cells_theta}")
+        if not -1.0 < self.nu < 0.5:
+            raise ValueError(f"nu must lie in (-1, 0.5) (a positive definite elasticity); got {self.nu!r}")
+        if not self.bore < self.radius:
+            raise ValueError(f"bore must be < radius (a tube); got bore={self.bore!r}, radius={self.radius!r}")
+        free = 3 * (self.cells_r + 1) * self.cells_theta * self.cells_z
+        if self.model == "reduced" and self.modes > free:
+            raise ValueError(f"modes must be <= {free} (the coordinates off the head); got {self.modes}")
+        if self.model == "full" and free > 1500:
+            raise ValueError(f"model=full holds every coordinate off the head as a mode of Exudyn's dense "
+                             f"floating-frame body: {free} here, at most 1500 allowed; use model=reduced")
+
+    def contact_points(self):
+        return (self.cells_z + 1) * self.cells_theta
+
+    def _layout_text(self):
+        return f"cells_z + 1 = {self.cells_z + 1} rings x cells_theta = {self.cells_theta} thread nodes"
+
+
+def fe_screw_mesh(p):
+    """The shank's ElasticMesh (body frame: axis z, centre at the origin, head at z = +length/2)."""
+    return shank_mesh(p.radius + p.interference, p.bore, p.length, (p.cells_r, p.cells_theta, p.cells_z),
+                      E=p.E, nu=p.nu, rho=p.density)
+
+
+def rigid_screw(p, mass):
+    """The screw scene's parameters of the rigid screw with the same contact points and law, drive
+    and load: model "full" (6 DOF), rings = cells_z + 1, points_per_ring = cells_theta, mass [kg]
+    (the shank's: its inertia is then the screw scene's solid cylinder, which steady sliding does not
+    see)."""
+    return ScrewParams(model="full", drive="rotation", surface="cylinder", radius=p.radius, length=p.length,
+                       mass=mass, interference=p.interference, helix_angle=p.helix_angle, eps_n=p.eps_n,
+                       adhesion=p.adhesion, eps_1=p.eps_1, eps_2=p.eps_2, friction=p.friction, mu_1=p.mu_1,
+                       mu_2=p.mu_2, return_map=p.return_map, rotation_speed=p.rotation_speed,
+                       drive_stiffness=p.drive_stiffness, axial_load=p.axial_load, rings=p.cells_z + 1,
+                       points_per_ring=p.cells_theta, normal_damping=p.normal_damping,
+                       tangential_damping=p.tangential_damping, t_end=p.t_end, dt=p.dt, solver=p.solver)
+
+
+def fe_screw_contact_law(p):
+    """The screw scene's hole and spiral fields, per thread node (screw_contact_law of rigid_screw)."""
+    return screw_contact_law(rigid_screw(p, 1.0))
+
+
+def fe_screw_basis(p, mesh):
+    """The mode basis (3N, m): zero at the head's nodes; every other coordinate (full) or the
+    clamped shank's ``modes`` lowest eigenmodes (reduced)."""
+    return mesh.clamped_modes(mesh.node_sets["head"], None if p.model == "full" else p.modes)
+
+
+def torsional_rigidity(p):
+    """G J [N m^2] of the shank's circular section: G = E / (2 (1 + nu)), J = pi (R^4 - bore^4) / 2."""
+    R = p.radius + p.interference
+    return p.E / (2.0 * (1.0 + p.nu)) * 0.5 * math.pi * (R ** 4 - p.bore ** 4)
+
+
+def twist_closed_form(p, torque):
+    """Rotation [rad] of each ring of thread nodes (tip first) relative to the head when the shank
+    carries equal torques torque / rings at its rings [N m in all], from the statics of a shaft
+    (module docstring); the last entry (the head) is 0."""
+    n = p.cells_z
+    dz = p.length / n
+    segment = torque * (np.arange(n) + 1.0) / (n + 1)           # torque carried between ring i and i + 1
+    return -np.concatenate([np.cumsum(segment[::-1])[::-1], [0.0]]) * dz / torsional_rigidity(p)
+
+
+def ring_twist(p, mesh, displacement):
+    """Rotation [rad] of each ring of thread nodes (tip first) relative to the head, from the nodes'
+    displacements in the body frame (n, N, 3): the mean of e_phi . u / R over the ring's nodes."""
+    thread = mesh.node_sets["thread"]
+    r = mesh.nodes[thread]
+    e_phi = np.column_stack([-r[:, 1], r[:, 0], np.zeros(len(r))]) / np.hypot(r[:, 0], r[:, 1])[:, None]
+    R = p.radius + p.interference
+    phi = np.einsum("nki,ki->nk", np.asarray(displacement)[:, thread], e_phi) / R
+    return phi.reshape(len(phi), p.cells_z + 1, p.cells_theta).mean(axis=2)
+
+
+COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m", "axial_force": "N",
+           "twist_tip": "rad", "strain_energy": "J", "stick_fraction": "-", "slip_fraction": "-",
+           "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
+TITLE_KEYS = ("advance_per_rev", "twist_tip_mean")
+
+
+def fe_screw_summary(p, traj, wall_s, steps, newton_iterations):
+    """The screw's summary (advance per revolution, mean torque and axial force over the last half;
+    ``exu_aniso.scenes.screw.screw_summary``) and the twist: every ring's rotation relative to the
+    head averaged over the last half (twist_profile, tip first) against twist_closed_form of the
+    mean torque (twist_theory), their tip values (traj["twist_rings"] (n, rings): the rotations) and the ratio (twist_ratio: 1 for a shaft of the
+    closed form's section)."""
+    s = screw_summary(traj, wall_s, steps, newton_iterations)
+    late = np.asarray(traj["t"]) >= 0.5 * traj["t"][-1]
+    profile = np.asarray(traj["twist_rings"])[late].mean(axis=0)
+    theory = twist_closed_form(p, s["torque_mean"])
+    s.update(twist_profile=profile.tolist(), twist_theory=theory.tolist(), twist_tip_mean=float(profile[0]),
+             twist_tip_theory=float(theory[0]),
+             twist_ratio=float(profile[0] / theory[0]) if theory[0] != 0.0 else None,
+             strain_energy_end=float(traj["strain_energy"][-1]),
+             slip_fraction_end=float(traj["slip_fraction"][-1]))
+    return s
+
+
+def fe_screw_energy(p, traj, X, V, H, kinetic, damping):
+    """The energy ledger: the drive's torque over the head's angle and the axial load over z = the
+    shank's kinetic energy + stored (strain, the contact's penalty and adhesion) + dissipated (the
+    contact's and the Rayleigh damping's). X, V (n, K, 3): the thread nodes; H (n, K, 9) their
+    history; kinetic, damping (n,) [J] from the model."""
+    stored, dissipated = energy.contact_energy(fe_screw_contact_law(p), X, V, H)
+    work = energy.work_trapezoid(traj["torque"], traj["angle"]) + energy.work_trapezoid(traj["axial_force"], traj["z"])
+    return energy_ledger(dict(work_in=work, kinetic=kinetic, potential=np.zeros(len(work)),
+                              stored=stored + traj["strain_energy"], dissipated=dissipated + damping), traj,
+                         "fe_screw run", solver_advice(p))
+
+
+def fe_screw_columns(traj, H):
+    """Add stick_fraction and slip_fraction of the thread nodes (history H (n, K, 9)) to traj."""
+    traj["stick_fraction"], traj["slip_fraction"] = contact_columns(H)
+
+
+def PlotFeScrew(traj, params, fig):
+    """trajectory.png: the advance z against the angle (left), the drive's torque and the tip's twist
+    over time (middle), the twist along the shank (traj["twist_rings"], averaged over the last half)
+    against the closed forms (right)."""
+    p = params
+    a1, a2, a3 = fig.subplots(1, 3)
+    a1.plot(traj["angle"], 1e3 * np.asarray(traj["z"]), color="C0")
+    a1.set_xlabel("angle of the head [rad]")
+    a1.set_ylabel("axial advance z [mm]")
+    a1.grid(alpha=0.3)
+    a2.plot(traj["t"], traj["torque"], color="C1", label="drive torque [N m]")
+    a2.set_xlabel("t [s]")
+    a2.set_ylabel("drive torque [N m]")
+    a2b = a2.twinx()
+    a2b.plot(traj["t"], 1e3 * np.asarray(traj["twist_tip"]), color="C2", lw=0.8, label="tip twist [mrad]")
+    a2b.set_ylabel("twist of the tip against the head [mrad]")
+    a2.legend(fontsize=7, loc="upper left")
+    a2b.legend(fontsize=7, loc="lower right")
+    t = np.asarray(traj["t"])
+    late = t >= 0.5 * t[-1]
+    torque = float(np.mean(np.asarray(traj["torque"])[late]))
+    s = np.linspace(0.0, p.length, p.cells_z + 1)
+    G_J = torsional_rigidity(p)
+    fine = np.linspace(0.0, p.length, 101)
+    a3.plot(1e3 * fine, -1e3 * torque * (p.length ** 2 - fine ** 2) / (2.0 * G_J * p.length), "k--", lw=0.9,
+            label="shaft, uniform torque")
+    a3.plot(1e3 * s, 1e3 * twist_closed_form(p, torque), "o", mfc="none", color="k", ms=5, label="shaft, ring torques")
+    if "twist_rings" in traj:
+        a3.plot(1e3 * s, 1e3 * np.asarray(traj["twist_rings"])[late].mean(axis=0), "s-", color="C0", ms=4,
+                label="FE shank")
+    a3.set_xlabel("distance from the tip [mm]")
+    a3.set_ylabel("rotation against the head [mrad]")
+    a3.set_title(f"mean torque {torque:.3g} N m over the last half", fontsize=9)
+    a3.legend(fontsize=7)
+    a3.grid(alpha=0.3)
