@@ -320,6 +320,11 @@ def test_step_accounting_and_its_warning():
     text = step_warning(acc, len(cut) - 1, dt)
     assert "115 steps where 100 were planned" in text and "--set dt" in text and "eps_n" in text
     assert acc["reduced_between"] == pytest.approx([0.5, 0.51]) and "between t = 0.5 and 0.51 s" in text
+    # the last step shortened to land on the end time after the cuts is no reduction (the fe_screw scene's
+    # run ended on a 0.000625 s step and its warning said the cuts spread over the whole run)
+    landing = np.concatenate([cut, [cut[-1] + 0.4 * dt]])
+    acc = step_accounting(landing, dt)
+    assert acc["step_reductions"] == 16 and acc["reduced_between"] == pytest.approx([0.5, 0.51])
     # more than 10x the nominal steps
     many = np.concatenate([np.linspace(0.0, 0.9, 10), 0.9 + np.cumsum(np.full(200, 0.1 / 200))])
     assert "209 steps where 10 were planned" in step_warning(step_accounting(many, 0.1), 209, 0.1)

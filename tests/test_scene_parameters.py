@@ -36,7 +36,7 @@ def test_one_default_return_map():
         assert inspect.signature(f).parameters[name].default == DEFAULT_RETURN_MAP, f
     for name, scene in SCENES.items():
         default, _, text = scene.params.TABLE["return_map"][:3]
-        if name in ("block", "screw", "fe_block"):
+        if name in ("block", "screw", "fe_block", "fe_screw"):
             assert default == "radial" and "default is exact" in text and "steer" in text, name
         else:
             assert default == DEFAULT_RETURN_MAP, name

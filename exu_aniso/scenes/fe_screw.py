@@ -71,7 +71,8 @@ FE_SCREW_PARAMS = {
     "friction": ("spiral", "-", "friction field F", ("isotropic", "spiral")),
     "mu_1": (0.2, "-", "friction coefficient along the helix (isotropic: both)", "> 0"),
     "mu_2": (0.6, "-", "friction coefficient across the helix", "> 0"),
-    "return_map": ("radial", "-", "sliding return map (the screw scene's choice)", RETURN_MAPS),
+    "return_map": ("radial", "-", "sliding return map; radial here, the package's default is exact: the papers' "
+                   "screw slides where the spiral adhesion steers it (the screw scene's choice)", RETURN_MAPS),
     "rotation_speed": (2.0 * math.pi, "rad/s", "angular speed of the driver at the head", "real"),
     "drive_stiffness": (1.0, "N m/rad", "stiffness of the torsional spring from the driver to the head", "> 0"),
     "axial_load": (0.0, "N", "constant axial force along +z on the head", "real"),
@@ -167,6 +168,27 @@ def ring_twist(p, mesh, displacement):
     R = p.radius + p.interference
     phi = np.einsum("nki,ki->nk", np.asarray(displacement)[:, thread], e_phi) / R
     return phi.reshape(len(phi), p.cells_z + 1, p.cells_theta).mean(axis=2)
+
+
+def static_twist(p, torque, mesh=None):
+    """The FE answer to twist_closed_form: the rotation [rad] of each ring (tip first) relative to the
+    head of the shank's mesh clamped at its head, each thread node loaded by the tangential force
+    torque / (rings cells_theta R) [N] against e_phi (friction resisting the turn: equal torques at
+    the rings, torque [N m] in all, which the head carries), from K u = f (scipy's sparse solve)."""
+    import scipy.sparse.linalg
+    mesh = fe_screw_mesh(p) if mesh is None else mesh
+    thread = mesh.node_sets["thread"]
+    r = mesh.nodes[thread]
+    R = p.radius + p.interference
+    e_phi = np.column_stack([-r[:, 1], r[:, 0], np.zeros(len(r))]) / np.hypot(r[:, 0], r[:, 1])[:, None]
+    f = np.zeros((mesh.number_of_nodes, 3))
+    f[thread] = -torque / (len(thread) * R) * e_phi
+    free = np.ones(mesh.number_of_nodes, dtype=bool)
+    free[mesh.node_sets["head"]] = False
+    free = np.flatnonzero(np.repeat(free, 3))
+    u = np.zeros(mesh.number_of_coordinates)
+    u[free] = scipy.sparse.linalg.spsolve(mesh.stiffness[free][:, free].tocsc(), f.ravel()[free])
+    return ring_twist(p, mesh, u.reshape(1, -1, 3))[0]
 
 
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m", "axial_force": "N",
