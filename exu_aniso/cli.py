@@ -5,7 +5,7 @@
     exu-aniso params SCENE
 
 SCENE: one of the scene catalog (``exu_aniso.catalog``: block, screw, particle, capstan, feeder,
-fastening, fe_block).
+fastening, fe_block, fe_screw).
 
 ``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
 summary.json), DIR/summary.json

@@ -46,7 +46,7 @@ from exu_aniso.fe import shank_mesh
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters, solver_advice
 from exu_aniso.scenes.fe_block import contact_columns
-from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, ScrewParams, screw_contact_law, screw_summary
+from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewParams, screw_contact_law, screw_summary
 
 FE_SCREW_PARAMS = {
     "model": ("reduced", "-", "the elastic body in its floating frame: full (every coordinate of the nodes off the "
@@ -63,14 +63,9 @@ FE_SCREW_PARAMS = {
     "density": (1150.0, "kg/m^3", "density", "> 0"),
     "stiffness_damping": (1e-4, "s", "stiffness-proportional damping beta (D = beta K) of the shank", ">= 0"),
     "interference": (1e-5, "m", "interference fit: the shank's outer radius minus the hole's", ">= 0"),
-    "helix_angle": (10.0, "deg", "helix angle alpha of the spiral net (pitch 2 pi R tan(alpha))", "(-90, 90)"),
     "eps_n": (1e7, "N/m", "total normal penalty stiffness, split equally over the thread nodes", "> 0"),
-    "adhesion": ("spiral", "-", "adhesion (sticking stiffness) field B", ("isotropic", "spiral")),
-    "eps_1": (1e4, "N/m", "total tangential stiffness along the helix (isotropic: both)", "> 0"),
-    "eps_2": (1e6, "N/m", "total tangential stiffness across the helix", "> 0"),
-    "friction": ("spiral", "-", "friction field F", ("isotropic", "spiral")),
-    "mu_1": (0.2, "-", "friction coefficient along the helix (isotropic: both)", "> 0"),
-    "mu_2": (0.6, "-", "friction coefficient across the helix", "> 0"),
+    # the net and the law's tangential part: the screw scene's own entries
+    **{name: SCREW_PARAMS[name] for name in ("helix_angle", "adhesion", "eps_1", "eps_2", "friction", "mu_1", "mu_2")},
     "return_map": ("radial", "-", "sliding return map; radial here, the package's default is exact: the papers' "
                    "screw slides where the spiral adhesion steers it (the screw scene's choice)", RETURN_MAPS),
     "rotation_speed": (2.0 * math.pi, "rad/s", "angular speed of the driver at the head", "real"),
@@ -82,8 +77,8 @@ FE_SCREW_PARAMS = {
     "t_end": (1.0, "s", "simulated time", "> 0"),
     "dt": (1e-3, "s", "time step", "> 0"),
     "solver": ("generalized_alpha", "-", "time integrator: generalized-alpha (rho_inf 0.8) damps the shank's modes "
-               "above what dt resolves; the trapezoidal rule keeps them and its Newton iterations stall at the "
-               "contact (module docstring)", SOLVERS),
+               "above what dt resolves; the trapezoidal rule keeps them and Newton fails at the contact "
+               "(docs/guide/scenes.md)", SOLVERS),
 }
 
 
