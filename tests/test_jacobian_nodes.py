@@ -92,8 +92,6 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
         from exudyn.FEM import ObjectFFRFreducedOrderInterface
         from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf
         from exu_aniso.fe import block_mesh
-        if implementation == "compiled":
-            pytest.skip("no compiled node kind for ObjectFFRFreducedOrder yet (the numpy route)")
         mesh = block_mesh((2 * ARM, 2 * ARM, ARM), (2, 2, 1), E=1e6)
         fem = FEMinterfaceOf(mesh)
         fem.ComputeEigenmodes(4, excludeRigidBodyModes=6, useSparseSolver=False)
@@ -265,6 +263,20 @@ def test_compiled_jacobian_equals_numpy_glue(node_kind, d_N):
     scale = np.abs(out["numpy"]).max()
     err = np.abs(out["compiled"] - out["numpy"]).max() / scale
     assert err < 1e-10, f"{node_kind}: compiled and numpy Jacobians differ by {err:.2e} relative"
+
+
+def test_the_floating_frames_tangent_terms_are_its_point_derivatives_contracted():
+    """_FloatingFrame.tangent_terms (what the Jacobian uses: no (K, 3, n, n) array) equals the
+    contractions of point_derivatives: the geometric term sum_k F_k . dJp_k/dq and dv/dq = dJp/dq q_t,
+    at a general state with random forces."""
+    mbs, cs, q, qt, H = _scene("FFRF", "numpy", "exact", 40.0)
+    slave = cs.slave
+    F = np.random.default_rng(5).normal(size=(cs.K, 3))
+    geo, dv = slave.tangent_terms(q, qt, cs.points, F)
+    dJ = slave.point_derivatives(q, cs.points)
+    assert np.allclose(geo, np.einsum("kiac,ki->ac", dJ, F), rtol=1e-12, atol=1e-12 * np.abs(geo).max())
+    assert np.allclose(dv, np.einsum("kiac,a->kic", dJ, qt), rtol=1e-12, atol=1e-12 * np.abs(dv).max())
+    assert np.abs(geo[3:7, 7:]).max() > 0 and np.abs(geo[7:, 3:7]).max() > 0      # both couplings present
 
 
 # --- Newton iterations: analytic <= numerical ---------------------------------------------------

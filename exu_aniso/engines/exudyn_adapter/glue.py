@@ -200,7 +200,7 @@ class _Rigid3D(_RigidNode):
         skew[:, 1, 0], skew[:, 2, 0], skew[:, 2, 1] = b[:, 2], -b[:, 1], b[:, 0]
         J = np.zeros((K, 3, self.n))
         J[:, :, 0:3] = np.eye(3)
-        J[:, :, 3:] = -np.einsum("ij,kjl,lm->kim", A, skew, G)
+        J[:, :, 3:] = -(A @ skew) @ G           # -A [b]x G (matmul: a three-operand einsum costs ten times more)
         return x, v, J, A
 
     def frame(self, q, q_t):
@@ -524,8 +524,10 @@ class _FloatingFrame:
     the rotation and the modes, dJp_rot/deta_j = the rotation columns of Jp at the point Psi_k e_j
     (linear in the point), dJp_modal_j/dq_rot = dx/dq_rot at that point; dJp_modal/deta = 0.
 
-    localPoints: mesh node indices or (K, 3) body-frame reference positions of mesh nodes [m]. On
-    the numpy route (the compiled kernel has no node kind for it yet)."""
+    localPoints: mesh node indices or (K, 3) body-frame reference positions of mesh nodes [m]. The
+    kinematics are numpy's (the compiled kernel has no node kind with modes); the law at the points
+    runs compiled where the law compiles (_CompiledPointLaw). tangent_terms gives the Jacobian what
+    it needs of point_derivatives without forming it."""
 
     linear = False
 
@@ -572,7 +574,7 @@ class _FloatingFrame:
         """Global positions (K, 3), velocities (K, 3), Jacobians Jp (K, 3, n) and the frame's A."""
         q, q_t = np.asarray(q, dtype=float), np.asarray(q_t, dtype=float)
         x, v, J, A = self.frame_node.points(q[:self.nr], q_t[:self.nr], self._deformed(q))
-        turned = np.einsum("ij,kjm->kim", A, self.Psi)                     # A Psi_k
+        turned = A @ self.Psi                                               # A Psi_k (K, 3, m)
         return x, v + turned @ q_t[self.nr:], np.concatenate([J, turned], axis=2), A
 
     def point_derivatives(self, q, b):
@@ -592,6 +594,79 @@ class _FloatingFrame:
         Jx[:, :, :self.nr] = self.frame_node.position_jacobian(q[:self.nr], self._deformed(q), Jp[:, :, :self.nr])
         return Jx
 
+    def tangent_terms(self, q, q_t, b, F):
+        """What the Jacobian needs of point_derivatives without forming its (K, 3, n, n) array (its
+        blocks: the rigid node's at the deformed point, and the two couplings of rotation and modes):
+        the geometric term sum_k F_k . dJp_k/dq (n, n) at the point forces F (K, 3), and dv/dq
+        (K, 3, n) = dJp/dq q_t. Equal to the contractions of point_derivatives (tests/
+        test_jacobian_nodes.py)."""
+        q, q_t, F = np.asarray(q, dtype=float), np.asarray(q_t, dtype=float), np.asarray(F, dtype=float)
+        K, nr, m = len(self.r), self.nr, self.m
+        D = self.frame_node.point_derivatives(q[:nr], self._deformed(q))          # (K, 3, nr, nr)
+        e = self.Psi.transpose(0, 2, 1).reshape(K * m, 3)                          # the points Psi_k e_j
+        Je = self.frame_node.points(q[:nr], np.zeros(nr), e)[2][:, :, 3:].reshape(K, m, 3, nr - 3)
+        Jx = self.frame_node.position_jacobian(q[:nr], e, self.frame_node.points(q[:nr], np.zeros(nr), e)[2])
+        Jx = Jx[:, :, 3:].reshape(K, m, 3, nr - 3)
+        geo = np.zeros((self.n, self.n))
+        geo[:nr, :nr] = np.einsum("kiac,ki->ac", D, F)
+        geo[3:nr, nr:] = np.einsum("kjir,ki->rj", Je, F)                           # d(rotation columns)/d eta_j
+        geo[nr:, 3:nr] = np.einsum("kjir,ki->jr", Jx, F)                           # d(A Psi e_j)/dq_rot
+        dv = np.zeros((K, 3, self.n))
+        dv[:, :, :nr] = np.einsum("kiac,a->kic", D, q_t[:nr])
+        dv[:, :, nr:] = np.einsum("kjir,r->kij", Je, q_t[3:nr])
+        dv[:, :, 3:nr] += np.einsum("kjir,j->kir", Jx, q_t[nr:])
+        return geo, dv
+
+
+class _CompiledPointLaw:
+    """The contact law at K points through the compiled kernel, for a slave whose kinematics the
+    kernel has no node kind for (the floating frame): the set kernel of K free points (a linear
+    slave over 3K coordinates, x_k = q[3k:3k+3], S = I), so that one compiled call gives the point
+    forces (mode 0: Q = f), and df/dx, df/dv as its Jacobian's diagonal blocks (mode 1 with (fq, fv)
+    = (1, 0) and (0, 1)). evaluate() answers as ContactLaw.evaluate for what the glue reads (force,
+    stiffness, damping, history and its status)."""
+
+    def __init__(self, law, K):
+        from exu_aniso.kernel.point import CovariantSet
+        from exu_aniso.kernel.sets import LinearMap
+        idx = np.arange(3 * K, dtype=np.int64).reshape(K, 3)
+        self.K = K
+        self.pk = CovariantSet(law, LinearMap(idx, np.broadcast_to(np.eye(3), (K, 3, 3)), np.zeros((K, 3)), 3 * K),
+                               np.zeros(3 * K), None)
+        self.damped = law.d_N > 0.0 or law.d_T > 0.0
+        self._blocks = (np.arange(3 * K).reshape(K, 3)[:, :, None], np.arange(3 * K).reshape(K, 3)[:, None, :])
+
+    def evaluate(self, x, v, history, tangent=True, dt=None):
+        pk, K = self.pk, self.K
+        pk.H[:] = 0.0 if history is None else np.reshape(history, (K, N_HISTORY))
+        q, q_t = np.ascontiguousarray(x, dtype=float).ravel(), np.ascontiguousarray(v, dtype=float).ravel()
+        dt = 0.0 if dt is None else float(dt)
+        pk.evaluate(0, q, q_t, 0.0, 0.0, dt)
+        force, history = pk.Q.reshape(K, 3).copy(), pk.Hn.copy()
+        stiffness = damping = None
+        if tangent:
+            pk.evaluate(1, q, q_t, 1.0, 0.0, dt)
+            stiffness = -pk.J[self._blocks]
+            damping = np.zeros((K, 3, 3))
+            if self.damped:
+                pk.evaluate(1, q, q_t, 0.0, 1.0, dt)
+                damping = -pk.J[self._blocks]
+        return _PointStates(force, stiffness, damping, history)
+
+
+class _PointStates(NamedTuple):
+    """What _CompiledPointLaw.evaluate gives: force (K, 3) [N], stiffness = df/dx and damping =
+    df/dv (K, 3, 3) or None, the history candidate (K, 9)."""
+    force: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray
+    history: np.ndarray
+
+    @property
+    def status(self):
+        """Each point's state (K,) int: OPEN, STICK, SLIP or UNRESOLVED (law.history)."""
+        return self.history[:, _STATUS].astype(int)
+
 
 def _is_mesh_body(mbs, obj):
     """An ObjectGenericODE2 of NodePoint nodes only (a linear FE body), not the 2-coordinate screw joint."""
@@ -610,6 +685,7 @@ class _PointTangent(NamedTuple):
     dJp: np.ndarray
     dv: np.ndarray
     damping: np.ndarray
+    geometric: np.ndarray = None      # sum_k f_k . dJp_k/dq (n, n) where the slave forms it itself (no dJp)
 
 
 class _ContactSet:
@@ -617,6 +693,7 @@ class _ContactSet:
 
     force_calls = 0             # calls of the force user function Exudyn made (each costs Exudyn 2 vectors)
     _native = None              # kernel.native.NativeBlock when Exudyn calls the native force (_CompiledSet)
+    point_law = None            # _CompiledPointLaw: the law at the points through the compiled kernel (else law)
 
     def __init__(self, mbs, law, slave, points, master):
         self.law = law
@@ -642,10 +719,13 @@ class _ContactSet:
         qs, vs, qm, vm = self._split(q, q_t)
         x, v, Jp, _ = self.slave.points(qs, vs, self.points)
         if self.master is None:
-            st = self.law.evaluate(x, v, history, tangent, dt)
+            st = (self.point_law or self.law).evaluate(x, v, history, tangent, dt)
             tg = None
             if tangent and self.slave.linear:          # Jp constant: dx/dq = Jp, dJp/dq = 0
                 tg = _PointTangent(Jp, None, None, st.damping)
+            elif tangent and hasattr(self.slave, "tangent_terms"):
+                geo, dv = self.slave.tangent_terms(qs, vs, self.points, st.force)
+                tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), None, dv, st.damping, geo)
             elif tangent:
                 dJ = self.slave.point_derivatives(qs, self.points)
                 tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), dJ, np.einsum("kiac,a->kic", dJ, np.asarray(vs, dtype=float)), st.damping)
@@ -704,7 +784,7 @@ class _ContactSet:
     def force(self, mbs, t, itemNumber, q, q_t):
         self.force_calls += 1
         st, Jp, F, Jm, _ = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=False, dt=self.step_time(mbs, t))
-        Q = np.einsum("kij,ki->j", Jp, F)
+        Q = F.reshape(-1) @ Jp.reshape(-1, Jp.shape[2])                 # sum_k Jp_k^T F_k
         if Jm is not None:
             Q = np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
         return Q.tolist()
@@ -724,7 +804,7 @@ class _ContactSet:
 
     def _generalized_force(self, q, q_t, H):
         _, Jp, F, Jm, _ = self.state(None, q, q_t, H, tangent=False, dt=0.0)
-        Q = np.einsum("kij,ki->j", Jp, F)
+        Q = F.reshape(-1) @ Jp.reshape(-1, Jp.shape[2])
         return Q if Jm is None else np.concatenate([Q, -np.einsum("kij,ki->j", Jm, F)])
 
     def _sample_forces(self, q, q_t, H):
@@ -733,8 +813,10 @@ class _ContactSet:
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         """-(fODE2 dQ/dq + fODE2_t dQ/dq_t) of Q = sum_k Jp_k^T f_k(x_k, v_k) (ground master)."""
         st, Jp, F, _, tg = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True, dt=self.step_time(mbs, t))
-        Kq = np.einsum("kia,kij,kjb->ab", Jp, st.stiffness, tg.dx)
-        Dq = np.einsum("kia,kij,kjb->ab", Jp, st.damping, Jp)
+        n = Jp.shape[2]
+        rows = Jp.reshape(-1, n).T                                       # sum_k Jp_k^T M_k R_k as one product
+        Kq = rows @ (st.stiffness @ tg.dx).reshape(-1, n)
+        Dq = rows @ (st.damping @ Jp).reshape(-1, n)
         self._add_geometric(Kq, Jp, F, tg)
         return -(fODE2 * Kq + fODE2_t * Dq)
 
@@ -747,11 +829,15 @@ class _ContactSet:
         the first (law stiffness) is in Kq already; the second is the lever arms turning at fixed
         point forces (the reference's geometric term), the third the point velocities turning
         with the body (nonzero only with normal damping: Dv = df/dv). A linear slave has none."""
-        if tg.dJp is None:
+        if tg.geometric is not None:
+            Kq += tg.geometric
+        elif tg.dJp is None:
             return
-        Kq += np.einsum("kiac,ki->ac", tg.dJp, F)
+        else:
+            Kq += np.einsum("kiac,ki->ac", tg.dJp, F)
         if np.any(tg.damping):
-            Kq += np.einsum("kia,kij,kjc->ac", Jp, tg.damping, tg.dv)
+            n = Jp.shape[2]
+            Kq += Jp.reshape(-1, n).T @ (tg.damping @ tg.dv).reshape(-1, n)
 
     def candidate(self, mbs, t, q, q_t):
         """The history candidate (K, 9) at the converged state q, q_t (the set's coordinates) at time
@@ -1361,14 +1447,12 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     if implementation not in ("auto", "compiled", "numpy"):
         raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
                          f"got {implementation!r}")
-    compiled_ok = contactLaw.compiled and not isinstance(slave, _FloatingFrame)
-    if implementation == "compiled" and isinstance(slave, _FloatingFrame):
-        raise ValueError("CreateAnisotropicContact: implementation='compiled' has no node kind for an "
-                         "ObjectFFRFreducedOrder slave yet; use 'numpy' or 'auto' (which takes the numpy route)")
+    floating = isinstance(slave, _FloatingFrame)   # its kinematics in numpy, the law compiled (_CompiledPointLaw)
+    compiled_ok = contactLaw.compiled
     if implementation == "compiled" and not compiled_ok:
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a surface and fields numba can "
                          "compile; use 'numpy' or 'auto'")
-    use_compiled = compiled_ok and implementation != "numpy"
+    use_compiled = compiled_ok and implementation != "numpy" and not floating
     if nativeCallbacks not in (None, True, False):
         raise ValueError(f"CreateAnisotropicContact: nativeCallbacks must be None, True or False; got {nativeCallbacks!r}")
     if nativeCallbacks and not use_compiled:
@@ -1388,6 +1472,8 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         cls = _ContactSet if not use_compiled else (_CompiledSet if master is None else _CompiledPairSet)
     cs = cls(mbs, contactLaw, slave, points, master)
     K = cs.K
+    if floating and compiled_ok and implementation != "numpy" and master is None:
+        cs.point_law = _CompiledPointLaw(contactLaw, K)
     h0 = np.zeros(K * N_HISTORY)
     if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
         nodes = [slave] + ([master] if master is not None else [])
@@ -1421,7 +1507,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         else:
             mbs.SetPostNewtonUserFunction(_post_newton)
     out = {"oContact": oContact, "nData": cs.nData, "nDissipation": cs.nTotal, "law": contactLaw, "points": points,
-           "implementation": "compiled" if use_compiled else "numpy", "nativeCallbacks": use_native,
+           "implementation": "compiled" if use_compiled or cs.point_law is not None else "numpy", "nativeCallbacks": use_native,
            "jacobian": jacobian,
            # read-only views (exu_aniso.engines.exudyn_adapter.graphics); functions of (mbs, configuration=None), see _ContactSet
            "bodyNumber": bodyNumber, "masterBodyNumber": masterBodyNumber,
