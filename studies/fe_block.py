@@ -20,7 +20,8 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
-from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
+from _lib.studylib import (Timer, finish, markdown_table, parse_args, read_table, sweep, table,  # noqa: E402
+                          with_args)
 
 import numpy as np  # noqa: E402
 
@@ -63,7 +64,7 @@ def main(argv=None):
              for n in ((1,) if q else (1, 2, 3))]
     conv += [dict(label=f"reduced, {m} eigenmodes, {base.get('cells', 3)} cells",
                   params=dict(base, model="reduced", basis="eigenmodes", modes=m)) for m in ((6,) if q else (6, 24))]
-    serial = argparse_copy(args, serial=True)
+    serial = with_args(args, serial=True)
     C = sweep(run_case, conv, serial)
     ref = C[len(full_cells) - 1]
     rows = []
@@ -77,13 +78,6 @@ def main(argv=None):
     body, ok = report(read_table(ppath), read_table(cpath), fig, conv[len(full_cells) - 1]["label"])
     finish(args, timer, body, "Elastic block on the polar-orthotropic plane: paths and speed against error")
     return 0 if ok else 1
-
-
-def argparse_copy(args, **kw):
-    import argparse
-    d = dict(vars(args))
-    d.update(kw)
-    return argparse.Namespace(**d)
 
 
 def plot(out, path_cases, P, conv, C, full_cells):

@@ -61,7 +61,9 @@ FE_SCREW_PARAMS = {
     "E": (3e9, "Pa", "Young's modulus (3 GPa: a polyamide screw)", "> 0"),
     "nu": (0.3, "-", "Poisson's ratio, in (-1, 0.5)", "real"),
     "density": (1150.0, "kg/m^3", "density", "> 0"),
-    "stiffness_damping": (1e-4, "s", "stiffness-proportional damping beta (D = beta K) of the shank", ">= 0"),
+    "stiffness_damping": (0.0, "s", "stiffness-proportional damping beta (D = beta K) of the shank; none by default: "
+                          "generalized-alpha damps the modes dt does not resolve, and the steady sliding does not "
+                          "depend on it (docs/guide/scenes.md)", ">= 0"),
     "interference": (1e-5, "m", "interference fit: the shank's outer radius minus the hole's", ">= 0"),
     "eps_n": (1e7, "N/m", "total normal penalty stiffness, split equally over the thread nodes", "> 0"),
     # the net and the law's tangential part: the screw scene's own entries

@@ -353,3 +353,12 @@ def finish(args, timer, report_body, title):
     write_text(os.path.join(args.out, "report.md"), text)
     print(f"{args.name}: wrote {args.out} in {timer.seconds:.1f} s", file=sys.stderr)
     return info
+
+
+def with_args(args, **kw):
+    """A copy of the parsed arguments args (argparse.Namespace) with the entries kw replaced (a
+    study's serial part: with_args(args, serial=True))."""
+    import argparse
+    d = dict(vars(args))
+    d.update(kw)
+    return argparse.Namespace(**d)
