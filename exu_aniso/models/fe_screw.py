@@ -23,7 +23,7 @@ from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf, FloatingFrameMo
 from exu_aniso.engines.exudyn_adapter.runner import (AddYawDrive, HistoryOutputs, RunScene, SceneView, SettingsInfo,
                                                      SimulationSettingsFor, Unwrap)
 from exu_aniso.scenes.fe_screw import (FeScrewParams, fe_screw_basis, fe_screw_columns, fe_screw_contact_law,
-                                      fe_screw_energy, fe_screw_mesh, fe_screw_summary, ring_twist)
+                                      fe_screw_energy, fe_screw_mesh, fe_screw_summary, press_fit, ring_twist)
 from exu_aniso.util.validation import check_instance
 
 
@@ -43,6 +43,8 @@ def BuildFeScrew(p: FeScrewParams, jacobian="analytic", implementation="auto", n
         color=[0.55, 0.65, 0.8, 1.0])
     body = dict(oBody=ffrf["oFFRFreducedOrder"], nRigid=ffrf["nRigidBody"], nModal=ffrf["nGenericODE2"],
                 basis=np.asarray(fem.modeBasis["matrix"]))
+    # the shank starts pressed into the hole at rest (scenes.fe_screw.press_fit), before the contact reads it
+    mbs.SetNodeParameter(body["nModal"], "initialCoordinates", press_fit(p, mesh, body["basis"]).tolist())
     k, w = p.drive_stiffness, p.rotation_speed
     oDrive = AddYawDrive(mbs, body["nRigid"], "EP", lambda yaw, t: (k * (w * t - yaw), -k))
     if p.axial_load != 0.0:

@@ -17,6 +17,8 @@ the head: the frame is the head's rigid motion, and the drive acts on it. ``mode
 coordinate of the other nodes is a mode (the full FE body in that frame); ``model=reduced``: the
 ``modes`` lowest eigenmodes of the shank clamped at its head (``ElasticMesh.clamped_modes``).
 Stiffness-proportional damping ``stiffness_damping`` (D = beta K) damps the body's own vibration.
+The shank starts at rest pressed into the hole (``press_fit``: the basis's static state under the
+interference fit), not undeformed with the whole interference as a jump of force on it.
 
 What it measures: the advance per revolution and the drive's torque (as the rigid screw), and the
 twist along the shank: each ring's rotation relative to the head, from the modal displacements of
@@ -63,7 +65,7 @@ FE_SCREW_PARAMS = {
     "density": (1150.0, "kg/m^3", "density", "> 0"),
     "stiffness_damping": (0.0, "s", "stiffness-proportional damping beta (D = beta K) of the shank; none by default: "
                           "generalized-alpha damps the modes dt does not resolve, and the steady sliding does not "
-                          "depend on it (docs/guide/scenes.md)", ">= 0"),
+                          "depend on it", ">= 0"),
     "interference": (1e-5, "m", "interference fit: the shank's outer radius minus the hole's", ">= 0"),
     "eps_n": (1e7, "N/m", "total normal penalty stiffness, split equally over the thread nodes", "> 0"),
     # the net and the law's tangential part: the screw scene's own entries
@@ -79,7 +81,7 @@ FE_SCREW_PARAMS = {
     "t_end": (1.0, "s", "simulated time", "> 0"),
     "dt": (1e-3, "s", "time step", "> 0"),
     "solver": ("generalized_alpha", "-", "time integrator: generalized-alpha (rho_inf 0.8) damps the shank's modes "
-               "above what dt resolves; the trapezoidal rule keeps them and Newton fails at the contact "
+               "above what dt resolves; the trapezoidal rule keeps them and cuts its steps at the contact "
                "(docs/guide/scenes.md)", SOLVERS),
 }
 
@@ -138,6 +140,25 @@ def fe_screw_basis(p, mesh):
     """The mode basis (3N, m): zero at the head's nodes; every other coordinate (full) or the
     clamped shank's ``modes`` lowest eigenmodes (reduced)."""
     return mesh.clamped_modes(mesh.node_sets["head"], None if p.model == "full" else p.modes)
+
+
+def press_fit(p, mesh, basis):
+    """The modal coordinates eta (m,) [m] of the shank pressed into the hole at rest: every thread node
+    k at its reference radius R + interference penetrates the hole by interference + e_r . u_k and
+    the normal penalty eps_n / K pushes it in along -e_r, so the static state of the basis Psi solves
+
+        (Psi^T K Psi + sum_k eps Psi_k^T e_r e_r^T Psi_k) eta = -sum_k eps interference Psi_k^T e_r
+
+    (linear: the normal penalty only, no friction). Starting there, the run does not begin with the
+    whole interference as a jump of force on the elastic shank (which cut the first steps)."""
+    thread = mesh.node_sets["thread"]
+    r = mesh.nodes[thread]
+    e_r = np.column_stack([r[:, 0], r[:, 1], np.zeros(len(r))]) / np.hypot(r[:, 0], r[:, 1])[:, None]
+    eps = p.eps_n / len(thread)
+    rows = (3 * thread[:, None] + np.arange(3)).ravel()
+    radial = np.einsum("ki,kim->km", e_r, basis[rows].reshape(len(thread), 3, -1))     # e_r . Psi_k (K, m)
+    A = basis.T @ (mesh.stiffness @ basis) + eps * radial.T @ radial
+    return np.linalg.solve(A, -eps * p.interference * radial.sum(axis=0))
 
 
 def torsional_rigidity(p):
