@@ -346,6 +346,24 @@ def test_reduced_contact_points_are_exudyns_mesh_nodes():
                                         **_law_kw())["implementation"] == "numpy"
 
 
+def test_a_reduced_body_says_which_routes_it_has():
+    """The floating frame's contact: the law compiled at its points on a fixed surface ("auto" and
+    "compiled" report "compiled"); on a moving master only the numpy route, and asking for
+    "compiled" there, or for native callbacks at all, is an error that names the rule."""
+    from exudyn.utilities import InertiaCuboid
+    mesh = block_mesh(SIZE, (1, 1, 1))
+    _, mbs, o = _reduced(mesh, 3)
+    bottom = mesh.node_sets["bottom"]
+    master = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1] * 3), referencePosition=[0.0, 0.0, -0.1])
+    assert mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=bottom, masterBodyNumber=master,
+                                        **_law_kw())["implementation"] == "numpy"
+    with pytest.raises(ValueError, match="no route for an ObjectFFRFreducedOrder slave on a moving master"):
+        mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=bottom, masterBodyNumber=master,
+                                     implementation="compiled", **_law_kw())
+    with pytest.raises(ValueError, match="ObjectFFRFreducedOrder slave has no native callback"):
+        mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=bottom, nativeCallbacks=True, **_law_kw())
+
+
 def _pressed_on_springs(mesh, body, w, eps_n, k_top=1e8):
     """Static normal force [N] of the block's top nodes pulled down by w [m] by springs k_top [N/m]
     (a spring per node and direction to its pressed position: a reduced body cannot take one

@@ -604,9 +604,9 @@ class _FloatingFrame:
         K, nr, m = len(self.r), self.nr, self.m
         D = self.frame_node.point_derivatives(q[:nr], self._deformed(q))          # (K, 3, nr, nr)
         e = self.Psi.transpose(0, 2, 1).reshape(K * m, 3)                          # the points Psi_k e_j
-        Je = self.frame_node.points(q[:nr], np.zeros(nr), e)[2][:, :, 3:].reshape(K, m, 3, nr - 3)
-        Jx = self.frame_node.position_jacobian(q[:nr], e, self.frame_node.points(q[:nr], np.zeros(nr), e)[2])
-        Jx = Jx[:, :, 3:].reshape(K, m, 3, nr - 3)
+        Jpe = self.frame_node.points(q[:nr], np.zeros(nr), e)[2]                  # the rigid node's Jp there
+        Je = Jpe[:, :, 3:].reshape(K, m, 3, nr - 3)
+        Jx = self.frame_node.position_jacobian(q[:nr], e, Jpe)[:, :, 3:].reshape(K, m, 3, nr - 3)
         geo = np.zeros((self.n, self.n))
         geo[:nr, :nr] = np.einsum("kiac,ki->ac", D, F)
         geo[3:nr, nr:] = np.einsum("kjir,ki->rj", Je, F)                           # d(rotation columns)/d eta_j
@@ -1448,16 +1448,18 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         raise ValueError("CreateAnisotropicContact: implementation must be 'auto', 'compiled' or 'numpy'; "
                          f"got {implementation!r}")
     floating = isinstance(slave, _FloatingFrame)   # its kinematics in numpy, the law compiled (_CompiledPointLaw)
-    compiled_ok = contactLaw.compiled
+    compiled_ok = contactLaw.compiled and not (floating and master is not None)
     if implementation == "compiled" and not compiled_ok:
         raise ValueError("CreateAnisotropicContact: implementation='compiled' needs a surface and fields numba can "
-                         "compile; use 'numpy' or 'auto'")
+                         "compile, and has no route for an ObjectFFRFreducedOrder slave on a moving master; use "
+                         "'numpy' or 'auto'")
     use_compiled = compiled_ok and implementation != "numpy" and not floating
     if nativeCallbacks not in (None, True, False):
         raise ValueError(f"CreateAnisotropicContact: nativeCallbacks must be None, True or False; got {nativeCallbacks!r}")
     if nativeCallbacks and not use_compiled:
         raise ValueError("CreateAnisotropicContact: nativeCallbacks=True needs the compiled kernel (implementation "
-                         "'auto' or 'compiled' with a surface and fields numba compiles)")
+                         "'auto' or 'compiled' with a surface and fields numba compiles; an ObjectFFRFreducedOrder "
+                         "slave has no native callback)")
     if nativeCallbacks and _native is None:
         raise ValueError("CreateAnisotropicContact: nativeCallbacks=True, but the native extension "
                          "exu_aniso.engines.exudyn_adapter._native is not built (pip install builds it with a C++ "
@@ -1472,7 +1474,7 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         cls = _ContactSet if not use_compiled else (_CompiledSet if master is None else _CompiledPairSet)
     cs = cls(mbs, contactLaw, slave, points, master)
     K = cs.K
-    if floating and compiled_ok and implementation != "numpy" and master is None:
+    if floating and compiled_ok and implementation != "numpy":
         cs.point_law = _CompiledPointLaw(contactLaw, K)
     h0 = np.zeros(K * N_HISTORY)
     if initializeHistory:   # points in contact at t = 0 start sticking at their initial contact point
