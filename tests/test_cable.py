@@ -321,15 +321,17 @@ def test_rope_on_an_incline_slides_below_tan_alpha():
 
 
 def test_compiled_equals_numpy_over_a_run():
-    """30 steps of the sliding rope: equal to round-off (measured 1e-18 m). Over longer runs the two
-    routes part at the Newton tolerance: the residuals differ by round-off, and once one route stops
-    Newton an iteration earlier than the other (step 40 of this run, measured) the difference is
-    the Newton tolerance's (1e-8 m), carried on by the sliding dynamics."""
+    """30 steps of the sliding rope: the two routes agree to round-off over the first 20 steps
+    (measured 3e-18 m), then part at the Newton tolerance: their residuals differ by round-off, and
+    once one route stops Newton an iteration earlier than the other (step 26 of this run, measured
+    since the numpy route sums Jp^T f as a matrix product; step 40 before) the difference is the
+    Newton tolerance's (1.4e-8 m at most, measured), carried on by the sliding dynamics."""
     a = math.radians(20.0)
     runs = [_rope_on_incline(a, 0.6 * math.tan(a), 0.006, implementation=impl) for impl in ("compiled", "numpy")]
     assert np.abs(runs[0][7]).max() > 1e-5                       # it moved
-    np.testing.assert_allclose(runs[0][7], runs[1][7], rtol=0, atol=1e-15)
-    np.testing.assert_allclose(runs[0][3], runs[1][3], rtol=1e-9, atol=1e-18)
+    np.testing.assert_allclose(runs[0][7][:, :21], runs[1][7][:, :21], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(runs[0][7], runs[1][7], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(runs[0][3], runs[1][3], rtol=0, atol=1e-9)
     assert runs[0][3][-1] > 0.0
 
 
