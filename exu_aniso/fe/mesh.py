@@ -105,12 +105,12 @@ class ElasticMesh:
         """A mode basis (3N, m) that vanishes at fixed_nodes (every coordinate of those nodes held):
         with count None, every other coordinate as its own column (the identity: the full body
         relative to the fixed nodes); else the count lowest eigenmodes of the body clamped there
-        (K phi = omega^2 M phi on the other coordinates). In a
-        floating frame of reference this basis makes the frame the fixed nodes' rigid motion. Each
-        eigenmode is scaled to a largest nodal displacement of 1 (Exudyn's scaling of its modes): a
-        modal coordinate is then a displacement [m], not a mass-weighted one, which keeps Newton's
-        residuals and increments of one scale as modes are added (measured: 30 mass-orthonormal
-        modes of a 1 x 6 x 2 shank diverged in the third step, the same modes scaled ran)."""
+        (K phi = omega^2 M phi on the other coordinates). In a floating frame of reference this
+        basis makes the frame the fixed nodes' rigid motion. Each eigenmode is scaled to a largest
+        nodal displacement of 1 (Exudyn's scaling of its modes): a modal coordinate is then a
+        displacement [m], not a mass-weighted one, of the scale of the other coordinates in Newton's
+        increments (measured on the fe_screw scene, 1 x 6 x 2 cells, 12 modes, no normal dashpot,
+        started undeformed, 0.3 s: 1137 steps with mass-orthonormal modes, 331 scaled)."""
         fixed = np.zeros(self.number_of_nodes, dtype=bool)
         fixed[np.asarray(fixed_nodes, dtype=np.int64)] = True
         free = np.flatnonzero(np.repeat(~fixed, 3))
