@@ -110,7 +110,8 @@ class ElasticMesh:
         nodal displacement of 1 (Exudyn's scaling of its modes): a modal coordinate is then a
         displacement [m], not a mass-weighted one, of the scale of the other coordinates in Newton's
         increments (measured on the fe_screw scene, 1 x 6 x 2 cells, 12 modes, no normal dashpot,
-        started undeformed, 0.3 s: 1137 steps with mass-orthonormal modes, 331 scaled)."""
+        1e-4 s of Rayleigh damping, started undeformed, 0.3 s: 1137 steps with mass-orthonormal
+        modes, 331 scaled)."""
         fixed = np.zeros(self.number_of_nodes, dtype=bool)
         fixed[np.asarray(fixed_nodes, dtype=np.int64)] = True
         free = np.flatnonzero(np.repeat(~fixed, 3))
