@@ -22,6 +22,7 @@ from exudyn.itemInterface import (MarkerBodyPosition, MarkerNodeCoordinate, Mark
                                   VObjectConnectorCartesianSpringDamper)
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
+from exu_aniso.engines import energy
 from exu_aniso.engines.exudyn_adapter.fem import AddLinearFEBody, FEMinterfaceOf, FloatingFrameMotion
 from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, RunScene, SceneView, SettingsInfo,
                                                      SimulationSettingsFor)
@@ -159,9 +160,8 @@ def _node_motion(model):
     ref = np.asarray(mbs.GetNodeParameter(model["body"]["nRigid"], "referenceCoordinates"), dtype=float)
     Psi = model["body"]["basis"]
     eta, eta_t = E[:, 1:], Et[:, 1:]
-    X, V, kinetic, strain = FloatingFrameMotion(mesh, Psi, ref + R[:, 1:], Rt[:, 1:], eta, eta_t)
-    fd = p.stiffness_damping * eta_t @ (Psi.T @ (mesh.stiffness @ Psi))
-    return t, X, V, kinetic, strain, fd, eta
+    m = FloatingFrameMotion(mesh, Psi, ref + R[:, 1:], Rt[:, 1:], eta, eta_t)
+    return t, m.X, m.V, m.kinetic, m.strain, p.stiffness_damping * eta_t @ m.modal_stiffness, eta
 
 
 def FeBlockTrajectory(model):
@@ -187,8 +187,8 @@ def FeBlockTrajectory(model):
                 stick_fraction=stick, slip_fraction=slip, strain_energy=strain, dissipated_energy=diss)
     # the drive's work: the constraints' force on the driver along its path (trapezoid); Exudyn's Force
     # output of a coordinate constraint is the multiplier, the force on its second marker's negative
-    work_in = -np.concatenate([[0.0], np.cumsum(np.einsum("ni,ni->n", 0.5 * (Fc[1:] + Fc[:-1]), np.diff(D, axis=0)))])
-    damping = np.concatenate([[0.0], np.cumsum(np.einsum("ni,ni->n", 0.5 * (fd[1:] + fd[:-1]), np.diff(q, axis=0)))])
+    work_in = -energy.work_trapezoid(Fc, D)
+    damping = energy.work_trapezoid(fd, q)
     m_driver = DRIVER_MASS_FACTOR * mesh.total_mass
     terms = dict(kinetic=kinetic + 0.5 * m_driver * np.sum(Dv ** 2, axis=1), strain=strain,
                  springs=0.5 * k * np.sum(stretch ** 2, axis=(1, 2)), damping=damping, work_in=work_in)

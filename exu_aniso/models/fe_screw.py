@@ -16,9 +16,9 @@ import numpy as np
 import exudyn as exu
 from exudyn.FEM import ObjectFFRFreducedOrderInterface
 from exudyn.itemInterface import LoadForceVector, MarkerNodePosition, SensorNode
-from exudyn.rigidBodyUtilities import EulerParameters2GLocal, EulerParameters2RotationMatrix
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
+from exu_aniso.engines import energy
 from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf, FloatingFrameMotion
 from exu_aniso.engines.exudyn_adapter.runner import (AddYawDrive, HistoryOutputs, RunScene, SceneView, SettingsInfo,
                                                      SimulationSettingsFor, Unwrap)
@@ -75,21 +75,17 @@ def FeScrewTrajectory(model):
     t = R[:, 0]
     q = np.asarray(mbs.GetNodeParameter(body["nRigid"], "referenceCoordinates"), dtype=float) + R[:, 1:]
     Psi, eta, eta_t = body["basis"], E[:, 1:], Et[:, 1:]
-    X, V, kinetic, strain = FloatingFrameMotion(mesh, Psi, q, Rt[:, 1:], eta, eta_t)
-    A = np.array([EulerParameters2RotationMatrix(e) for e in q[:, 3:7]])
-    angle = Unwrap(np.arctan2(A[:, 1, 0], A[:, 0, 0]))
-    # the frame's angular velocity about the world z: (A G_local e')_z
-    omega = np.array([(a @ (np.asarray(EulerParameters2GLocal(e)) @ et))[2] for a, e, et in zip(A, q[:, 3:7], Rt[:, 4:8])])
-    twist = ring_twist(p, mesh, (eta @ Psi.T).reshape(len(t), -1, 3))
+    m = FloatingFrameMotion(mesh, Psi, q, Rt[:, 1:], eta, eta_t)
+    angle = Unwrap(np.arctan2(m.rotation[:, 1, 0], m.rotation[:, 0, 0]))
+    twist = ring_twist(p, mesh, m.U)
     diss, _, H = HistoryOutputs(mbs, model["contact"])
-    traj = dict(t=t, angle=angle, z=q[:, 2], omega=omega, vz=Rt[:, 3],
+    traj = dict(t=t, angle=angle, z=q[:, 2], omega=m.omega[:, 2], vz=Rt[:, 3],
                 torque=p.drive_stiffness * (p.rotation_speed * t - angle), axial_force=np.full(len(t), p.axial_load),
-                twist_tip=twist[:, 0], twist_rings=twist, strain_energy=strain, dissipated_energy=diss)
+                twist_tip=twist[:, 0], twist_rings=twist, strain_energy=m.strain, dissipated_energy=diss)
     fe_screw_columns(traj, H)
-    fd = p.stiffness_damping * eta_t @ (Psi.T @ (mesh.stiffness @ Psi))
-    damping = np.concatenate([[0.0], np.cumsum(np.einsum("ni,ni->n", 0.5 * (fd[1:] + fd[:-1]), np.diff(eta, axis=0)))])
+    damping = energy.work_trapezoid(p.stiffness_damping * eta_t @ m.modal_stiffness, eta)
     thread = mesh.node_sets["thread"]
-    return traj, X[:, thread], V[:, thread], H, dict(kinetic=kinetic, damping=damping)
+    return traj, m.X[:, thread], m.V[:, thread], H, dict(kinetic=m.kinetic, damping=damping)
 
 
 def RunFeScrew(p: FeScrewParams = None, progress=False, snapshot=None, solutionFile=None, **options):

@@ -142,6 +142,15 @@ def fe_screw_basis(p, mesh):
     return mesh.clamped_modes(mesh.node_sets["head"], None if p.model == "full" else p.modes)
 
 
+def thread_directions(mesh):
+    """The thread nodes (K,) of the shank's mesh and their radial and circumferential unit vectors
+    e_r, e_phi (K, 3) in the body frame (axis z)."""
+    thread = mesh.node_sets["thread"]
+    r = mesh.nodes[thread]
+    e_r = np.column_stack([r[:, 0], r[:, 1], np.zeros(len(r))]) / np.hypot(r[:, 0], r[:, 1])[:, None]
+    return thread, e_r, np.column_stack([-e_r[:, 1], e_r[:, 0], np.zeros(len(r))])
+
+
 def press_fit(p, mesh, basis):
     """The modal coordinates eta (m,) [m] of the shank pressed into the hole at rest: every thread node
     k at its reference radius R + interference penetrates the hole by interference + e_r . u_k and
@@ -151,9 +160,7 @@ def press_fit(p, mesh, basis):
 
     (linear: the normal penalty only, no friction). Starting there, the run does not begin with the
     whole interference as a jump of force on the elastic shank (which cut the first steps)."""
-    thread = mesh.node_sets["thread"]
-    r = mesh.nodes[thread]
-    e_r = np.column_stack([r[:, 0], r[:, 1], np.zeros(len(r))]) / np.hypot(r[:, 0], r[:, 1])[:, None]
+    thread, e_r, _ = thread_directions(mesh)
     eps = p.eps_n / len(thread)
     rows = (3 * thread[:, None] + np.arange(3)).ravel()
     radial = np.einsum("ki,kim->km", e_r, basis[rows].reshape(len(thread), 3, -1))     # e_r . Psi_k (K, m)
@@ -180,9 +187,7 @@ def twist_closed_form(p, torque):
 def ring_twist(p, mesh, displacement):
     """Rotation [rad] of each ring of thread nodes (tip first) relative to the head, from the nodes'
     displacements in the body frame (n, N, 3): the mean of e_phi . u / R over the ring's nodes."""
-    thread = mesh.node_sets["thread"]
-    r = mesh.nodes[thread]
-    e_phi = np.column_stack([-r[:, 1], r[:, 0], np.zeros(len(r))]) / np.hypot(r[:, 0], r[:, 1])[:, None]
+    thread, _, e_phi = thread_directions(mesh)
     R = p.radius + p.interference
     phi = np.einsum("nki,ki->nk", np.asarray(displacement)[:, thread], e_phi) / R
     return phi.reshape(len(phi), p.cells_z + 1, p.cells_theta).mean(axis=2)
@@ -195,10 +200,8 @@ def static_twist(p, torque, mesh=None):
     the rings, torque [N m] in all, which the head carries), from K u = f (scipy's sparse solve)."""
     import scipy.sparse.linalg
     mesh = fe_screw_mesh(p) if mesh is None else mesh
-    thread = mesh.node_sets["thread"]
-    r = mesh.nodes[thread]
+    thread, _, e_phi = thread_directions(mesh)
     R = p.radius + p.interference
-    e_phi = np.column_stack([-r[:, 1], r[:, 0], np.zeros(len(r))]) / np.hypot(r[:, 0], r[:, 1])[:, None]
     f = np.zeros((mesh.number_of_nodes, 3))
     f[thread] = -torque / (len(thread) * R) * e_phi
     free = np.ones(mesh.number_of_nodes, dtype=bool)

@@ -14,6 +14,8 @@ CPU against 1.19 s, the same steps and Newton iterations.
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import exudyn as exu
 from exudyn.FEM import FEMinterface
@@ -77,20 +79,38 @@ def AddLinearFEBody(mbs, mesh, position=(0.0, 0.0, 0.0), stiffnessDamping=0.0, c
     return dict(oBody=oBody, nodes=nodes, fem=fem)
 
 
+class FrameMotion(NamedTuple):
+    """FloatingFrameMotion's samples: every mesh node's global position X and velocity V (n, N, 3),
+    its displacement in the body frame U = Psi eta (n, N, 3) [m], the frame's rotation matrices
+    (n, 3, 3) and global angular velocity omega (n, 3) [rad/s], the body's kinetic energy 0.5 v.M v
+    and strain energy 0.5 eta.K_r eta (n,) [J], and the modal stiffness K_r = Psi^T K Psi (m, m)."""
+    X: np.ndarray
+    V: np.ndarray
+    U: np.ndarray
+    rotation: np.ndarray
+    omega: np.ndarray
+    kinetic: np.ndarray
+    strain: np.ndarray
+    modal_stiffness: np.ndarray
+
+
 def FloatingFrameMotion(mesh, basis, rigid, rigid_t, modal, modal_t):
-    """Every mesh node's global position X and velocity V (n, N, 3) of an ObjectFFRFreducedOrder
-    (Euler-parameter frame) over n samples, with the body's kinetic energy 0.5 v.M v and strain
-    energy 0.5 eta.Psi^T K Psi eta (n,) [J]. rigid, rigid_t (n, 7): the frame node's coordinates with
-    their reference values and its velocities; modal, modal_t (n, m); basis Psi (3N, m):
-    x_k = p + A (r_k + Psi_k eta), v_k = p' + A (omega_local x (r_k + Psi_k eta) + Psi_k eta')."""
+    """The motion of an ObjectFFRFreducedOrder (Euler-parameter frame) over n samples, as a
+    FrameMotion. rigid, rigid_t (n, 7): the frame node's coordinates with their reference values and
+    its velocities; modal, modal_t (n, m); basis Psi (3N, m): x_k = p + A (r_k + Psi_k eta),
+    v_k = p' + A (omega_local x (r_k + Psi_k eta) + Psi_k eta')."""
     n = len(rigid)
     X, V = np.empty((n, mesh.number_of_nodes, 3)), np.empty((n, mesh.number_of_nodes, 3))
+    U = (modal @ basis.T).reshape(n, -1, 3)
+    A, omega = np.empty((n, 3, 3)), np.empty((n, 3))
     for i in range(n):
-        q = rigid[i]
-        A = np.asarray(EulerParameters2RotationMatrix(q[3:7]))
-        w_local = np.asarray(EulerParameters2GLocal(q[3:7])) @ rigid_t[i, 3:7]
-        b = mesh.nodes + (basis @ modal[i]).reshape(-1, 3)
-        X[i] = q[0:3] + b @ A.T
-        V[i] = rigid_t[i, 0:3] + (np.cross(w_local, b) + (basis @ modal_t[i]).reshape(-1, 3)) @ A.T
+        e = rigid[i, 3:7]
+        A[i] = EulerParameters2RotationMatrix(e)
+        w_local = np.asarray(EulerParameters2GLocal(e)) @ rigid_t[i, 3:7]
+        omega[i] = A[i] @ w_local
+        b = mesh.nodes + U[i]
+        X[i] = rigid[i, 0:3] + b @ A[i].T
+        V[i] = rigid_t[i, 0:3] + (np.cross(w_local, b) + (basis @ modal_t[i]).reshape(-1, 3)) @ A[i].T
     Kr = basis.T @ (mesh.stiffness @ basis)
-    return X, V, mesh.kinetic_energy(V.reshape(n, -1)), 0.5 * np.einsum("ni,ij,nj->n", modal, Kr, modal)
+    return FrameMotion(X, V, U, A, omega, mesh.kinetic_energy(V.reshape(n, -1)),
+                       0.5 * np.einsum("ni,ij,nj->n", modal, Kr, modal), Kr)

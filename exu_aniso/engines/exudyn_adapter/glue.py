@@ -90,6 +90,13 @@ def _rotate_z(angle, b):
     return c * b[:, 0] - s * b[:, 1], s * b[:, 0] + c * b[:, 1]
 
 
+def _contracted(dJ, q_t, F):
+    """What the Jacobian needs of the point derivatives dJ = dJp/dq (K, 3, n, n) (point_derivatives):
+    the geometric term sum_k F_k . dJp_k/dq (n, n) at point forces F (K, 3), and dv/dq = dJp/dq q_t
+    (K, 3, n)."""
+    return np.einsum("kiac,ki->ac", dJ, F), np.einsum("kiac,a->kic", dJ, np.asarray(q_t, dtype=float))
+
+
 class _RigidNode:
     """Positions, velocities and point Jacobians of body-fixed points for one Exudyn node, in numpy
     (the numpy route; the compiled route's node kinds are exu_aniso.kernel.nodes, and
@@ -134,6 +141,10 @@ class _RigidNode:
         """dx/dq (K, 3, n) of local points b, given their virtual-work Jacobian Jp: Jp itself but
         for Euler parameters (see _PointTangent)."""
         return Jp
+
+    def tangent_terms(self, q, q_t, b, F):
+        """The geometric term (n, n) at point forces F (K, 3) and dv/dq (K, 3, n) (_contracted)."""
+        return _contracted(self.point_derivatives(q, b), q_t, F)
 
 
 class _AboutZ(_RigidNode):
@@ -320,6 +331,9 @@ class _RigidGroup:
         for j, (c, bd, qj) in enumerate(self._each(q)):
             dJ[j * K:(j + 1) * K, :, c:c + self.nq, c:c + self.nq] = bd.point_derivatives(qj, b)
         return dJ
+
+    def tangent_terms(self, q, q_t, b, F):
+        return _contracted(self.point_derivatives(q, b), q_t, F)
 
     def position_jacobian(self, q, b, Jp):
         K = b.shape[0]
@@ -677,15 +691,15 @@ def _is_mesh_body(mbs, obj):
 
 class _PointTangent(NamedTuple):
     """q-derivatives of the slave point kinematics for the Jacobian: dx (K, 3, n) = dx/dq,
-    dJp (K, 3, n, n) = dJp/dq (_BodyKinematics.point_derivatives), dv (K, 3, n) = dv/dq at fixed
-    q_t = dJp q_t, and the law's damping Dv = df/dv (K, 3, 3). dx equals Jp except for Euler
-    parameters: x = p + A(e) b with A quadratic in e, so along e itself dx/de e = 2 A b while the
-    virtual-work Jacobian -A [b]x G(e) e = 0 (the unit norm is Exudyn's separate constraint)."""
+    geometric (n, n) = sum_k f_k . dJp_k/dq at the point forces f and dv (K, 3, n) = dv/dq at fixed
+    q_t = dJp/dq q_t (the slave's tangent_terms; both None for a linear slave, whose Jp is constant),
+    and the law's damping Dv = df/dv (K, 3, 3). dx equals Jp except for Euler parameters: x = p + A(e)
+    b with A quadratic in e, so along e itself dx/de e = 2 A b while the virtual-work Jacobian
+    -A [b]x G(e) e = 0 (the unit norm is Exudyn's separate constraint)."""
     dx: np.ndarray
-    dJp: np.ndarray
+    geometric: np.ndarray
     dv: np.ndarray
     damping: np.ndarray
-    geometric: np.ndarray = None      # sum_k f_k . dJp_k/dq (n, n) where the slave forms it itself (no dJp)
 
 
 class _ContactSet:
@@ -723,12 +737,9 @@ class _ContactSet:
             tg = None
             if tangent and self.slave.linear:          # Jp constant: dx/dq = Jp, dJp/dq = 0
                 tg = _PointTangent(Jp, None, None, st.damping)
-            elif tangent and hasattr(self.slave, "tangent_terms"):
-                geo, dv = self.slave.tangent_terms(qs, vs, self.points, st.force)
-                tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), None, dv, st.damping, geo)
             elif tangent:
-                dJ = self.slave.point_derivatives(qs, self.points)
-                tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), dJ, np.einsum("kiac,a->kic", dJ, np.asarray(vs, dtype=float)), st.damping)
+                geo, dv = self.slave.tangent_terms(qs, vs, self.points, st.force)
+                tg = _PointTangent(self.slave.position_jacobian(qs, self.points, Jp), geo, dv, st.damping)
             return st, Jp, st.force, None, tg
         p, A, w, vp = self.master.frame(qm, vm)
         d = x - p
@@ -812,15 +823,16 @@ class _ContactSet:
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
         """-(fODE2 dQ/dq + fODE2_t dQ/dq_t) of Q = sum_k Jp_k^T f_k(x_k, v_k) (ground master)."""
-        st, Jp, F, _, tg = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True, dt=self.step_time(mbs, t))
+        st, Jp, _, _, tg = self.state(mbs, q, q_t, self.history(mbs, _SOS), tangent=True, dt=self.step_time(mbs, t))
         n = Jp.shape[2]
         rows = Jp.reshape(-1, n).T                                       # sum_k Jp_k^T M_k R_k as one product
         Kq = rows @ (st.stiffness @ tg.dx).reshape(-1, n)
         Dq = rows @ (st.damping @ Jp).reshape(-1, n)
-        self._add_geometric(Kq, Jp, F, tg)
+        self._add_geometric(Kq, Jp, tg)
         return -(fODE2 * Kq + fODE2_t * Dq)
 
-    def _add_geometric(self, Kq, Jp, F, tg):
+    @staticmethod
+    def _add_geometric(Kq, Jp, tg):
         """Add the terms of dQ/dq that come from Jp depending on q (every node type; tg: the
         _PointTangent of state()). With v = Jp q_t and f = f(x, v):
 
@@ -829,12 +841,9 @@ class _ContactSet:
         the first (law stiffness) is in Kq already; the second is the lever arms turning at fixed
         point forces (the reference's geometric term), the third the point velocities turning
         with the body (nonzero only with normal damping: Dv = df/dv). A linear slave has none."""
-        if tg.geometric is not None:
-            Kq += tg.geometric
-        elif tg.dJp is None:
+        if tg.geometric is None:
             return
-        else:
-            Kq += np.einsum("kiac,ki->ac", tg.dJp, F)
+        Kq += tg.geometric
         if np.any(tg.damping):
             n = Jp.shape[2]
             Kq += Jp.reshape(-1, n).T @ (tg.damping @ tg.dv).reshape(-1, n)
