@@ -1,8 +1,9 @@
-"""Command line: ``exu-aniso run SCENE`` and ``exu-aniso params SCENE``.
+"""Command line: ``exu-aniso run SCENE``, ``exu-aniso params SCENE`` and ``exu-aniso compile``.
 
     exu-aniso run SCENE|all [--engine exudyn|reference] [--set NAME=VALUE ...] [--out DIR]
                             [--quiet] [--snapshot] [--view]
     exu-aniso params SCENE
+    exu-aniso compile [SCENE ...|all]
 
 SCENE: one of the scene catalog (``exu_aniso.catalog``: block, screw, particle, capstan, feeder,
 fastening, fe_block, fe_screw).
@@ -289,11 +290,20 @@ def main(argv=None):
                         "(needs a display; Exudyn engine)")
     p = sub.add_parser("params", help="list the parameters of a scene with unit, default and rule")
     p.add_argument("scene", choices=tuple(SCENES))
+    c = sub.add_parser("compile", help="compile the contact kernels of scenes' default runs now (pip install does "
+                                       "it for the main job)")
+    c.add_argument("scenes", nargs="*", metavar="SCENE",
+                   help=f"scenes ({', '.join(SCENES)}), or all: the main job, {' and '.join(MAIN_JOB)} (default)")
     a = ap.parse_args(argv)
     try:
         if a.command == "params":
             print(SCENES[a.scene].params.describe())
             return 0
+        if a.command == "compile":
+            unknown = [x for x in a.scenes if x not in (*SCENES, "all")]
+            if unknown:
+                raise UsageError(f"compile: no scene {unknown[0]!r}; choose from {', '.join(SCENES)} or all")
+            return compile_kernels(a.scenes or ["all"])
         sets = parse_sets(a.sets)
         if a.output_step is not None and not (np.isfinite(a.output_step) and a.output_step >= 0):
             raise UsageError(f"--output-step must be a finite time step >= 0 [s] (0: every step the solver "
@@ -318,6 +328,49 @@ def main(argv=None):
     # --view: the runs' Exudyn solution files live in a temporary directory until the viewer closes
     with tempfile.TemporaryDirectory(prefix="exu-aniso-view-") if a.view else contextlib.nullcontext() as tmp:
         return _run_jobs(jobs, a, tmp)
+
+
+COMPILE_STEPS = 5       # time steps of a compile run: every kernel of the scene's default run is called in them
+
+
+def compile_kernels(scenes):
+    """``exu-aniso compile``: compile (or find in the cache) every contact kernel that the scenes'
+    default runs use, by simulating each scene's Exudyn model for COMPILE_STEPS time steps, its times
+    scaled alike (the whole default run where the scene's rules forbid that; nothing written),
+    several scenes in parallel worker processes on several cores. Prints the wall time
+    and whether the kernels were in the cache already. Exit code 0, or 1 when a run failed."""
+    import time
+
+    names = list(dict.fromkeys(s for x in scenes for s in (MAIN_JOB if x == "all" else (x,))))
+    start = time.perf_counter()
+    done = list(_alongside(_compile_scene, [(s,) for s in names]))
+    failures = [f for f, _ in done if f]
+    for f in failures:
+        print(f"exu-aniso: compile: {f}", file=sys.stderr)
+    compiled = sum(n for _, n in done)
+    print(f"exu-aniso: the contact kernels of {', '.join(names)}: {compiled} compiled, the others found in the "
+          f"cache, in {time.perf_counter() - start:.1f} s", file=sys.stderr)
+    return 1 if failures else 0
+
+
+def _compile_scene(scene):
+    """Simulate COMPILE_STEPS steps of a scene's defaults (its kernels compiled or loaded on the way):
+    (None or the failure's message, the number of set kernels compiled)."""
+    from exu_aniso.kernel import point
+    try:
+        defaults = SCENES[scene].params()
+        # every time of the scene (t_end, a pressing's duration, ...) but the step scaled alike
+        factor = COMPILE_STEPS * defaults.dt / defaults.t_end
+        sets = {name: repr(getattr(defaults, name) * factor) for name, (_, unit, _, _) in defaults.TABLE.items()
+                if unit == "s" and name != "dt"}
+        try:
+            params = make_params(scene, sets)
+        except UsageError:      # a scene whose rules forbid so short a run (whole periods of a drive): all of it
+            params = defaults
+        simulate(scene, params, "exudyn")
+    except Exception as e:      # noqa: BLE001 - reported, the exit code says it
+        return f"{scene}: {type(e).__name__}: {e}", len(point.compiled_here)
+    return None, len(point.compiled_here)
 
 
 def _run_job(scene, params, engine, out, progress, snapshot, solution_file, output_step=None):
@@ -369,19 +422,8 @@ def _run_jobs(jobs, a, tmp):
              os.path.join(tmp, f"{scene}.sol") if tmp is not None else None, a.output_step)
             for k, (scene, params, out) in enumerate(jobs)]
     if parallel:
-        import concurrent.futures
-        import itertools
-        import multiprocessing
-        from exu_aniso.kernel.point import announce_compile
-        announce_compile(stream=sys.stderr)
-        # the last job in this process, which is ready first (its imports are done), the others in
-        # workers meanwhile: run all's last scene, the screw, compiles longest (a curved surface)
-        with concurrent.futures.ProcessPoolExecutor(max_workers=min(len(jobs) - 1, os.cpu_count() - 1),
-                                                    mp_context=multiprocessing.get_context("spawn"),
-                                                    initializer=_worker_announced) as pool:
-            futures = [pool.submit(_run_job, *x) for x in args[:-1]]
-            last = _run_job(*args[-1])
-            code = _print_reports(itertools.chain((f.result() for f in futures), [last]))
+        # in order, the first reports as their workers finish
+        code = _print_reports(_alongside(_run_job, args))
     else:
         code = _print_reports(_run_job(*x) for x in args)
     if code:
@@ -398,10 +440,22 @@ def _run_jobs(jobs, a, tmp):
     return 0
 
 
-def _worker_announced():
-    """A worker process: the compile notice was given once, by the parent."""
-    from exu_aniso.kernel import point
-    point._announced = True
+def _alongside(fn, calls):
+    """fn(*c) for each c of calls, in order: the last in this process, which is ready first (its imports
+    are done), the others in worker processes meanwhile (one per core but this one). A generator:
+    each result as it is needed. (run all's last scene, the screw, compiles longest.)"""
+    import concurrent.futures
+    import multiprocessing
+    workers = min(len(calls) - 1, (os.cpu_count() or 1) - 1)
+    if workers < 1:
+        yield from (fn(*c) for c in calls)
+        return
+    with concurrent.futures.ProcessPoolExecutor(max_workers=workers,
+                                                mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = [pool.submit(fn, *c) for c in calls[:-1]]
+        last = fn(*calls[-1])
+        yield from (f.result() for f in futures)
+        yield last
 
 
 def _print_reports(reports):

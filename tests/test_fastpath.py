@@ -288,17 +288,25 @@ def test_first_compile_is_announced_once_and_cached(tmp_path):
             "assert pk.Q[1] == 0.0 and pk.Q.shape == (3,)\n")
     first = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     second = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    assert first.stderr.count("compiling the contact kernels") == 1, first.stderr
+    assert first.stderr.count("compiling the contact kernel for") == 1, first.stderr
     assert "compiling" not in second.stderr, second.stderr
     assert any((tmp_path / "numba").rglob("*.nbi"))
 
 
 def test_compile_announcement_only_when_not_cached(monkeypatch, capsys):
+    """A kernel not in the cache is announced once per process, with what it is for and how long it
+    takes (COMPILE_SECONDS); one in the cache is not announced."""
     from exu_aniso.kernel import point as kernel_point
-    for cached, expected in ((True, ""), (False, "compiling the contact kernels")):
-        monkeypatch.setattr(kernel_point, "_announced", False)
-        monkeypatch.setattr(kernel_point, "kernels_cached", lambda entry=None: cached)
-        kernel_point.announce_compile()
-        kernel_point.announce_compile()            # once per process
+    law = kernel_point._law_bundle(ContactLaw(Plane(coordinates="polar"), Adhesion.isotropic(1e3),
+                                              Friction.isotropic(0.3), 1e5))
+    args = (np.zeros(3), law, kernel_point.NODE_KINDS["RigidBody2D"])
+    for cached, expected in ((True, ""), (False, "compiling the contact kernel for PolarPlane, IsotropicNet "
+                                                 "adhesion, IsotropicNet friction, exact map, RigidBody2D node")):
+        monkeypatch.setattr(kernel_point, "compiled_here", set())
+        monkeypatch.setattr(kernel_point, "kernels_cached", lambda entry=None, sig=None: cached)
+        kernel_point.announce_compile(sig=("a",), args=args)
+        kernel_point.announce_compile(sig=("a",), args=args)            # once per process and kernel
         err = capsys.readouterr().err
-        assert (expected in err) and err.count("compiling") == (0 if cached else 1)
+        assert (expected in err) and err.count("compiling") == (0 if cached else 1), err
+        if not cached:
+            assert f"about {kernel_point.COMPILE_SECONDS[0]}-{kernel_point.COMPILE_SECONDS[1]} s" in err

@@ -590,7 +590,6 @@ class CovariantSet:
     history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
 
     def __init__(self, contact_law, node_kind, ref, points):
-        announce_compile(entry=evaluate_covariant_linear if isinstance(node_kind, LinearMap) else evaluate_covariant)
         self.law = _law_bundle(contact_law)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
         if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
@@ -656,7 +655,6 @@ class CovariantPairSet(CovariantSet):
 
     def __init__(self, contact_law, node_kind, ref, points, master_kind, master_ref):
         from exu_aniso.kernel.sets import PAIR_SLOTS
-        announce_compile(entry=evaluate_covariant_pair)
         if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
             raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
         self.law = _law_bundle(contact_law)
@@ -698,7 +696,6 @@ class CovariantGroupSet(CovariantSet):
     def __init__(self, contact_law, node_kind, ref, points, nb):
         import scipy.sparse as sp
 
-        announce_compile(entry=evaluate_covariant_group)
         self.law = _law_bundle(contact_law)
         self.linear = None
         self.kind = NODE_KINDS[node_kind]
@@ -722,32 +719,59 @@ class CovariantGroupSet(CovariantSet):
         self._entry = None
 
 
-_announced = False
+# What a first compilation of a set's kernel costs on this 2-core machine [s]: the range over the
+# kernels of docs/results/compile_times.json (python studies/compile_times.py; tests/test_compile_cache.py
+# holds these figures to that file)
+COMPILE_SECONDS = (9, 17)
 
 
-def kernels_cached(entry=None):
+def kernels_cached(entry=None, sig=None):
     """True if numba's on-disk cache (exu_aniso.util.numba_cache) holds compiled code of the kernel
-    ``entry`` (a numba dispatcher; default: evaluate_covariant) for the current source;
-    False if the first call will compile (15-25 s per surface and node type on this
-    2-core machine). Reads numba's cache index, a private API: when
-    that fails, it answers True (say nothing rather than something wrong)."""
+    ``entry`` (a numba dispatcher; default: evaluate_covariant) for the argument types ``sig`` (a
+    tuple of numba types; None: for any types), so that no compilation is needed; False if the
+    first call will compile. Reads numba's cache index, a private API: when that fails, it answers
+    True (say nothing rather than something wrong)."""
     try:
-        return bool((entry or evaluate_covariant)._cache._cache_file._load_index())
+        cache = (entry or evaluate_covariant)._cache
+        index = cache._cache_file._load_index()
+        if sig is None:
+            return bool(index)
+        from numba.core.registry import cpu_target
+        return cache._index_key(sig, cpu_target.target_context.codegen()) in index
     except Exception:   # noqa: BLE001 - numba internals changed: no announcement
         return True
 
 
-def announce_compile(stream=None, entry=None):
-    """Say once per process, before it happens, that the kernels are being compiled."""
-    global _announced
-    if _announced:
+def kernel_name(args):
+    """What a set kernel's arguments specialise it for, in words: the surface, the nets, the return map
+    and the node kind (the types of the law bundle and of the node kind among args)."""
+    law = next((a for a in args if isinstance(a, CovariantLaw)), None)
+    kinds = [type(a).__name__ for a in args if type(a).__module__ == NODE_KINDS_MODULE]
+    if law is None:
+        return "a contact set"
+    nodes = {0: "", 1: f", {kinds[0]} node"}.get(len(kinds), f", {kinds[0]} slave on a {kinds[-1]} master")
+    return (f"{type(law.surface).__name__.replace('Params', '')}, {type(law.adhesion).__name__} adhesion, "
+            f"{type(law.friction).__name__} friction, {type(law.law.method).__name__.lower()} map{nodes}")
+
+
+NODE_KINDS_MODULE = LinearSlave.__module__
+
+
+def announce_compile(stream=None, entry=None, sig=None, args=None):
+    """Say, before it happens, that a kernel is being compiled (once per kernel and process), what for
+    and how long it takes here (COMPILE_SECONDS); nothing when the cache holds it (kernels_cached)."""
+    key = (entry, sig)
+    if key in compiled_here or kernels_cached(entry, sig):
         return
-    _announced = True
-    if not kernels_cached(entry):
-        where = getattr(getattr(entry or evaluate_covariant, "_cache", None), "_cache_path", "numba's cache directory")
-        print("exu_aniso: compiling the contact kernels with numba, once per surface and node type (measured on a "
-              "2-core machine: the first 'exu-aniso run all' 19-25 s, one scene alone 20-21 s); later runs load them "
-              f"from the cache in {where}", file=stream or sys.stderr, flush=True)
+    compiled_here.add(key)
+    where = getattr(getattr(entry or evaluate_covariant, "_cache", None), "_cache_path", "numba's cache directory")
+    what = kernel_name(args) if args is not None else "a contact set"
+    print(f"exu_aniso: compiling the contact kernel for {what} with numba (about {COMPILE_SECONDS[0]}-"
+          f"{COMPILE_SECONDS[1]} s on a 2-core machine; once per machine: later runs load it from the cache in "
+          f"{where})", file=stream or sys.stderr, flush=True)
+
+
+compiled_here = set()      # the (entry, signature) pairs compiled (and announced) in this process
 
 
 def _entry_point(fn, args):
@@ -761,6 +785,8 @@ def _entry_point(fn, args):
     from numba.core.errors import NumbaIRAssumptionWarning
     try:
         sig = tuple(typeof(a) for a in args)
+        if sig not in fn.overloads:
+            announce_compile(entry=fn, sig=sig, args=args)
         with warnings.catch_warnings():
             # numba's internal SSA check complains about variables of branches it pruned in the force
             # loop's inlined law (tangent a constant False there); the code is right, the notice is noise
