@@ -1,0 +1,100 @@
+"""The kernel cache (exu_aniso.util.numba_cache) is keyed on exactly the sources a kernel is built from:
+an edit of a file no kernel is built from, or of a docstring, recompiles nothing; an edit of a
+surface recompiles that surface's kernels only; a stale kernel never runs. Each check runs a copy of
+the package in a subprocess with a cache of its own, and reads numba's own cache statistics of the
+projection (geometry._core.project) on two surfaces, with its result."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+import exu_aniso
+from exu_aniso.kernel import point
+
+# project a point 5 m from the centre of a unit sphere and 4 m above a plane: numba's hits and misses
+# of geometry._core.project (its cache statistics) and the gap per surface
+_PROBE = """
+import json
+from exu_aniso.geometry import _core, Plane, Sphere
+out = {}
+for name, surface in (("plane", Plane()), ("sphere", Sphere(1.0))):
+    before = _core.project.stats.cache_hits.copy(), _core.project.stats.cache_misses.copy()
+    gap = surface.gap_and_normal((0.0, 3.0, 4.0))[0]
+    hits = sum(_core.project.stats.cache_hits.values()) - sum(before[0].values())
+    misses = sum(_core.project.stats.cache_misses.values()) - sum(before[1].values())
+    out[name] = [hits, misses, gap]
+print(json.dumps(out))
+"""
+
+
+@pytest.fixture
+def package_copy(tmp_path):
+    """(run, edit): run() runs the probe on a copy of the package with a cache of its own and returns
+    {surface: [cache hits, cache misses, gap]}; edit(relative path, old, new) edits the copy."""
+    root = tmp_path / "src"
+    shutil.copytree(os.path.dirname(exu_aniso.__file__), root / "exu_aniso",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.so"))
+    env = dict(os.environ, PYTHONPATH=str(root), NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+
+    def run():
+        done = subprocess.run([sys.executable, "-c", _PROBE], env=env, cwd=tmp_path, capture_output=True,
+                              text=True, check=True)
+        return json.loads(done.stdout.strip().splitlines()[-1])
+
+    def edit(rel, old, new):
+        path = root / "exu_aniso" / rel
+        text = path.read_text()
+        assert old in text, (rel, old)
+        path.write_text(text.replace(old, new, 1))
+    return run, edit
+
+
+def test_edits_recompile_what_they_change_only(package_copy):
+    run, edit = package_copy
+    first = run()
+    assert [first["plane"][:2], first["sphere"][:2]] == [[0, 1], [0, 1]], first       # compiled once each
+    assert first["sphere"][2] == pytest.approx(4.0) and first["plane"][2] == pytest.approx(4.0)
+    # a scene, the command line and a docstring of a shared kernel source: nothing recompiles
+    edit("scenes/block.py", '"""', '"""An edited docstring.\n\n')
+    edit("cli.py", "import argparse\n", "import argparse\nEDITED = 1\n")
+    edit("geometry/_core.py", '"""Closest point projection', '"""An edited docstring. Closest point projection')
+    second = run()
+    assert [second["plane"][:2], second["sphere"][:2]] == [[1, 0], [1, 0]], second
+    # the sphere's chart: its kernels recompile, the plane's do not, and the new chart is what runs
+    edit("geometry/sphere.py", "    R = p.radius\n", "    R = 2.0 * p.radius\n")
+    third = run()
+    assert third["plane"][:2] == [1, 0] and third["sphere"][:2] == [0, 1], third
+    assert third["sphere"][2] == pytest.approx(3.0)                                    # not a stale kernel
+    # a shared kernel source's code: every kernel recompiles
+    edit("geometry/_core.py", "PROJECTION_MAXIT = 50", "PROJECTION_MAXIT = 51")
+    fourth = run()
+    assert [fourth["plane"][:2], fourth["sphere"][:2]] == [[0, 1], [0, 1]], fourth
+
+
+def test_kernel_sources_are_the_lower_layers():
+    """The shared kernel sources: the modules that import numba and the package modules they import;
+    no engine, scene, model, command line or study among them; every surface module keyed alone."""
+    from exu_aniso.util import numba_cache
+    shared = numba_cache.SOURCES.kernel_sources
+    assert {"kernel/point.py", "kernel/sets.py", "geometry/_core.py", "fields/nets.py", "law/return_maps.py",
+            "law/history.py"} <= set(shared)
+    assert not [s for s in shared if s.split("/")[0] in ("engines", "scenes", "models", "cli.py", "catalog.py")]
+    assert numba_cache.SOURCES.surface_modules == {
+        f"geometry/{m}.py" for m in ("plane", "cylinder", "cone", "sphere", "torus", "helicoid", "revolution",
+                                     "parametric")}
+    # the parametric surface imports the surface of revolution's helpers: keyed on both
+    assert numba_cache.SOURCES.surface_hash("exu_aniso.geometry.parametric") != numba_cache.SOURCES._combine(
+        ["geometry/parametric.py"])
+
+
+def test_compile_estimate_is_the_measured_one():
+    """The compile time the announcement quotes (kernel.point.COMPILE_SECONDS) is the range measured by
+    studies/compile_times.py in docs/results/compile_times.json, rounded outward to whole seconds."""
+    path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "docs", "results",
+                        "compile_times.json")
+    with open(path) as f:
+        measured = [k["seconds"] for k in json.load(f)["kernels"]]
+    assert point.COMPILE_SECONDS == (int(min(measured)), int(max(measured)) + 1)
