@@ -24,6 +24,7 @@ from exu_aniso.scenes.block import simulate_block
 from exu_aniso.scenes.screw import simulate_screw
 from exu_aniso.scenes.block import BlockParams
 from exu_aniso.scenes.screw import ScrewParams
+from _limits import HANG_S
 
 NAN, INF = float("nan"), float("inf")
 B_OK, F_OK = (-1e3, 0.0, -2e3), (11.0, 0.0, 4.0)   # valid law inputs (B negative, F positive definite)
@@ -363,7 +364,7 @@ def test_cli_process_prints_no_traceback(tmp_path):
     out = tmp_path / "out"
     r = subprocess.run([sys.executable, "-c", "import sys; from exu_aniso.cli import main; sys.exit(main())",
                         "run", "screw", "--set", "rings=2.5", "--out", str(out)],
-                       capture_output=True, text=True, timeout=120)
+                       capture_output=True, text=True, timeout=HANG_S)
     assert r.returncode == 2
     assert "Traceback" not in r.stderr and "rings must be an integer; got '2.5'" in r.stderr
     assert r.stdout == "" and not out.exists()

@@ -22,6 +22,7 @@ pytest.importorskip("exudyn")
 from exu_aniso.models.capstan import BuildCapstan, RunCapstan  # noqa: E402
 from exu_aniso.scenes.capstan import COLUMNS, TITLE_KEYS, CapstanParams, PlotCapstan  # noqa: E402
 from exu_aniso.scenes.base import ENERGY_COLUMNS  # noqa: E402
+from _limits import HANG_S
 
 RATIO_RTOL = 1e-3
 
@@ -165,7 +166,7 @@ def test_capstan_study_quick(tmp_path, quick_study):
     the ratios within the tolerance of exp(mu phi) along the rope, mu_2 across the rope without effect,
     the ledger closed in every run, the report and the figure written."""
     from exu_aniso.util.output import read_table
-    quick_study("capstan", tmp_path, timeout=120)
+    quick_study("capstan", tmp_path, timeout=HANG_S)
     W = read_table(tmp_path / "wrap.csv")
     assert W["wrap_angle [deg]"] == [90.0] and abs(W["error [-]"][0]) < RATIO_RTOL
     O = read_table(tmp_path / "orthotropic.csv")

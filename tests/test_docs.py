@@ -9,6 +9,7 @@ import subprocess
 import sys
 
 import pytest
+from _limits import HANG_S
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = sorted(f for f in os.listdir(os.path.join(ROOT, "examples")) if f.startswith("plot_") and f.endswith(".py"))
@@ -23,7 +24,7 @@ def test_the_site_builds_without_a_warning(tmp_path):
     shutil.copytree(os.path.join(ROOT, "examples"), tmp_path / "examples")
     env = dict(os.environ, EXU_ANISO_DOCS_NO_GALLERY="1")
     out = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", str(tmp_path / "docs"),
-                          str(tmp_path / "html")], capture_output=True, text=True, env=env, timeout=600)
+                          str(tmp_path / "html")], capture_output=True, text=True, env=env, timeout=HANG_S)
     assert out.returncode == 0, out.stderr[-3000:]
     pages = {p.name for p in (tmp_path / "html").rglob("*.html")}
     assert {"index.html", "install.html", "api.html", "RESULTS.html", "contact_api.html"} <= pages
@@ -36,7 +37,7 @@ def test_the_site_builds_without_a_warning(tmp_path):
 def test_example_runs_in_its_quick_form(example, tmp_path):
     env = dict(os.environ, EXU_ANISO_QUICK="1", MPLBACKEND="Agg")
     out = subprocess.run([sys.executable, os.path.join(ROOT, "examples", example)], capture_output=True, text=True,
-                         env=env, cwd=tmp_path, timeout=600)
+                         env=env, cwd=tmp_path, timeout=HANG_S)
     assert out.returncode == 0, out.stderr[-3000:]
     assert "Warning" not in out.stderr, out.stderr[-3000:]
 
@@ -46,7 +47,7 @@ def test_the_readme_model_runs(tmp_path):
     import re
     text = open(os.path.join(ROOT, "README.md")).read()
     code = re.search(r"```python\n(.*?)```", text, re.S).group(1)
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=HANG_S,
                          env=dict(os.environ, MPLBACKEND="Agg"), cwd=tmp_path)
     assert out.returncode == 0, out.stderr[-3000:]
     assert (tmp_path / "final.png").stat().st_size > 10000
@@ -80,7 +81,7 @@ def _scripts():
 @pytest.mark.parametrize("page,code", _scripts())
 def test_the_pages_scripts_run(page, code, tmp_path):
     code = "\n".join(line for line in code.splitlines() if "ViewSolution(" not in line)
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, timeout=600,
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, timeout=HANG_S,
                          env=dict(os.environ, MPLBACKEND="Agg"))
     assert out.returncode == 0, f"{page}:\n{code}\n{out.stderr[-3000:]}"
     assert "Traceback" not in out.stderr and "Exception ignored" not in out.stderr, out.stderr[-3000:]

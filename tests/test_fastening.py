@@ -26,6 +26,7 @@ from exu_aniso.scenes.fastening import (MIN_TIGHTENING_SAMPLES, FasteningParams,
                                        fastening_summary, lead, theory, tightening)
 from exu_aniso.util.validation import ParameterError
 from exu_aniso.scenes.screw import ScrewParams
+from _limits import HANG_S
 
 
 @pytest.fixture(scope="module")
@@ -228,7 +229,7 @@ def test_cli_exit_code_of_an_uncalibratable_net(tmp_path):
 def test_fastening_cli_writes_the_iso_values(tmp_path):
     out = tmp_path / "f"
     subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "fastening", "--quiet", "--set", "t_end=0.8",
-                    "--out", str(out)], check=True, timeout=300, cwd=tmp_path)
+                    "--out", str(out)], check=True, timeout=HANG_S, cwd=tmp_path)
     s = json.loads((out / "summary.json").read_text())
     assert s["complete"] and s["energy_ok"]
     for k in ("seating_angle", "torque_end", "clamp_force_end", "torque_per_clamp_force",
@@ -257,7 +258,7 @@ def test_fastening_study_quick(tmp_path, quick_study):
     the exact term; the machined head between its two coefficients and on the ring formula at its current
     orientation; the net far off the torque-tension line; the report's verdict and figures."""
     from exu_aniso.util.output import read_table
-    quick_study("fastening", tmp_path, timeout=300)
+    quick_study("fastening", tmp_path, timeout=HANG_S)
     T = read_table(tmp_path / "torque_tension.csv")
     assert len(T["T/F_error [-]"]) == 4 and set(T["status [-]"]) == {"ok"}
     assert all(abs(e) < 1e-2 for e in T["T/F_error [-]"] + T["clamp_force_error [-]"])

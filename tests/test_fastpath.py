@@ -302,7 +302,7 @@ def test_compile_announcement_only_when_not_cached(monkeypatch, capsys):
     args = (np.zeros(3), law, kernel_point.NODE_KINDS["RigidBody2D"])
     for cached, expected in ((True, ""), (False, "compiling the contact kernel for PolarPlane, IsotropicNet "
                                                  "adhesion, IsotropicNet friction, exact map, RigidBody2D node")):
-        monkeypatch.setattr(kernel_point, "compiled_here", set())
+        monkeypatch.setattr(kernel_point, "compiled_here", {})
         monkeypatch.setattr(kernel_point, "kernels_cached", lambda entry=None, sig=None: cached)
         kernel_point.announce_compile(sig=("a",), args=args)
         kernel_point.announce_compile(sig=("a",), args=args)            # once per process and kernel

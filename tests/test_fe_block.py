@@ -14,6 +14,7 @@ pytest.importorskip("skfem")
 
 from exu_aniso.models.fe_block import RunFeBlock  # noqa: E402
 from exu_aniso.scenes.fe_block import FeBlockParams, drive, rigid_limit  # noqa: E402
+from _limits import HANG_S
 
 SHORT = dict(cells=2, t_end=0.6, t_press=0.1, travel=0.02)
 
@@ -112,7 +113,7 @@ def test_fe_block_study_quick(tmp_path, quick_study):
     towards the origin, the soft one, 0.1, lets it out), the speed-against-error table with the finest
     full body as its zero, the report and the figure."""
     from exu_aniso.util.output import read_table
-    quick_study("fe_block", tmp_path, timeout=300)
+    quick_study("fe_block", tmp_path, timeout=HANG_S)
     P = read_table(tmp_path / "paths.csv")
     steer = dict(zip(P["eps_r/eps_phi [-]"], P["steer_end [m]"]))
     assert steer[100.0] > 0.0 > steer[0.1]

@@ -12,6 +12,7 @@ pytest.importorskip("skfem")
 from exu_aniso.fe import shank_mesh                                              # noqa: E402
 from exu_aniso.scenes.fe_screw import (FeScrewParams, fe_screw_mesh, rigid_screw, static_twist,  # noqa: E402
                                        torsional_rigidity, twist_closed_form)
+from _limits import HANG_S
 
 
 def _run(**kw):
@@ -151,7 +152,7 @@ def test_fe_screw_study_quick(tmp_path, quick_study):
     """studies/fe_screw.py --quick: the static twist's error falls from the coarser mesh to the finer,
     the runs' table (every ledger closed, the advance the rigid one's), the report and the figure."""
     from exu_aniso.util.output import read_table
-    quick_study("fe_screw", tmp_path, timeout=300)
+    quick_study("fe_screw", tmp_path, timeout=HANG_S)
     S = read_table(tmp_path / "static_twist.csv")
     assert S["largest_error [-]"][1] < S["largest_error [-]"][0]
     D = read_table(tmp_path / "speed_error.csv")

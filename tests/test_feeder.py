@@ -24,6 +24,7 @@ from exu_aniso.law import oracles
 from exu_aniso.models.feeder import RunFeeder
 from exu_aniso.scenes.feeder import simulate_feeder
 from exu_aniso.scenes.feeder import FeederParams, throw_number
+from _limits import HANG_S
 
 
 def _moreau(A, f, beta, mu, g=9.81, periods=40, n=10000):
@@ -135,7 +136,7 @@ def test_cli_runs_the_feeder(tmp_path):
     # from tmp_path: `python -m` puts the working directory first on sys.path, and the source tree
     # has no exu_aniso.models (README quick start)
     subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "feeder", "--quiet", "--set", "parts=2",
-                    "--set", "t_end=0.1", "--out", str(out)], check=True, timeout=300, cwd=tmp_path)
+                    "--set", "t_end=0.1", "--out", str(out)], check=True, timeout=HANG_S, cwd=tmp_path)
     s = json.loads((out / "summary.json").read_text())
     assert s["complete"] and s["energy_ok"] and len(s["part_velocity_x"]) == 2
     # 0.1 s: the second half still sees the start transient (the 1D model's own mean there is 10 % low)
@@ -145,7 +146,7 @@ def test_cli_runs_the_feeder(tmp_path):
 
 
 def test_feeder_study_quick(tmp_path, quick_study):
-    quick_study("feeder", tmp_path, timeout=300)
+    quick_study("feeder", tmp_path, timeout=HANG_S)
     from exu_aniso.util.output import read_table
     F, A = read_table(tmp_path / "frequency.csv"), read_table(tmp_path / "net_angle.csv")
     assert all(abs(r - 1.0) < 0.06 for r in F["vx/theory [-]"])

@@ -31,6 +31,7 @@ import numpy as np
 import pytest
 
 from exu_aniso.catalog import SCENES
+from _limits import HANG_S
 
 pytest.importorskip("exudyn")
 
@@ -39,7 +40,7 @@ SEED = int(os.environ.get("FUZZ_CLI_SEED", "2026"))
 # Stick/slip switches amplify a round-off difference between the engines' Newton iterates (the full
 # block's rotation: 3e-3 in tests/test_exudyn_scenes.py); random parameters meet such switches.
 PARITY_RTOL = 5e-3
-RUN_TIMEOUT_S = 600
+RUN_TIMEOUT_S = HANG_S
 # time per case: a short run of the scene (share of its default t_end), and dt around its default
 T_SHARE = (0.05, 0.2)
 

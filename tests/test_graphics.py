@@ -22,6 +22,7 @@ from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.graphics import NET_COLORS, STATUS_COLORS, AddContactGraphics  # noqa: E402
+from _limits import HANG_S
 
 V = exu.ConfigurationType.Visualization
 OBJECT = int(exu.ItemType.Object)
@@ -702,7 +703,7 @@ def test_the_live_renderer_frames_every_scene(tmp_path):
         pytest.skip("no xvfb-run (apt-get install xvfb): the live renderer needs a display")
     scenes = ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block", "fe_screw"]
     out = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", _LIVE, *scenes], capture_output=True, text=True,
-                         timeout=600, cwd=tmp_path)
+                         timeout=HANG_S, cwd=tmp_path)
     assert out.returncode == 0, out.stderr[-3000:]
     figures = json.loads(out.stdout.strip().splitlines()[-1])
     for scene in scenes:
@@ -766,7 +767,7 @@ def test_the_solution_viewer_frames_every_scene(tmp_path):
     for scene in ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block", "fe_screw"]:
         for show in ("1", "0"):
             out = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", _VIEWER, scene, show], capture_output=True,
-                                 text=True, timeout=300, cwd=tmp_path)
+                                 text=True, timeout=HANG_S, cwd=tmp_path)
             assert out.returncode == 0 and out.stdout.split()[-1] == "25", (scene, out.stderr[-3000:])
         shown, hidden = (np.load(tmp_path / f"{scene}_{s}.npy") for s in ("1", "0"))
         assert (shown < 245).any(axis=-1).mean() > 0.15, scene

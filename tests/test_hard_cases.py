@@ -26,6 +26,7 @@ from exu_aniso.cli import main  # noqa: E402
 from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, describe_contact_state  # noqa: E402
 from exu_aniso.models.block import RunBlock  # noqa: E402
 from exu_aniso.scenes.block import BlockParams  # noqa: E402
+from _limits import HANG_S
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -123,7 +124,7 @@ def test_cli_failure_writes_partial_results_and_exits_1(tmp_path, capsys):
 def test_cli_failure_subprocess_has_no_traceback(tmp_path):
     sets = [x for k, v in DIVERGING.items() for x in ("--set", f"{k}={v}")]
     r = subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "block", "--out", str(tmp_path)] + sets,
-                       capture_output=True, text=True, timeout=120, cwd=tmp_path)
+                       capture_output=True, text=True, timeout=HANG_S, cwd=tmp_path)
     # cwd outside the source tree: 'python -m' would otherwise import the source exu_aniso, which
     # lacks exu_aniso.models (installed from models/)
     assert r.returncode == 1

@@ -25,6 +25,7 @@ from exu_aniso.law import oracles
 from exu_aniso.scenes.particle import simulate_particle
 from exu_aniso.scenes.particle import (COLUMNS, ORACLE_KEYS, TITLE_KEYS, ParticleParams, PlotParticle,
                                       particle_contact_law)
+from _limits import HANG_S
 
 CAVITY = dict(case="cavity", side="inside", gravity=0.0, speed=2.0, mu_1=0.3, t_end=0.5)
 INCLINE = dict(case="incline", surface="cylinder", tilt=30.0, mu_1=0.3, speed=0.2, t_end=0.3)
@@ -382,7 +383,7 @@ def test_plot_draws_path_and_oracle(case):
 def test_particle_study_quick(tmp_path, quick_study):
     """studies/particle.py --quick: the three oracles against theory on both engines at two steps."""
     from exu_aniso.util.output import read_table
-    quick_study("particle", tmp_path, timeout=300)
+    quick_study("particle", tmp_path, timeout=HANG_S)
     T = read_table(tmp_path / "refinement.csv")
     assert set(T["case [-]"]) == {"departure", "cavity", "incline"}
     assert set(T["engine [-]"]) == {"reference", "exudyn"}

@@ -16,6 +16,7 @@ sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 from peers import orthotropic_heading  # noqa: E402
 from exu_aniso.util.output import read_table  # noqa: E402
+from _limits import HANG_S
 
 
 # ----------------------------------------------------------------------------------------------
@@ -117,7 +118,7 @@ def test_peers_without_mujoco_runs_our_side(tmp_path):
             f"runpy.run_path({script!r}, run_name='__main__')")
     # run outside the source tree: python -c puts the working directory first on sys.path, and the
     # source tree's exu_aniso has no exu_aniso.models after a non-editable install (CI)
-    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, timeout=120, capture_output=True, text=True)
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, timeout=HANG_S, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert msg in r.stderr and "Traceback" not in r.stderr
     assert msg in (tmp_path / "report.md").read_text()

@@ -7,13 +7,14 @@ import numpy as np
 import pytest
 
 from exu_aniso.util.output import read_table
+from _limits import HANG_S
 
 
 
 @pytest.fixture(scope="module")
 def screw_out(tmp_path_factory, quick_study):
     out = tmp_path_factory.mktemp("screw_driving")
-    quick_study("screw_driving", out, timeout=240)
+    quick_study("screw_driving", out, timeout=HANG_S)
     return out
 
 
@@ -49,7 +50,7 @@ def test_screw_driving_helix_and_torque_drive(screw_out):
 
 
 def test_calibration_study_hits_targets(tmp_path, quick_study):
-    quick_study("calibration", tmp_path, timeout=240)
+    quick_study("calibration", tmp_path, timeout=HANG_S)
     T = read_table(os.path.join(tmp_path, "calibration.csv"))
     assert len(T["map [-]"]) >= 2 and set(T["verify engine [-]"]) == {"exudyn"}
     # independent Exudyn runs reach the targets (optimizer tolerance 1e-4 on the reference engine)

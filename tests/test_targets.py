@@ -17,6 +17,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 from exu_aniso.util.output import read_table  # noqa: E402
+from _limits import HANG_S
 
 
 def _positive_finite(values):
@@ -103,7 +104,7 @@ def test_targets_quick_run(tmp_path, quick_study):
     positive figures and spreads that bracket the medians; ratio rows finite and positive; met
     consistent with the median; the compiled call measured on K = 1 to 256 points, all in contact."""
     from _lib import targets
-    quick_study("baseline", tmp_path, timeout=600, args=("--targets", "--repeats", "2"))
+    quick_study("baseline", tmp_path, timeout=HANG_S, args=("--targets", "--repeats", "2"))
     G = read_table(tmp_path / "targets.csv")
     assert G["scene [-]"] == [t.label for t in targets.TARGETS]
     assert set(G["repeats [-]"]) == {2.0}

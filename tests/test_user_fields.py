@@ -11,6 +11,7 @@ import pytest
 
 from exu_aniso import Adhesion, ContactLaw, Friction
 from exu_aniso import geometry as geo
+from _limits import HANG_S
 
 RNG = np.random.default_rng(5)
 
@@ -181,6 +182,6 @@ def test_a_user_field_leaves_quietly_at_exit(tmp_path):
     import subprocess
     import sys
     out = subprocess.run([sys.executable, "-c", _EXIT_SCRIPT], capture_output=True, text=True, cwd=tmp_path,
-                         timeout=300)
+                         timeout=HANG_S)
     assert out.returncode == 0 and out.stdout.strip().startswith("done"), out.stderr[-2000:]
     assert "Exception ignored" not in out.stderr and "Traceback" not in out.stderr, out.stderr[-2000:]

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 import warnings
 from collections import namedtuple
 
@@ -759,19 +760,23 @@ NODE_KINDS_MODULE = LinearSlave.__module__
 
 def announce_compile(stream=None, entry=None, sig=None, args=None):
     """Say, before it happens, that a kernel is being compiled (once per kernel and process), what for
-    and how long it takes here (COMPILE_SECONDS); nothing when the cache holds it (kernels_cached)."""
+    and how long it takes here (COMPILE_SECONDS); nothing when the cache holds it (kernels_cached).
+    True when it announced (the compilation follows)."""
     key = (entry, sig)
     if key in compiled_here or kernels_cached(entry, sig):
-        return
-    compiled_here.add(key)
+        return False
+    compiled_here[key] = [kernel_name(args) if args is not None else "a contact set", None]
     where = getattr(getattr(entry or evaluate_covariant, "_cache", None), "_cache_path", "numba's cache directory")
-    what = kernel_name(args) if args is not None else "a contact set"
+    what = compiled_here[key][0]
     print(f"exu_aniso: compiling the contact kernel for {what} with numba (about {COMPILE_SECONDS[0]}-"
           f"{COMPILE_SECONDS[1]} s on a 2-core machine; once per machine: later runs load it from the cache in "
           f"{where})", file=stream or sys.stderr, flush=True)
+    return True
 
 
-compiled_here = set()      # the (entry, signature) pairs compiled (and announced) in this process
+# the set kernels compiled (and announced) in this process: (entry, signature) -> [what for (kernel_name),
+# the compilation's wall time [s]]
+compiled_here = {}
 
 
 def _entry_point(fn, args):
@@ -785,13 +790,15 @@ def _entry_point(fn, args):
     from numba.core.errors import NumbaIRAssumptionWarning
     try:
         sig = tuple(typeof(a) for a in args)
-        if sig not in fn.overloads:
-            announce_compile(entry=fn, sig=sig, args=args)
+        announced = sig not in fn.overloads and announce_compile(entry=fn, sig=sig, args=args)
+        start = time.perf_counter()
         with warnings.catch_warnings():
             # numba's internal SSA check complains about variables of branches it pruned in the force
             # loop's inlined law (tangent a constant False there); the code is right, the notice is noise
             warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
             fn.compile(sig)
+        if announced:
+            compiled_here[(fn, sig)][1] = time.perf_counter() - start
         return fn.overloads[sig].entry_point
     except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
         return fn
