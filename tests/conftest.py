@@ -4,7 +4,7 @@ import subprocess
 import sys
 
 import pytest
-from _limits import HANG_S
+from _suite import HANG_S
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

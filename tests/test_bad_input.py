@@ -24,7 +24,7 @@ from exu_aniso.scenes.block import simulate_block
 from exu_aniso.scenes.screw import simulate_screw
 from exu_aniso.scenes.block import BlockParams
 from exu_aniso.scenes.screw import ScrewParams
-from _limits import HANG_S
+from _suite import HANG_S
 
 NAN, INF = float("nan"), float("inf")
 B_OK, F_OK = (-1e3, 0.0, -2e3), (11.0, 0.0, 4.0)   # valid law inputs (B negative, F positive definite)

@@ -22,7 +22,7 @@ pytest.importorskip("exudyn")
 from exu_aniso.models.capstan import BuildCapstan, RunCapstan  # noqa: E402
 from exu_aniso.scenes.capstan import COLUMNS, TITLE_KEYS, CapstanParams, PlotCapstan  # noqa: E402
 from exu_aniso.scenes.base import ENERGY_COLUMNS  # noqa: E402
-from _limits import HANG_S
+from _suite import HANG_S
 
 RATIO_RTOL = 1e-3
 

@@ -9,7 +9,7 @@ import subprocess
 import sys
 
 import pytest
-from _limits import HANG_S
+from _suite import HANG_S
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = sorted(f for f in os.listdir(os.path.join(ROOT, "examples")) if f.startswith("plot_") and f.endswith(".py"))

@@ -26,7 +26,7 @@ from exu_aniso.scenes.fastening import (MIN_TIGHTENING_SAMPLES, FasteningParams,
                                        fastening_summary, lead, theory, tightening)
 from exu_aniso.util.validation import ParameterError
 from exu_aniso.scenes.screw import ScrewParams
-from _limits import HANG_S
+from _suite import HANG_S
 
 
 @pytest.fixture(scope="module")

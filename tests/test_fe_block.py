@@ -14,7 +14,7 @@ pytest.importorskip("skfem")
 
 from exu_aniso.models.fe_block import RunFeBlock  # noqa: E402
 from exu_aniso.scenes.fe_block import FeBlockParams, drive, rigid_limit  # noqa: E402
-from _limits import HANG_S
+from _suite import HANG_S
 
 SHORT = dict(cells=2, t_end=0.6, t_press=0.1, travel=0.02)
 

@@ -12,7 +12,7 @@ pytest.importorskip("skfem")
 from exu_aniso.fe import shank_mesh                                              # noqa: E402
 from exu_aniso.scenes.fe_screw import (FeScrewParams, fe_screw_mesh, rigid_screw, static_twist,  # noqa: E402
                                        torsional_rigidity, twist_closed_form)
-from _limits import HANG_S
+from _suite import HANG_S
 
 
 def _run(**kw):

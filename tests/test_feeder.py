@@ -24,7 +24,7 @@ from exu_aniso.law import oracles
 from exu_aniso.models.feeder import RunFeeder
 from exu_aniso.scenes.feeder import simulate_feeder
 from exu_aniso.scenes.feeder import FeederParams, throw_number
-from _limits import HANG_S
+from _suite import HANG_S
 
 
 def _moreau(A, f, beta, mu, g=9.81, periods=40, n=10000):

@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 
 from exu_aniso.catalog import SCENES
-from _limits import HANG_S
+from _suite import HANG_S
 
 pytest.importorskip("exudyn")
 

@@ -22,7 +22,7 @@ from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.graphics import NET_COLORS, STATUS_COLORS, AddContactGraphics  # noqa: E402
-from _limits import HANG_S
+from _suite import HANG_S
 
 V = exu.ConfigurationType.Visualization
 OBJECT = int(exu.ItemType.Object)

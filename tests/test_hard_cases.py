@@ -26,7 +26,7 @@ from exu_aniso.cli import main  # noqa: E402
 from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, describe_contact_state  # noqa: E402
 from exu_aniso.models.block import RunBlock  # noqa: E402
 from exu_aniso.scenes.block import BlockParams  # noqa: E402
-from _limits import HANG_S
+from _suite import HANG_S
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

@@ -27,6 +27,7 @@ from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
 from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
+from _suite import covering  # noqa: E402
 
 NODE_KINDS = ["RigidBody2D", "GenericODE2", "RigidBodyRotVecLG", "RigidBodyEP", "Point", "Point2D", "FEMesh", "FFRF"]
 SOS = exu.ConfigurationType.StartOfStep
@@ -226,10 +227,15 @@ def _noise(cs, mbs, q, qt, h):
     return 100.0 * np.finfo(float).eps * np.abs(np.array(cs.force(mbs, 0.0, 0, q, qt), dtype=float)).max() / h
 
 
-@pytest.mark.parametrize("d_N", [0.0, 40.0], ids=["undamped", "damped"])
-@pytest.mark.parametrize("return_map", ["seed", "exact", "radial"])
-@pytest.mark.parametrize("implementation", ["numpy", "compiled"])
-@pytest.mark.parametrize("node_kind", NODE_KINDS)
+# every node kind on both routes and with both dampings, every map on both routes in the default run (the
+# compiled kernels the exact map's: test_compiled_jacobian_equals_numpy_glue's); the product -m slow
+JACOBIAN_CASES = [(node, impl, m, d_N) for node in NODE_KINDS for impl in ("numpy", "compiled")
+                  for m in ("exact", "seed", "radial") for d_N in (0.0, 40.0)]
+
+
+@pytest.mark.parametrize("node_kind,implementation,return_map,d_N", covering(
+    JACOBIAN_CASES, [(0, 1), (1, 2), (0, 3), (1, 3)],
+    ids=[f"{n}-{i}-{m}-{'damped' if d else 'undamped'}" for n, i, m, d in JACOBIAN_CASES]))
 def test_jacobian_equals_finite_differences(node_kind, implementation, return_map, d_N):
     """The jacobianUserFunction of the contact is -dQ/dq, -dQ/dq_t of its forceUserFunction."""
     mbs, cs, q, qt, H = _scene(node_kind, implementation, return_map, d_N)

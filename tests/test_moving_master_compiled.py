@@ -28,6 +28,7 @@ from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
 from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane  # noqa: E402
+from _suite import covering  # noqa: E402
 
 SOS = exu.ConfigurationType.StartOfStep
 H_LENGTH = 1e-9          # FD step of a length coordinate [m]: penetrations are ~1e-3 m
@@ -190,9 +191,11 @@ def _status(P, mbs, q, qt, H, dt=None):
 CASES = [(s, m, law) for s in SLAVES for m in MASTERS for law in LAWS] + \
     [("Cable", m, law) for m in MASTERS for law in ("plane-damped", "plane-seed")]
 IDS = [f"{s}-on-{m}-{law}" for s, m, law in CASES]
+# the default run: every slave, master and law at least once (a compiled pair kernel each); -m slow: all
+COVERING = covering(CASES, [0, 1, 2], ids=IDS)
 
 
-@pytest.mark.parametrize("slave_kind,master_kind,lawname", CASES, ids=IDS)
+@pytest.mark.parametrize("slave_kind,master_kind,lawname", COVERING)
 def test_force_and_history_equal_the_numpy_route(slave_kind, master_kind, lawname):
     """Mode 0 against _ContactSet.force (read from the mbs's converged history), mode 2 against the
     numpy state's history candidate, at three perturbed states and with the branch prediction on
@@ -260,7 +263,7 @@ def _error(J, J_fd, floor):
     return float(max(np.abs(J - J_fd).max() - floor, 0.0) / scale)
 
 
-@pytest.mark.parametrize("slave_kind,master_kind,lawname", CASES, ids=IDS)
+@pytest.mark.parametrize("slave_kind,master_kind,lawname", COVERING)
 def test_jacobian_equals_finite_differences(slave_kind, master_kind, lawname):
     """Mode 1 with (fq, fv) = (1, 0) and (0, 1) is -dQ/dq and -dQ/dq_t of mode 0 over slave and master
     coordinates (central differences; no stick/slip switch inside the stencil, asserted)."""

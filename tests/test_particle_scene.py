@@ -25,7 +25,7 @@ from exu_aniso.law import oracles
 from exu_aniso.scenes.particle import simulate_particle
 from exu_aniso.scenes.particle import (COLUMNS, ORACLE_KEYS, TITLE_KEYS, ParticleParams, PlotParticle,
                                       particle_contact_law)
-from _limits import HANG_S
+from _suite import HANG_S
 
 CAVITY = dict(case="cavity", side="inside", gravity=0.0, speed=2.0, mu_1=0.3, t_end=0.5)
 INCLINE = dict(case="incline", surface="cylinder", tilt=30.0, mu_1=0.3, speed=0.2, t_end=0.3)

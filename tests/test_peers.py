@@ -16,7 +16,7 @@ sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 from peers import orthotropic_heading  # noqa: E402
 from exu_aniso.util.output import read_table  # noqa: E402
-from _limits import HANG_S
+from _suite import HANG_S
 
 
 # ----------------------------------------------------------------------------------------------

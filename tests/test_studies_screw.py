@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from exu_aniso.util.output import read_table
-from _limits import HANG_S
+from _suite import HANG_S
 
 
 

@@ -27,7 +27,7 @@ STUDIES = ROOT / "studies"
 sys.path.insert(0, str(STUDIES))
 
 from _lib import studylib  # noqa: E402
-from _limits import HANG_S  # noqa: E402
+from _suite import HANG_S  # noqa: E402
 
 SCRIPTS = sorted(p.stem for p in STUDIES.glob("*.py"))
 HELPERS = {"studylib", "mujoco_models", "baseline", "implementations"}

@@ -17,7 +17,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 from exu_aniso.util.output import read_table  # noqa: E402
-from _limits import HANG_S
+from _suite import HANG_S
 
 
 def _positive_finite(values):

@@ -11,7 +11,7 @@ import pytest
 
 from exu_aniso import Adhesion, ContactLaw, Friction
 from exu_aniso import geometry as geo
-from _limits import HANG_S
+from _suite import HANG_S
 
 RNG = np.random.default_rng(5)
 

@@ -1,0 +1,35 @@
+"""What the tests share about the suite itself: its subprocesses' hang guard and the bounded set of
+compiled specialisations the default run covers.
+
+HANG_S [s]: the timeout of every subprocess a test starts (a study's quick run, a command line, a
+script of the docs). It guards against a hang and is never a check of speed: it is ten times the
+longest such subprocess measured with a cold kernel cache on this 2-core machine with the other core
+busy (the quick fastening study, 170 s: ``pytest --durations=60`` of the suite from an empty
+``NUMBA_CACHE_DIR``), so how fast the machine is cannot decide a test's outcome.
+
+``covering(cases, axes)``: a product of parametrized cases cut to a covering set for the default
+run. Every compiled contact kernel is specialised for its surface, nets, return map and node kind
+(a cold compilation costs 9-17 s here, ``kernel.point.COMPILE_SECONDS``), so a full product of those
+axes in the default run costs minutes of compilation for what one case per value already checks.
+The default run keeps the cases that bring a value of an axis not yet covered (in the given
+order); the others are marked ``slow`` (``pytest -m slow`` runs the whole product).
+"""
+import pytest
+
+HANG_S = 1800
+
+
+def covering(cases, axes, ids=None):
+    """pytest.param of every case (tuples), those that cover no new value of the axes marked slow.
+    An axis is an index into a case, or a tuple of indices whose combinations are to be covered
+    (e.g. (node kind, route): every node kind on each route). ids: the cases' ids (default: their
+    values joined by '-')."""
+    axes = [a if isinstance(a, tuple) else (a,) for a in axes]
+    seen, out = set(), []
+    for k, case in enumerate(cases):
+        new = {(a, tuple(case[i] for i in a)) for a in axes} - seen
+        seen |= new
+        marks = () if new else (pytest.mark.slow,)
+        out.append(pytest.param(*case, marks=marks,
+                                id=ids[k] if ids else "-".join(str(v) for v in case)))
+    return out
