@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from exu_aniso import OPEN, RETURN_MAPS, SLIP, STICK, Adhesion, ContactLaw, Cylinder, Friction, Plane
+from _suite import covering
 
 CASES = {
     "plane-polar-chart-polar-fields": (Plane("polar"), Adhesion.polar(1e4, 3e3, 0.01), Friction.polar(0.2, 0.6, 0.02)),
@@ -42,8 +43,7 @@ def contact_sample(surface, rng, K=6):
     return x, rng.normal(size=(K, 3)) * 0.1, H
 
 
-@pytest.mark.parametrize("method", RETURN_MAPS)
-@pytest.mark.parametrize("case", CASES)
+@pytest.mark.parametrize("case,method", covering([(c, m) for c in CASES for m in RETURN_MAPS], [0, 1]))
 def test_consistent_tangent_against_finite_differences(case, method):
     """df/dx and df/dv of ContactLaw.evaluate against central differences of its force (history
     fixed) on the plane and the cylinder; tests/test_kernel.py does the same on curved surfaces."""

@@ -11,6 +11,7 @@ import pytest
 
 from exu_aniso import Adhesion, ContactLaw, Friction
 from exu_aniso import geometry as geo
+from _suite import covering
 
 MAPS = ("seed", "exact", "radial")
 RNG = np.random.default_rng(11)
@@ -120,11 +121,16 @@ def _fd(law, x, v, H, dt, wrt, h):
     return J
 
 
-@pytest.mark.parametrize("return_map", MAPS)
-@pytest.mark.parametrize("case", CURVED, ids=lambda c: repr(c[0]))
-def test_tangent_equals_finite_differences_on_curved_surfaces(case, return_map):
+# every surface and net of CURVED and every map in the default run (each pair its own compiled kernel); -m slow: all
+TANGENT_CASES = covering([(k, m) for k in range(len(CURVED)) for m in MAPS], [0, 1],
+                         ids=[f"{CURVED[k][0]!r}-{m}" for k in range(len(CURVED)) for m in MAPS])
+
+
+@pytest.mark.parametrize("index,return_map", TANGENT_CASES)
+def test_tangent_equals_finite_differences_on_curved_surfaces(index, return_map):
     """df/dx and df/dv of the kernel against central differences of its force, with the history
     fixed (active and new contacts, stick and slip, normal and tangential dashpots)."""
+    case = CURVED[index]
     s, box, A, F = case
     law = ContactLaw(s, A, F, 1e5, normal_damping=2.0, tangential_damping=1.0, return_map=return_map)
     checked = 0
