@@ -10,7 +10,7 @@ it calls), the process's whole wall time (imports, the kernels, the small compil
 energy ledger and the native callbacks, five time steps) and how many compiled functions its cache
 then holds. The range of the kernels' times is what the compile announcement quotes
 (``exu_aniso.kernel.point.COMPILE_SECONDS``; tests/test_compile_cache.py holds the two together).
---quick: the main job's scenes only. Writes ``compile_times.json`` and ``report.md`` (default
+--quick: the block only. Writes ``compile_times.json`` and ``report.md`` (default
 ``studies/results/compile_times``).
 """
 from __future__ import annotations
@@ -28,7 +28,7 @@ if HERE not in sys.path:
 
 from _lib.studylib import Timer, finish, markdown_table, timing_args  # noqa: E402
 
-from exu_aniso.catalog import MAIN_JOB, SCENES  # noqa: E402
+from exu_aniso.catalog import SCENES  # noqa: E402
 from exu_aniso.util.output import write_json  # noqa: E402
 
 NAME = "compile_times"
@@ -62,7 +62,7 @@ def compile_scene(scene):
 def main(argv=None):
     args, _ = timing_args(NAME, __doc__, argv, quick_repeats=1, full_repeats=1)
     timer = Timer()
-    scenes = MAIN_JOB if args.quick else tuple(SCENES)
+    scenes = ("block",) if args.quick else tuple(SCENES)
     rows = [compile_scene(s) for s in scenes]
     kernels = [dict(scene=r["scene"], **k) for r in rows for k in r["kernels"]]
     os.makedirs(args.out, exist_ok=True)

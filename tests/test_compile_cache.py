@@ -98,3 +98,17 @@ def test_compile_estimate_is_the_measured_one():
     with open(path) as f:
         measured = [k["seconds"] for k in json.load(f)["kernels"]]
     assert point.COMPILE_SECONDS == (int(min(measured)), int(max(measured)) + 1)
+
+
+def test_compile_times_quick(tmp_path, quick_study):
+    """studies/compile_times.py --quick: the block compiled from an empty cache in a fresh process, its
+    one set kernel named and timed, and the functions its cache then holds."""
+    quick_study("compile_times", tmp_path)
+    with open(tmp_path / "compile_times.json") as f:
+        out = json.load(f)
+    (row,) = out["scenes"]
+    assert row["scene"] == "block" and row["cached_functions"] > 10
+    (kernel,) = out["kernels"]
+    assert kernel["kernel"].startswith("CartesianPlane, PolarNet adhesion, PolarNet friction, radial map")
+    assert 0.0 < kernel["seconds"] < row["wall_s"]
+    assert "Compile times" in (tmp_path / "report.md").read_text()

@@ -47,7 +47,9 @@ def momenta(mbs, bodies):
     return P, L
 
 
-@pytest.mark.parametrize("return_map", ["exact", "radial"])
+# a moving master's kernel per map (26 s each cold): the radial one in the slow run, the maps of moving
+# masters in the default run are tests/test_moving_master_compiled.py's
+@pytest.mark.parametrize("return_map", ["exact", pytest.param("radial", marks=pytest.mark.slow)])
 def test_moving_master_gets_the_reaction_momentum_is_conserved(return_map):
     SC, mbs, plate, block, h = two_body_system(return_map)
     mbs.Assemble()

@@ -39,7 +39,7 @@ COVERED = {"block_paths": "test_studies_block.py", "return_maps": "test_studies_
            "fe_block": "test_fe_block.py", "fe_screw": "test_fe_screw.py",
            "hard_cases": "test_hard_cases.py", "benchmarks": "test_benchmarks.py",
            "work_precision": "test_benchmarks.py",
-           "peers": "test_peers.py"}        # with mujoco; test_peers.py also runs it with mujoco hidden
+           "peers": "test_peers.py", "compile_times": "test_compile_cache.py"}        # with mujoco; test_peers.py also runs it with mujoco hidden
 RUN_HERE = [s for s in SCRIPTS if s not in COVERED]
 MPI_ENV = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "MPI_LOCALNRANKS", "PMIX_SIZE", "SLURM_NTASKS",
            "OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", "SLURM_PROCID")

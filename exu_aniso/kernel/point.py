@@ -750,7 +750,12 @@ def kernel_name(args):
     kinds = [type(a).__name__ for a in args if type(a).__module__ == NODE_KINDS_MODULE]
     if law is None:
         return "a contact set"
-    nodes = {0: "", 1: f", {kinds[0]} node"}.get(len(kinds), f", {kinds[0]} slave on a {kinds[-1]} master")
+    if not kinds:           # evaluate_covariant_linear: mass points, cables, a finite-element body's nodes
+        nodes = ", a linear slave"
+    elif len(kinds) == 1:
+        nodes = f", {kinds[0]} node"
+    else:
+        nodes = f", {kinds[0]} slave on a {kinds[-1]} master"
     return (f"{type(law.surface).__name__.replace('Params', '')}, {type(law.adhesion).__name__} adhesion, "
             f"{type(law.friction).__name__} friction, {type(law.law.method).__name__.lower()} map{nodes}")
 
