@@ -11,8 +11,13 @@ busy (the quick fastening study, 170 s: ``pytest --durations=60`` of the suite f
 run. Every compiled contact kernel is specialised for its surface, nets, return map and node kind
 (a cold compilation costs 9-17 s here, ``kernel.point.COMPILE_SECONDS``), so a full product of those
 axes in the default run costs minutes of compilation for what one case per value already checks.
-The default run keeps the cases that bring a value of an axis not yet covered (in the given
-order); the others are marked ``slow`` (``pytest -m slow`` runs the whole product).
+The default run keeps a small set of cases that together bring every value of every axis (greedy set
+cover); the others are marked ``slow`` (``pytest -m slow`` runs the whole product).
+
+The files whose module-scoped fixtures are costly (a study's quick run, a scene's run) mark their
+tests ``pytest.mark.xdist_group(<the file>)``: pytest-xdist (``--dist loadgroup``) keeps them on one
+worker, so the fixture is made once, and so do the files that draw from one random generator test
+after test (their order kept); every other test goes to whichever worker is free.
 """
 import pytest
 
@@ -25,11 +30,13 @@ def covering(cases, axes, ids=None):
     (e.g. (node kind, route): every node kind on each route). ids: the cases' ids (default: their
     values joined by '-')."""
     axes = [a if isinstance(a, tuple) else (a,) for a in axes]
-    seen, out = set(), []
-    for k, case in enumerate(cases):
-        new = {(a, tuple(case[i] for i in a)) for a in axes} - seen
-        seen |= new
-        marks = () if new else (pytest.mark.slow,)
-        out.append(pytest.param(*case, marks=marks,
-                                id=ids[k] if ids else "-".join(str(v) for v in case)))
-    return out
+    values = [{(a, tuple(case[i] for i in a)) for a in axes} for case in cases]
+    seen, chosen = set(), set()
+    while True:             # greedy set cover: the case with the most values not yet covered (the first of equals)
+        k = max(range(len(cases)), key=lambda j: (len(values[j] - seen), -j))
+        if not values[k] - seen:
+            break
+        seen |= values[k]
+        chosen.add(k)
+    return [pytest.param(*case, marks=() if k in chosen else (pytest.mark.slow,),
+                         id=ids[k] if ids else "-".join(str(v) for v in case)) for k, case in enumerate(cases)]
