@@ -2,22 +2,23 @@
 compiled specialisations the default run covers.
 
 HANG_S [s]: the timeout of every subprocess a test starts (a study's quick run, a command line, a
-script of the docs). It guards against a hang and is never a check of speed: it is ten times the
+script of the docs). It guards against a hang and is never a check of speed: it is 25 times the
 longest such subprocess measured with a cold kernel cache on this 2-core machine with the other core
-busy (the quick fastening study, 170 s: ``pytest --durations=60`` of the suite from an empty
-``NUMBA_CACHE_DIR``), so how fast the machine is cannot decide a test's outcome.
+busy (the quick benchmark study behind tests/test_benchmarks.py's fixture, 72 s: ``pytest
+--durations=40`` of a fresh clone's suite from an empty ``NUMBA_CACHE_DIR``, the other xdist worker
+running), so how fast the machine is cannot decide a test's outcome.
 
 ``covering(cases, axes)``: a product of parametrized cases cut to a covering set for the default
 run. Every compiled contact kernel is specialised for its surface, nets, return map and node kind
-(a cold compilation costs 9-17 s here, ``kernel.point.COMPILE_SECONDS``), so a full product of those
+(a cold compilation costs 9-17 s here, a moving master's 31-34 s: ``kernel.point.COMPILE_SECONDS``), so a full product of those
 axes in the default run costs minutes of compilation for what one case per value already checks.
 The default run keeps a small set of cases that together bring every value of every axis (greedy set
 cover); the others are marked ``slow`` (``pytest -m slow`` runs the whole product).
 
-The files whose module-scoped fixtures are costly (a study's quick run, a scene's run) mark their
-tests ``pytest.mark.xdist_group(<the file>)``: pytest-xdist (``--dist loadgroup``) keeps them on one
-worker, so the fixture is made once, and so do the files that draw from one random generator test
-after test (their order kept); every other test goes to whichever worker is free.
+The suite runs on pytest-xdist, one worker per core, a test file's tests on one worker
+(``--dist loadfile``: its module fixtures made once, its random draws in order). Handing each test
+to the free worker instead (``--dist loadgroup``) was measured slower from a cold cache (17.0 against
+16.2 min): two workers compiled the same kernels.
 """
 import pytest
 

@@ -19,9 +19,6 @@ sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 from exu_aniso.util.output import read_table  # noqa: E402
 
-# its module fixtures made once: all its tests on one worker (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_benchmarks")
-
 
 @pytest.fixture(scope="module")
 def bench_out(tmp_path_factory, quick_study):

@@ -47,9 +47,6 @@ from exu_aniso.scenes.capstan import CapstanParams
 from exu_aniso.scenes.feeder import FeederParams
 from exu_aniso.scenes.block import BlockParams
 
-# its module fixtures made once: all its tests on one worker (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_exudyn_warnings")
-
 WARNING = "memory allocations"
 PER_NEWTON = 0.1           # allocations per Newton iteration allowed beyond Exudyn's own count
 

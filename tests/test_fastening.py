@@ -28,9 +28,6 @@ from exu_aniso.util.validation import ParameterError
 from exu_aniso.scenes.screw import ScrewParams
 from _suite import HANG_S
 
-# its module fixtures made once: all its tests on one worker (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_fastening")
-
 
 @pytest.fixture(scope="module")
 def flank():

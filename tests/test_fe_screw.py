@@ -14,9 +14,6 @@ from exu_aniso.scenes.fe_screw import (FeScrewParams, fe_screw_mesh, rigid_screw
                                        torsional_rigidity, twist_closed_form)
 from _suite import HANG_S
 
-# its module fixtures made once: all its tests on one worker (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_fe_screw")
-
 
 def _run(**kw):
     from exu_aniso.models.fe_screw import RunFeScrew

@@ -13,9 +13,6 @@ import pytest
 from exu_aniso.geometry import Cone, Cylinder, Helicoid, Plane, Sphere, Torus
 from exu_aniso.geometry import _core
 
-# one random generator drawn from test after test: all its tests on one worker, in order (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_geometry_protocol")
-
 RNG = np.random.default_rng(7)
 
 THREAD_BOX = [(-7, 7), (0.6 * 4.513e-3, 1.4 * 4.513e-3)]     # (phi, r) of an M10 thread's flank

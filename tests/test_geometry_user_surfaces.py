@@ -15,9 +15,6 @@ from numba import njit
 
 from exu_aniso.geometry import Cone, ParametricSurface, Sphere, SurfaceOfRevolution, Torus
 
-# one random generator drawn from test after test: all its tests on one worker, in order (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_geometry_user_surfaces")
-
 RNG = np.random.default_rng(11)
 TWO_PI = 2 * math.pi
 R_SPHERE = 0.7

@@ -40,9 +40,6 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.reference import BodyModel, jacobian_check, run
 from exu_aniso.scenes.base import SOLVERS, SceneParams, scene_parameters
 
-# its module fixtures made once: all its tests on one worker (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_minimal_scene")
-
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "adding_a_scene.md"
 HAVE_EXUDYN = importlib.util.find_spec("exudyn") is not None

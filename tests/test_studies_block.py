@@ -13,9 +13,6 @@ import pytest
 
 from exu_aniso.util.output import read_table    # what the studies write their CSV files with (studies/_lib/studylib.py)
 
-# its module fixtures made once: all its tests on one worker (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_studies_block")
-
 
 def _row(tab, **match):
     n = len(next(iter(tab.values())))

@@ -9,9 +9,6 @@ import pytest
 from exu_aniso.util.output import read_table
 from _suite import HANG_S
 
-# its module fixtures made once: all its tests on one worker (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_studies_screw")
-
 
 
 @pytest.fixture(scope="module")

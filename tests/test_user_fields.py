@@ -13,9 +13,6 @@ from exu_aniso import Adhesion, ContactLaw, Friction
 from exu_aniso import geometry as geo
 from _suite import HANG_S
 
-# one random generator drawn from test after test: all its tests on one worker, in order (tests/_suite.py)
-pytestmark = pytest.mark.xdist_group("test_user_fields")
-
 RNG = np.random.default_rng(5)
 
 
