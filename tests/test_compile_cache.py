@@ -49,6 +49,7 @@ def package_copy(tmp_path):
         text = path.read_text()
         assert old in text, (rel, old)
         path.write_text(text.replace(old, new, 1))
+    edit.root = root
     return run, edit
 
 
@@ -72,6 +73,13 @@ def test_edits_recompile_what_they_change_only(package_copy):
     edit("geometry/_core.py", "PROJECTION_MAXIT = 50", "PROJECTION_MAXIT = 51")
     fourth = run()
     assert [fourth["plane"][:2], fourth["sphere"][:2]] == [[0, 1], [0, 1]], fourth
+    # a surface's parameter type renamed: the index that names the old type cannot be read, and is an
+    # empty one (everything in it recompiles; no error)
+    path = edit.root / "exu_aniso" / "geometry" / "sphere.py"
+    path.write_text(path.read_text().replace("SphereParams", "BallParams"))
+    fifth = run()
+    assert [fifth["plane"][:2], fifth["sphere"][:2]] == [[0, 1], [0, 1]], fifth
+    assert fifth["sphere"][2] == pytest.approx(3.0)
 
 
 def test_kernel_sources_are_the_lower_layers():

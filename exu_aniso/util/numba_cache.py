@@ -19,8 +19,10 @@ built from, so a stale kernel never runs and nothing else recompiles it:
 How: a cache locator of our own, first in numba's list, that declines every file outside the
 package (other numba code in the process is untouched). Its source stamp, which numba stores in a
 function's index and compares on load, is the hash of the shared sources (and of the function's
-own module when that is a surface module); its disambiguator is a hash of the function's code
-(numba's default, the line number, moves with every edit above it); and numba's index key
+own module when that is a surface module); its disambiguator, which names the index file, is a hash
+of the function's code and the shared sources (numba's default, the line number, moves with every
+edit above it; an index is read only by the sources that wrote it, and one that cannot be read is
+an empty one); and numba's index key
 (``Cache._index_key``: signature, machine, bytecode) gains the hashes of the signature's surface
 modules. The syntax trees are hashed once per file content: a small table in the cache directory
 maps a file's sha1 to its tree hash and its imports, so an import of the package reads the files
@@ -213,8 +215,10 @@ class _PackageLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocat
         own = SOURCES.surface_hash(_module_of(rel)) or ""
         self._stamp = (SOURCES.shared_hash, own)
         code = py_func.__code__
-        self._code = hashlib.sha1(py_func.__qualname__.encode() + code.co_code
-                                  + repr(code.co_names).encode()).hexdigest()[:12]
+        # the function's code and the shared sources: an index is only read by the sources that wrote it
+        # (its keys name the types of their day, which another version may not have)
+        self._code = hashlib.sha1(py_func.__qualname__.encode() + code.co_code + repr(code.co_names).encode()
+                                  + SOURCES.shared_hash.encode()).hexdigest()[:12]
 
     def get_cache_path(self):
         return self._cache_path
@@ -233,6 +237,18 @@ class _PackageLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocat
 
 
 _numba_index_key = caching.Cache._index_key
+_numba_load_index = caching.IndexDataCacheFile._load_index
+
+
+def _load_index(self):
+    """numba's index of a function's cache; for this package's functions an index that cannot be read
+    (its keys name a type a surface module no longer has) is an empty one, as numba treats a stale one."""
+    if not os.path.abspath(self._cache_path).startswith(os.path.abspath(CACHE_DIR) + os.sep):
+        return _numba_load_index(self)
+    try:
+        return _numba_load_index(self)
+    except Exception:       # noqa: BLE001 - unpickling a stale index: recompile and write it anew
+        return {}
 
 
 def _index_key(self, sig, codegen):
@@ -246,6 +262,7 @@ def _index_key(self, sig, codegen):
 if _PackageLocator not in caching.CacheImpl._locator_classes:
     caching.CacheImpl._locator_classes.insert(0, _PackageLocator)
     caching.Cache._index_key = _index_key
+    caching.IndexDataCacheFile._load_index = _load_index
 
 
 def native_dir():
