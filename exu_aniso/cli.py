@@ -357,6 +357,7 @@ def _compile_scene(scene):
     """Simulate COMPILE_STEPS steps of a scene's defaults (its kernels compiled or loaded on the way):
     (None or the failure's message, the number of set kernels compiled)."""
     from exu_aniso.kernel import point
+    before = len(point.compiled_here)          # this process may have compiled another scene's before
     try:
         defaults = SCENES[scene].params()
         # every time of the scene (t_end, a pressing's duration, ...) but the step scaled alike
@@ -369,8 +370,8 @@ def _compile_scene(scene):
             params = defaults
         simulate(scene, params, "exudyn")
     except Exception as e:      # noqa: BLE001 - reported, the exit code says it
-        return f"{scene}: {type(e).__name__}: {e}", len(point.compiled_here)
-    return None, len(point.compiled_here)
+        return f"{scene}: {type(e).__name__}: {e}", len(point.compiled_here) - before
+    return None, len(point.compiled_here) - before
 
 
 def _run_job(scene, params, engine, out, progress, snapshot, solution_file, output_step=None):

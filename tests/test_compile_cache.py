@@ -10,6 +10,7 @@ import subprocess
 import sys
 
 import pytest
+from _suite import HANG_S
 
 import exu_aniso
 from exu_aniso.kernel import point
@@ -123,3 +124,23 @@ def test_compile_times_quick(tmp_path, quick_study):
     assert kernel["kernel"].startswith("CartesianPlane, PolarNet adhesion, PolarNet friction, radial map")
     assert 0.0 < kernel["seconds"] < row["wall_s"]
     assert "Compile times" in (tmp_path / "report.md").read_text()
+
+
+def test_compile_command_compiles_once(tmp_path):
+    """exu-aniso compile block from an empty cache compiles the block's one set kernel and says so; again,
+    it compiles none (the cache holds it)."""
+    # the package this test imports (a source checkout or the installed copy)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"),
+               PYTHONPATH=os.path.dirname(os.path.dirname(exu_aniso.__file__)))
+    said = []
+    for _ in range(2):
+        done = subprocess.run([sys.executable, "-m", "exu_aniso.cli", "compile", "block"], env=env, cwd=tmp_path,
+                              capture_output=True, text=True, timeout=HANG_S)
+        assert done.returncode == 0, done.stderr
+        said.append(done.stderr)
+    assert "the contact kernels of block: 1 compiled" in said[0], said[0]
+    assert "compiling the contact kernel for CartesianPlane, PolarNet adhesion" in said[0]
+    assert "the contact kernels of block: 0 compiled" in said[1] and "compiling" not in said[1], said[1]
+    bad = subprocess.run([sys.executable, "-m", "exu_aniso.cli", "compile", "nonesuch"], env=env, cwd=tmp_path,
+                         capture_output=True, text=True, timeout=HANG_S)
+    assert bad.returncode == 2 and "no scene 'nonesuch'" in bad.stderr

@@ -12,7 +12,7 @@ built from, so a stale kernel never runs and nothing else recompiles it:
 * the **surface modules** (``geometry/<surface>.py``): a specialisation is keyed on the modules of
   the surfaces whose parameter types appear in its signature (with the surface modules those
   import): an edit of cone.py recompiles the cone's kernels only;
-* a module counts by its syntax tree without docstrings (``tree_hash``): an edit of a docstring or
+* a module counts by its syntax tree without docstrings (``_analyse``): an edit of a docstring or
   a comment recompiles nothing, nor does an edit of any other file (scenes, models, the command
   line, docs, tests, studies).
 
@@ -154,24 +154,24 @@ class Sources:
         def imports(rel):
             return {by_module[m] for m in sources[rel][1] if m in by_module}
 
-        shared = {rel for rel, (_, _, numba) in sources.items() if numba and rel not in self.surface_modules}
-        # and the package modules they import, transitively (not through a package's __init__: it re-exports)
-        todo = sorted(shared)
-        while todo:
-            new = {m for m in imports(todo.pop()) if not m.endswith("__init__.py") and m not in self.surface_modules}
-            todo += sorted(new - shared)
-            shared |= new
-        self.kernel_sources = sorted(shared)
-        self.shared_hash = self._combine(self.kernel_sources)
-        self._surface_hash = {}
-        for rel in self.surface_modules:
-            closure, todo = set(), [rel]
-            while todo:                           # the surface modules it imports, transitively
+        def closure(start, follow):
+            """start and the modules it imports that follow(module) admits, transitively."""
+            found, todo = set(), list(start)
+            while todo:
                 m = todo.pop()
-                if m not in closure:
-                    closure.add(m)
-                    todo += [i for i in imports(m) if i in self.surface_modules]
-            self._surface_hash[_module_of(rel)] = self._combine(sorted(closure))
+                if m not in found:
+                    found.add(m)
+                    todo += [i for i in imports(m) if follow(i)]
+            return sorted(found)
+
+        # the modules that import numba (but a surface's) and the package modules they import (not
+        # through a package's __init__: it re-exports)
+        self.kernel_sources = closure(
+            [rel for rel, (_, _, numba) in sources.items() if numba and rel not in self.surface_modules],
+            lambda m: not m.endswith("__init__.py") and m not in self.surface_modules)
+        self.shared_hash = self._combine(self.kernel_sources)
+        self._surface_hash = {_module_of(rel): self._combine(closure([rel], lambda m: m in self.surface_modules))
+                              for rel in self.surface_modules}
 
     def _combine(self, rels):
         h = hashlib.sha1()
@@ -209,7 +209,6 @@ class _PackageLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocat
 
     def __init__(self, py_func, py_file):
         self._py_file = py_file
-        self._lineno = py_func.__code__.co_firstlineno
         rel = os.path.relpath(py_file, _HERE).replace(os.sep, "/")
         self._cache_path = os.path.join(CACHE_DIR, os.path.dirname(rel))
         own = SOURCES.surface_hash(_module_of(rel)) or ""
