@@ -295,19 +295,27 @@ def test_first_compile_is_announced_once_and_cached(tmp_path):
 
 def test_compile_announcement_only_when_not_cached(monkeypatch, capsys):
     """A kernel not in the cache is announced once per process, with what it is for and how long it
-    takes (COMPILE_SECONDS); one in the cache is not announced."""
+    takes (COMPILE_SECONDS): the law for its surface, nets and return map, a set's kernel for its
+    node kind; one in the cache is not announced."""
     from exu_aniso.kernel import point as kernel_point
-    law = kernel_point._law_bundle(ContactLaw(Plane(coordinates="polar"), Adhesion.isotropic(1e3),
-                                              Friction.isotropic(0.3), 1e5))
-    args = (np.zeros(3), law, kernel_point.NODE_KINDS["RigidBody2D"])
-    for cached, expected in ((True, ""), (False, "compiling the contact kernel for PolarPlane, IsotropicNet "
-                                                 "adhesion, IsotropicNet friction, exact map, RigidBody2D node")):
-        monkeypatch.setattr(kernel_point, "compiled_here", {})
-        monkeypatch.setattr(kernel_point, "kernels_cached", lambda entry=None, sig=None: cached)
-        kernel_point.announce_compile(sig=("a",), args=args)
-        kernel_point.announce_compile(sig=("a",), args=args)            # once per process and kernel
-        err = capsys.readouterr().err
-        assert (expected in err) and err.count("compiling") == (0 if cached else 1), err
-        if not cached:
-            low, high = kernel_point.COMPILE_SECONDS["fixed"]
-            assert f"about {low}-{high} s" in err
+    bundle = kernel_point._law_bundle(ContactLaw(Plane(coordinates="polar"), Adhesion.isotropic(1e3),
+                                                 Friction.isotropic(0.3), 1e5))
+    kind, master = kernel_point.NODE_KINDS["RigidBody2D"], kernel_point.NODE_KINDS["RigidBodyEP"]
+    law_call = kernel_point.LawCall(0, 0)
+    cases = [(kernel_point.law_entry, (bundle,), "law",
+              "compiling the contact law for PolarPlane, IsotropicNet adhesion, IsotropicNet friction, exact map"),
+             (kernel_point.evaluate_covariant, (np.zeros(3), law_call, kind), "fixed",
+              "compiling the contact set kernel for a RigidBody2D node"),
+             (kernel_point.evaluate_covariant_pair, (np.zeros(10), law_call, kind, master), "moving",
+              "compiling the contact set kernel for a RigidBody2D slave on an EulerParameters master")]
+    for entry, args, which, text in cases:
+        for cached, expected in ((True, ""), (False, text)):
+            monkeypatch.setattr(kernel_point, "compiled_here", {})
+            monkeypatch.setattr(kernel_point, "kernels_cached", lambda entry=None, sig=None: cached)
+            kernel_point.announce_compile(entry=entry, sig=("a",), args=args)
+            kernel_point.announce_compile(entry=entry, sig=("a",), args=args)     # once per process and kernel
+            err = capsys.readouterr().err
+            assert (expected in err) and err.count("compiling") == (0 if cached else 1), err
+            if not cached:
+                low, high = kernel_point.COMPILE_SECONDS[which]
+                assert f"about {low}-{high} s" in err

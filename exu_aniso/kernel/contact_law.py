@@ -5,9 +5,9 @@ given the slave points and their velocities relative to the master (master frame
 *converged* history, it returns forces, the consistent tangent and the history candidate that
 ``commit`` makes the new converged history once a step is accepted. Nothing is stored inside.
 
-Every point goes through the covariant kernel (``exu_aniso.kernel.point.contact_point``), the same
-definition the compiled Exudyn route calls: compiled when the surface is (every built-in surface,
-a user surface numba can compile), plain Python otherwise.
+The points go through the covariant kernel, compiled when the surface is (every built-in surface,
+a user surface numba can compile: ``exu_aniso.kernel.point.law_entry``, the code the compiled Exudyn
+route calls), its plain-Python source otherwise (``contact_point`` point by point).
 
 History layout, one row per point, and the status codes: ``exu_aniso.law.history``.
 
@@ -85,6 +85,12 @@ class ContactLaw:
         self.d_N = check_nonnegative("normal_damping", normal_damping)
         self.d_T = check_nonnegative("tangential_damping", tangential_damping)
         self.return_map = check_return_map(return_map)
+        self._call = None       # (parameters, the compiled law's call, its stored bundle: kernel.point.law_call)
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["_call"] = None   # addresses of this process
+        return state
 
     @property
     def nets(self):
@@ -163,10 +169,45 @@ class ContactLaw:
         H = self.initial_history(K) if history is None else check_array(
             "history", np.reshape(history, (K, N_HISTORY)) if np.size(history) == K * N_HISTORY else history,
             (K, N_HISTORY))
+        dt = 0.0 if dt is None else float(dt)
+        if self.compiled:
+            force, stiff, damp, newH, status, gap = self._compiled_points(x, v, H, tangent, dt)
+        else:
+            force, stiff, damp, newH, status, gap = self._python_points(x, v, H, tangent, dt)
+        closed = status != OPEN
+        return ContactState(force, stiff if tangent else None, damp if tangent else None,
+                            np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,
+                            newH[:, 5] - H[:, 5], newH,
+                            np.where(closed[:, None], newH[:, 2:4], np.nan))
+
+    def _compiled_points(self, x, v, H, tangent, dt):
+        """The law at the K points in one compiled call (the code the set kernels call: kernel.point.law_entry),
+        a second one for the tangent: (force, df/dx, df/dv, history candidate, status, gap)."""
         from exu_aniso.kernel import point as kernel
-        # a Python loop over the points: a compiled loop would inline the whole kernel once more per surface
-        # and field types (+2 s of compilation each, measured; the set kernels already hold their own copy)
-        contact_point = kernel.contact_point if self.compiled else kernel.plain_python().contact_point
+        from exu_aniso.kernel.sets import SCRATCH_SLOTS, Y_DV, Y_F, Y_GAP, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
+        # made again if the law's parameters were changed since (the old code's address is not used again)
+        key = (self.eps_N, self.d_N, self.d_T, self.return_map, id(self.surface), id(self._nets))
+        if self._call is None or self._call[0] != key:
+            self._call = (key,) + kernel.law_call(kernel._law_bundle(self))
+        law = self._call[1]
+        K = x.shape[0]
+        Y = np.zeros((K, Y_ROWS, 3))
+        Y[:, Y_X], Y[:, Y_V] = x, v
+        H = np.ascontiguousarray(H, dtype=float)
+        newH, S = np.zeros((K, N_HISTORY)), np.zeros((SCRATCH_SLOTS, 9, 9))
+        kernel.call_law(law, Y, H, newH, 0, K, dt, False, S)
+        force, status, gap = Y[:, Y_F].copy(), Y[:, Y_INFO, 2].astype(int), Y[:, Y_GAP, 0].copy()
+        stiff = damp = None
+        if tangent:
+            kernel.call_law(law, Y, H, newH, 0, K, dt, True, S)
+            stiff, damp = Y[:, Y_KX:Y_KX + 3].copy(), Y[:, Y_DV:Y_DV + 3].copy()
+        return force, stiff, damp, newH, status, gap
+
+    def _python_points(self, x, v, H, tangent, dt):
+        """The law point by point in plain Python (a user surface or field numba cannot compile):
+        what _compiled_points gives."""
+        from exu_aniso.kernel import point as kernel
+        contact_point = kernel.plain_python().contact_point
         K = x.shape[0]
         law = kernel.law_params(self)
         sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]
@@ -178,10 +219,6 @@ class ContactLaw:
         gap = np.zeros(K)
         W = np.zeros((3, 9, 9))
         for k in range(K):
-            status[k], gap[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k], 0.0 if dt is None else float(dt),
-                                              tangent, force[k], stiff[k], damp[k], newH[k], W)
-        closed = status != OPEN
-        return ContactState(force, stiff if tangent else None, damp if tangent else None,
-                            np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,
-                            newH[:, 5] - H[:, 5], newH,
-                            np.where(closed[:, None], newH[:, 2:4], np.nan))
+            status[k], gap[k] = contact_point(sp, nB, nF, law, x[k], v[k], H[k], dt, tangent, force[k], stiff[k],
+                                              damp[k], newH[k], W)
+        return force, stiff, damp, newH, status, gap

@@ -41,13 +41,14 @@ import warnings
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
-from numba.extending import overload
+from numba import njit, types
+from numba.extending import intrinsic, overload
 
 from exu_aniso.kernel.nodes import NODE_KINDS, LinearSlave, node_coordinates_of
 from exu_aniso.kernel.sets import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
-from exu_aniso.kernel.sets import S_J, S_LAW, S_VEC, Y_DV, Y_F, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
+from exu_aniso.kernel.sets import S_J, S_LAW, S_VEC, Y_DV, Y_F, Y_GAP, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
 from exu_aniso.kernel.sets import point_states as sets_point_states
+from exu_aniso.kernel.stored import StoredArguments, _deref, machine_address
 from exu_aniso.geometry import _core
 from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
 from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
@@ -490,9 +491,10 @@ def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
                 # by element, no view of a row (see history_row)
                 x = (Y[k, Y_X, 0], Y[k, Y_X, 1], Y[k, Y_X, 2])
                 v = (Y[k, Y_V, 0], Y[k, Y_V, 1], Y[k, Y_V, 2])
-                st, _, state, f, hn = contact_force(sp, netB, netF, lp, x, v, row_at(H, k), dt, dT)
+                st, xi3, state, f, hn = contact_force(sp, netB, netF, lp, x, v, row_at(H, k), dt, dT)
                 Y[k, Y_F, 0], Y[k, Y_F, 1], Y[k, Y_F, 2] = f[0], f[1], f[2]
                 Y[k, Y_INFO, 2] = st
+                Y[k, Y_GAP, 0] = xi3
                 ncontact += st > 0
                 unresolved |= st == UNRESOLVED
                 if tangent:                # the state for the second loop, in the rows of df/dx and df/dv;
@@ -506,6 +508,77 @@ def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
             return ncontact, unresolved
         return impl
     return None
+
+
+# ----------------------------------------------------------------------------------------------
+# A set's kernel calls its law through an address: the set kernels (kernel.sets, below) are compiled
+# once per node kind and the law (law_entry) once per surface, nets and return map, and neither holds
+# the other's code. Compiled into one unit per (law, node kind), each new pairing cost the set
+# kernel's 9-26 s again.
+
+LawCall = namedtuple("LawCall", ("entry", "law"))
+LawCall.__doc__ = """What a set's kernel gets for its law, two int64 addresses: ``entry``, the machine code of
+law_entry compiled for the law bundle's type; ``law``, the bundle stored (kernel.stored.StoredArguments)."""
+
+_F3, _F2 = types.float64[:, :, ::1], types.float64[:, ::1]
+# law_entry's arguments after the bundle's pointer: Y, H, Hn, first, count, dt, tangent, S (kernel.sets.point_states)
+LAW_ARGS = (_F3, _F2, _F2, types.int64, types.int64, types.float64, types.boolean, _F3)
+
+
+@njit(cache=True)
+def law_entry(law, Y, H, Hn, first, count, dt, tangent, S):
+    """kernel.sets.point_states of the law bundle at the pointer ``law`` (a CPointer of its type): the
+    number of points in contact, or -1 minus that number when a point's step is unresolved."""
+    ncontact, unresolved = sets_point_states(_deref(law), Y, H, Hn, first, count, dt, tangent, S)
+    return -1 - ncontact if unresolved else ncontact
+
+
+@intrinsic
+def _call_law(typingctx, entry, law, Y, H, Hn, first, count, dt, tangent, S):
+    """law_entry at the address ``entry`` with the bundle stored at ``law`` and the rest of its
+    arguments (LAW_ARGS: C-contiguous arrays): its result. An exception it raises propagates to the
+    caller with its message."""
+    for name, got, want in (("Y", Y, _F3), ("H", H, _F2), ("Hn", Hn, _F2), ("S", S, _F3)):
+        if not (isinstance(got, types.Array) and got.ndim == want.ndim and got.dtype == want.dtype
+                and got.layout == "C"):
+            raise TypeError(f"the law's call: {name} is {got}, law_entry takes {want}")
+    argtys = (types.voidptr,) + LAW_ARGS
+
+    def codegen(context, builder, sig, llargs):
+        fnty = context.call_conv.get_function_type(types.int64, argtys)
+        fn = builder.inttoptr(llargs[0], fnty.as_pointer())
+        args = [builder.inttoptr(llargs[1], context.get_value_type(types.voidptr))]
+        args += [context.cast(builder, v, t, want) for v, t, want in zip(llargs[2:], sig.args[2:], LAW_ARGS)]
+        status, result = context.call_conv.call_function(builder, fn, types.int64, argtys, args)
+        with builder.if_then(status.is_error, likely=False):
+            context.call_conv.return_status_propagate(builder, status)
+        return result
+    return types.int64(entry, law, Y, H, Hn, first, count, dt, tangent, S), codegen
+
+
+@overload(sets_point_states)
+def _point_states_called(law, Y, H, Hn, first, count, dt, tangent, S):
+    if getattr(law, "instance_class", None) is LawCall:
+        def impl(law, Y, H, Hn, first, count, dt, tangent, S):
+            r = _call_law(law.entry, law.law, Y, H, Hn, first, count, dt, tangent, S)
+            return (-1 - r, True) if r < 0 else (r, False)
+        return impl
+    return None
+
+
+@njit(cache=True)
+def call_law(law, Y, H, Hn, first, count, dt, tangent, S):
+    """kernel.sets.point_states through a LawCall ``law``, for a Python caller (ContactLaw.evaluate):
+    compiled once, whatever the law; returns (points in contact, any unresolved)."""
+    return sets_point_states(law, Y, H, Hn, first, count, dt, tangent, S)
+
+
+def law_call(bundle):
+    """The law bundle (_law_bundle) stored, and law_entry compiled for its type (or loaded from the
+    cache; announced when it compiles): (LawCall, the stored bundle, which must outlive every call)."""
+    stored = StoredArguments(bundle)
+    address = _compiled_address(law_entry, (types.CPointer(stored.type),) + LAW_ARGS, (bundle,))
+    return LawCall(address, stored.address), stored
 
 
 @njit(cache=True, inline="always")
@@ -587,11 +660,13 @@ def _law_bundle(contact_law):
 
 
 class CovariantSet:
-    """A contact set on the covariant kernel packed for the compiled call: the law bundle (surface, nets, law parameters; named tuples), points,
-    history and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
+    """A contact set on the covariant kernel packed for the compiled call: the law (``bundle``: surface,
+    nets, law parameters as named tuples; ``law``: the LawCall the set's kernel gets), points, history
+    and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
 
     def __init__(self, contact_law, node_kind, ref, points):
-        self.law = _law_bundle(contact_law)
+        self.bundle = _law_bundle(contact_law)
+        self.law, self._stored_law = law_call(self.bundle)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
         if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
             self.kind, nq = LinearSlave(), self.linear.n
@@ -658,7 +733,8 @@ class CovariantPairSet(CovariantSet):
         from exu_aniso.kernel.sets import PAIR_SLOTS
         if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
             raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
-        self.law = _law_bundle(contact_law)
+        self.bundle = _law_bundle(contact_law)
+        self.law, self._stored_law = law_call(self.bundle)
         self.mkind = NODE_KINDS[master_kind]
         nm = node_coordinates_of(self.mkind)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
@@ -697,7 +773,8 @@ class CovariantGroupSet(CovariantSet):
     def __init__(self, contact_law, node_kind, ref, points, nb):
         import scipy.sparse as sp
 
-        self.law = _law_bundle(contact_law)
+        self.bundle = _law_bundle(contact_law)
+        self.law, self._stored_law = law_call(self.bundle)
         self.linear = None
         self.kind = NODE_KINDS[node_kind]
         nq = node_coordinates_of(self.kind)
@@ -723,7 +800,7 @@ class CovariantGroupSet(CovariantSet):
 # What a first compilation of a set's kernel costs on this 2-core machine [s], on a fixed master and on
 # a moving one: the ranges over the scenes' kernels in docs/results/compile_times/compile_times.json
 # (python studies/compile_times.py), rounded outward; tests/test_compile_cache.py holds them to that file
-COMPILE_SECONDS = {"fixed": (8, 18), "moving": (30, 35)}
+COMPILE_SECONDS = {"law": (5, 10), "fixed": (8, 18), "moving": (30, 35)}
 
 
 def kernels_cached(entry=None, sig=None):
@@ -743,24 +820,36 @@ def kernels_cached(entry=None, sig=None):
         return True
 
 
-def kernel_name(args):
-    """What a set kernel's arguments specialise it for, in words: the surface, the nets, the return map
-    and the node kind (the types of the law bundle and of the node kind among args)."""
+def kernel_name(args, entry=None):
+    """What a kernel's arguments specialise it for, in words: law_entry's law bundle (its surface, nets
+    and return map), or a set kernel's node kinds (``entry``: the set kernel, to name a group)."""
     law = next((a for a in args if isinstance(a, CovariantLaw)), None)
+    if law is not None:
+        return (f"the contact law for {type(law.surface).__name__.replace('Params', '')}, "
+                f"{type(law.adhesion).__name__} adhesion, {type(law.friction).__name__} friction, "
+                f"{type(law.law.method).__name__.lower()} map")
     kinds = [type(a).__name__ for a in args if type(a).__module__ == NODE_KINDS_MODULE]
-    if law is None:
-        return "a contact set"
-    if not kinds:           # evaluate_covariant_linear: mass points, cables, a finite-element body's nodes
-        nodes = ", a linear slave"
+    if not kinds or kinds == ["LinearSlave"]:      # mass points, cables, a finite-element body's nodes
+        nodes = "a linear slave"
+    elif entry is evaluate_covariant_group:
+        nodes = f"a group of {kinds[0]} nodes"
     elif len(kinds) == 1:
-        nodes = f", {kinds[0]} node"
+        nodes = f"{_a(kinds[0])} node"
     else:
-        nodes = f", {kinds[0]} slave on a {kinds[-1]} master"
-    return (f"{type(law.surface).__name__.replace('Params', '')}, {type(law.adhesion).__name__} adhesion, "
-            f"{type(law.friction).__name__} friction, {type(law.law.method).__name__.lower()} map{nodes}")
+        nodes = f"{_a(kinds[0].replace('LinearSlave', 'linear'))} slave on {_a(kinds[-1])} master"
+    return f"the contact set kernel for {nodes}"
+
+
+def _a(word):
+    return ("an " if word[0].lower() in "aeiou" else "a ") + word
 
 
 NODE_KINDS_MODULE = LinearSlave.__module__
+
+
+def compile_seconds(entry):
+    """COMPILE_SECONDS's range for the kernel ``entry``: a law, a fixed master's set or a moving master's set."""
+    return COMPILE_SECONDS["law" if entry is law_entry else "moving" if entry is evaluate_covariant_pair else "fixed"]
 
 
 def announce_compile(stream=None, entry=None, sig=None, args=None):
@@ -770,13 +859,11 @@ def announce_compile(stream=None, entry=None, sig=None, args=None):
     key = (entry, sig)
     if key in compiled_here or kernels_cached(entry, sig):
         return False
-    compiled_here[key] = [kernel_name(args) if args is not None else "a contact set", None]
+    compiled_here[key] = [kernel_name(args, entry) if args is not None else "a contact kernel", None]
     where = getattr(getattr(entry or evaluate_covariant, "_cache", None), "_cache_path", "numba's cache directory")
-    what = compiled_here[key][0]
-    low, high = COMPILE_SECONDS["moving" if entry is evaluate_covariant_pair else "fixed"]
-    print(f"exu_aniso: compiling the contact kernel for {what} with numba (about {low}-{high} s on a 2-core "
-          f"machine; once per machine: later runs load it from the cache in {where})", file=stream or sys.stderr,
-          flush=True)
+    low, high = compile_seconds(entry)
+    print(f"exu_aniso: compiling {compiled_here[key][0]} with numba (about {low}-{high} s on a 2-core machine; "
+          f"once per machine: later runs load it from the cache in {where})", file=stream or sys.stderr, flush=True)
     return True
 
 
@@ -785,26 +872,38 @@ def announce_compile(stream=None, entry=None, sig=None, args=None):
 compiled_here = {}
 
 
+def _compile(fn, sig, args):
+    """Compile the numba dispatcher fn for the argument types sig, or load it from the cache: announced
+    (announce_compile) and timed (compiled_here) when it compiles."""
+    from numba.core.errors import NumbaIRAssumptionWarning
+    announced = sig not in fn.overloads and announce_compile(entry=fn, sig=sig, args=args)
+    start = time.perf_counter()
+    with warnings.catch_warnings():
+        # numba's internal SSA check complains about variables of branches it pruned in the force
+        # loop's inlined law (tangent a constant False there); the code is right, the notice is noise
+        warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
+        fn.compile(sig)
+    if announced:
+        compiled_here[(fn, sig)][1] = time.perf_counter() - start
+
+
+def _compiled_address(fn, sig, args):
+    """The machine address of fn compiled for sig (_compile; args: values of those types, to name it)."""
+    _compile(fn, sig, args)
+    return machine_address(fn, sig)[0]
+
+
 def _entry_point(fn, args):
     """The compiled function of the numba dispatcher fn for the types of args, called directly.
 
-    numba's type dispatch of every call costs ~2 us here, most of it typing the nested named tuple
-    of the law bundle (measured: 2 us of dispatch against 0.4 us of the compiled call's entry); the types of a set's arguments never change (the caller
-    passes C-contiguous float64 arrays, floats and ints), so the dispatch is done once. Falls back to
-    the dispatcher if numba's API for it is not there."""
+    numba's type dispatch of every call costs ~2 us here (measured: 2 us of dispatch against 0.4 us of
+    the compiled call's entry); the types of a set's arguments never change (the caller passes
+    C-contiguous float64 arrays, floats and ints), so the dispatch is done once. Falls back to the
+    dispatcher if numba's API for it is not there."""
     from numba import typeof
-    from numba.core.errors import NumbaIRAssumptionWarning
     try:
         sig = tuple(typeof(a) for a in args)
-        announced = sig not in fn.overloads and announce_compile(entry=fn, sig=sig, args=args)
-        start = time.perf_counter()
-        with warnings.catch_warnings():
-            # numba's internal SSA check complains about variables of branches it pruned in the force
-            # loop's inlined law (tangent a constant False there); the code is right, the notice is noise
-            warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
-            fn.compile(sig)
-        if announced:
-            compiled_here[(fn, sig)][1] = time.perf_counter() - start
+        _compile(fn, sig, args)
         return fn.overloads[sig].entry_point
     except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
         return fn

@@ -4,8 +4,9 @@ generalized force, Jacobian and history candidate of one contact set in one comp
 Why it exists: inside Exudyn the contact law runs in user functions that are called 5-6 times per
 time step; one compiled call per user function evaluates a whole set: positions, velocities and
 point Jacobians of the body-fixed points, the contact law at every point (``point_states``: the
-covariant kernel of ``exu_aniso.kernel.point``, bound at compile time by the type of the law bundle) and
-the generalized quantities of the node. ``tests/test_fastpath.py`` holds this route equal to the
+covariant kernel of ``exu_aniso.kernel.point``, called through the address of its compiled code, so a
+set's kernel is compiled once per node kind, whatever the law) and the generalized quantities of the
+node. ``tests/test_fastpath.py`` holds this route equal to the
 numpy glue (``exudyn_adapter.glue._ContactSet``).
 
 Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): types of
@@ -59,20 +60,21 @@ S_J = 18           # the set's Jacobian J [:nq, :nq] (CovariantSet.J)
 
 # the rows of a set's point buffer Y (K, Y_ROWS, 3), a block per point: its position and velocity
 # (master frame, relative to the master), the force on it, (ax, ay, status) (a planar node's lever
-# arm, the law's status), df/dx (3 rows), df/dv (3 rows) and, under a moving master, the force in
-# global axes
-Y_X, Y_V, Y_F, Y_INFO, Y_KX, Y_DV, Y_FG = 0, 1, 2, 3, 4, 7, 10
-Y_ROWS = 11
+# arm, the law's status), df/dx (3 rows), df/dv (3 rows), under a moving master the force in
+# global axes, and the normal gap xi3 [m] the law found ([Y_GAP, 0])
+Y_X, Y_V, Y_F, Y_INFO, Y_KX, Y_DV, Y_FG, Y_GAP = 0, 1, 2, 3, 4, 7, 10, 11
+Y_ROWS = 12
 
 
 def point_states(law, Y, H, Hn, first, count, dt, tangent, S):
     """The contact law at the points k = first, ..., first + count - 1 of the buffer Y: at Y[k, Y_X]
     with velocity Y[k, Y_V] from the converged history H[k] and dt [s] since it, the force into
-    Y[k, Y_F] and the status into Y[k, Y_INFO, 2]; with tangent also df/dx and df/dv into
+    Y[k, Y_F], the status into Y[k, Y_INFO, 2] and the normal gap into Y[k, Y_GAP, 0]; with tangent also df/dx and df/dv into
     Y[k, Y_KX:Y_KX + 3] and Y[k, Y_DV:Y_DV + 3]; the history candidate into Hn[k] (not with tangent:
     a Jacobian call leaves the candidate of the last residual). Returns (points in contact, any
-    unresolved). Resolved at compile time by the type of ``law`` (an overload: the covariant kernel
-    of ``exu_aniso.kernel.point``); the one place a set's kernel compiles the law into, so give
+    unresolved). Resolved at compile time by the type of ``law`` (overloads in
+    ``exu_aniso.kernel.point``: a LawCall, the law's compiled code called through its address, as
+    the set kernels get it; a law bundle, the covariant kernel itself, as that code runs it). Give
     ``tangent`` as a run-time bool (``mode == 1``), never a literal, or it compiles twice."""
     raise NotImplementedError("point_states is resolved at compile time")
 

@@ -190,7 +190,7 @@ SOURCES = Sources(_read_sources())
 
 def signature_surfaces(sig):
     """The hashes of the surface modules whose parameter types appear in the numba signature sig
-    (argument types, tuples and named tuples searched through), sorted."""
+    (argument types, tuples, named tuples and pointers searched through), sorted."""
     found, todo = set(), list(sig if isinstance(sig, tuple) else getattr(sig, "args", ()))
     while todo:
         t = todo.pop()
@@ -200,6 +200,8 @@ def signature_surfaces(sig):
                 found.add(h)
         if isinstance(t, (types.BaseTuple,)):
             todo.extend(t.types)
+        if isinstance(t, types.CPointer):
+            todo.append(t.dtype)
     return tuple(sorted(found))
 
 
