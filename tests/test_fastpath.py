@@ -277,8 +277,8 @@ def test_reduced_screw_symmetry_equals_all_points(over):
 
 @pytest.mark.slow
 def test_first_compile_is_announced_once_and_cached(tmp_path):
-    """A fresh numba cache: the first run says it compiles (before the 15-25 s pass), the second
-    run loads the cache from disk and says nothing."""
+    """A fresh numba cache: the first run says it compiles its law and its set kernel (before each
+    pass), the second run loads the cache from disk and says nothing."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
     code = ("import numpy as np\nfrom exu_aniso import Adhesion, ContactLaw, Friction, Plane\n"
             "law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)\n"
@@ -288,7 +288,8 @@ def test_first_compile_is_announced_once_and_cached(tmp_path):
             "assert pk.Q[1] == 0.0 and pk.Q.shape == (3,)\n")
     first = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     second = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    assert first.stderr.count("compiling the contact kernel for") == 1, first.stderr
+    assert first.stderr.count("compiling the contact law for") == 1, first.stderr
+    assert first.stderr.count("compiling the contact set kernel for") == 1, first.stderr
     assert "compiling" not in second.stderr, second.stderr
     assert any((tmp_path / "numba").rglob("*.nbi"))
 

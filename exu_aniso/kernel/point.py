@@ -800,7 +800,7 @@ class CovariantGroupSet(CovariantSet):
 # What a first compilation of a set's kernel costs on this 2-core machine [s], on a fixed master and on
 # a moving one: the ranges over the scenes' kernels in docs/results/compile_times/compile_times.json
 # (python studies/compile_times.py), rounded outward; tests/test_compile_cache.py holds them to that file
-COMPILE_SECONDS = {"law": (5, 10), "fixed": (8, 18), "moving": (30, 35)}
+COMPILE_SECONDS = {"law": (6, 10), "fixed": (0, 9), "moving": (22, 30)}
 
 
 def kernels_cached(entry=None, sig=None):
@@ -847,9 +847,10 @@ def _a(word):
 NODE_KINDS_MODULE = LinearSlave.__module__
 
 
-def compile_seconds(entry):
-    """COMPILE_SECONDS's range for the kernel ``entry``: a law, a fixed master's set or a moving master's set."""
-    return COMPILE_SECONDS["law" if entry is law_entry else "moving" if entry is evaluate_covariant_pair else "fixed"]
+def kernel_kind(entry):
+    """What the kernel ``entry`` is, as COMPILE_SECONDS names it: "law" (law_entry), "moving" (a set
+    on a moving master) or "fixed" (a set on a fixed master)."""
+    return "law" if entry is law_entry else "moving" if entry is evaluate_covariant_pair else "fixed"
 
 
 def announce_compile(stream=None, entry=None, sig=None, args=None):
@@ -861,7 +862,7 @@ def announce_compile(stream=None, entry=None, sig=None, args=None):
         return False
     compiled_here[key] = [kernel_name(args, entry) if args is not None else "a contact kernel", None]
     where = getattr(getattr(entry or evaluate_covariant, "_cache", None), "_cache_path", "numba's cache directory")
-    low, high = compile_seconds(entry)
+    low, high = COMPILE_SECONDS[kernel_kind(entry)]
     print(f"exu_aniso: compiling {compiled_here[key][0]} with numba (about {low}-{high} s on a 2-core machine; "
           f"once per machine: later runs load it from the cache in {where})", file=stream or sys.stderr, flush=True)
     return True
