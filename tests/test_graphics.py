@@ -45,7 +45,9 @@ def _settings(t_end, dt=1e-3):
 
 def _block(load=(0.0, 0.0, 0.0), normal=9.81, x0=0.5, adhesion=None, friction=None, surface=None):
     """1 kg cube (EP node) on the plane z = 0 at the static penetration of `normal` [N]; extra
-    constant force `load` at the centre. Polar adhesion and friction by default (README example)."""
+    constant force `load` at the centre. Polar adhesion and friction by default (README example);
+    the exact map (its laws are compiled by other tests of the default run; the default friction
+    is isotropic in value, where the maps agree)."""
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
     z0 = A_BLOCK - normal / (4 * EPS_N)
@@ -57,7 +59,7 @@ def _block(load=(0.0, 0.0, 0.0), normal=9.81, x0=0.5, adhesion=None, friction=No
         mbs, bodyNumber=oBlock, localPoints=LOCAL, surface=surface or Plane(coordinates="polar"),
         adhesion=adhesion or Adhesion.polar(eps_r=2.5e4, eps_phi=2.5e2, core_radius=1e-3),
         friction=friction or Friction.polar(mu_r=0.3, mu_phi=0.3, core_radius=1e-3),
-        normalStiffness=EPS_N, returnMap="radial", implementation="numpy", storeHistory=True)
+        normalStiffness=EPS_N, returnMap="exact", implementation="numpy", storeHistory=True)
     return SC, mbs, oBlock, contact
 
 

@@ -77,7 +77,12 @@ def _run(*args, **kw):
     return mbs, np.asarray(mbs.systemData.GetODE2Coordinates()), H, iters / steps, contacts
 
 
-@pytest.mark.parametrize("node", ["EP", "RotVecLG", "2D"])
+# a group's kernel is compiled per node kind (7-19 s each): the default run takes Euler parameters (the
+# kind of the other group tests and of the benchmarks' cubes); -m slow the others
+NODES = ["EP", pytest.param("RotVecLG", marks=pytest.mark.slow), pytest.param("2D", marks=pytest.mark.slow)]
+
+
+@pytest.mark.parametrize("node", NODES)
 def test_group_is_the_separate_sets(node):
     _, q1, H1, it1, _ = _run(3, False, node)
     mbs, q2, H2, it2, contacts = _run(3, True, node)
@@ -102,7 +107,7 @@ def test_group_dense_and_sparse_solvers_agree():
     assert np.abs(q2 - q1).max() <= 1e-12 * max(1.0, np.abs(q1).max())
 
 
-@pytest.mark.parametrize("node", ["EP", "RotVecLG", "2D"])
+@pytest.mark.parametrize("node", NODES)
 def test_group_sparse_jacobian_is_the_separate_sets_blocks(node):
     """After sliding a while: J (the CSR matrix Exudyn gets) holds each body's set Jacobian (those are
     checked against differences and the numpy route in test_jacobian_nodes / test_fastpath) on its
