@@ -128,6 +128,7 @@ def test_compile_estimate_is_the_measured_one():
         assert point.COMPILE_SECONDS[which] == (int(min(measured)), int(max(measured)) + 1), which
 
 
+@pytest.mark.slow
 def test_compile_times_quick(tmp_path, quick_study):
     """studies/compile_times.py --quick: the block compiled from an empty cache in a fresh process, its
     law and its set kernel named and timed, and the functions its cache then holds."""
