@@ -513,8 +513,8 @@ def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
 # ----------------------------------------------------------------------------------------------
 # A set's kernel calls its law through an address: the set kernels (kernel.sets, below) are compiled
 # once per node kind and the law (law_entry) once per surface, nets and return map, and neither holds
-# the other's code. Compiled into one unit per (law, node kind), each new pairing cost the set
-# kernel's 9-26 s again.
+# the other's code. Compiled into one unit per (law, node kind), every new pairing compiled the set
+# kernel again (docs/guide/decisions.md).
 
 LawCall = namedtuple("LawCall", ("entry", "law"))
 LawCall.__doc__ = """What a set's kernel gets for its law, two int64 addresses: ``entry``, the machine code of
@@ -797,20 +797,21 @@ class CovariantGroupSet(CovariantSet):
         self._entry = None
 
 
-# What a first compilation of a set's kernel costs on this 2-core machine [s], on a fixed master and on
-# a moving one: the ranges over the scenes' kernels in docs/results/compile_times/compile_times.json
-# (python studies/compile_times.py), rounded outward; tests/test_compile_cache.py holds them to that file
+# What a first compilation costs on this 2-core machine [s] (kernel_kind): a law's, a set kernel's on a
+# fixed master and on a moving one: the ranges over the scenes' kernels in
+# docs/results/compile_times/compile_times.json (python studies/compile_times.py), rounded outward;
+# tests/test_compile_cache.py holds them to that file
 COMPILE_SECONDS = {"law": (6, 10), "fixed": (0, 9), "moving": (22, 30)}
 
 
 def kernels_cached(entry=None, sig=None):
     """True if numba's on-disk cache (exu_aniso.util.numba_cache) holds compiled code of the kernel
-    ``entry`` (a numba dispatcher; default: evaluate_covariant) for the argument types ``sig`` (a
+    ``entry`` (a numba dispatcher; default: law_entry, the laws) for the argument types ``sig`` (a
     tuple of numba types; None: for any types), so that no compilation is needed; False if the
     first call will compile. Reads numba's cache index, a private API: when that fails, it answers
     True (say nothing rather than something wrong)."""
     try:
-        cache = (entry or evaluate_covariant)._cache
+        cache = (entry or law_entry)._cache
         index = cache._cache_file._load_index()
         if sig is None:
             return bool(index)
