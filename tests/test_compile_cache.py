@@ -103,6 +103,7 @@ def test_a_law_is_keyed_on_its_surface_and_a_set_kernel_on_none():
     """A law's compiled code (kernel.point.law_entry, its bundle behind a pointer) is keyed on its
     surface's module, so an edit of the sphere recompiles the sphere's laws; a set's kernel, which
     calls the law through its address, on no surface at all, so such an edit leaves it be."""
+    import numpy as np
     from numba import typeof, types
 
     from exu_aniso import Adhesion, ContactLaw, Friction, Sphere
@@ -110,7 +111,7 @@ def test_a_law_is_keyed_on_its_surface_and_a_set_kernel_on_none():
     bundle = point._law_bundle(ContactLaw(Sphere(1.0), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5))
     law_sig = (types.CPointer(typeof(bundle)),) + point.LAW_ARGS
     assert numba_cache.signature_surfaces(law_sig) == (numba_cache.SOURCES.surface_hash("exu_aniso.geometry.sphere"),)
-    set_args = (0, point.np.zeros(3), point.LawCall(0, 0), point.NODE_KINDS["RigidBody2D"])
+    set_args = (0, np.zeros(3), point.LawCall(0, 0), point.NODE_KINDS["RigidBody2D"])
     assert numba_cache.signature_surfaces(tuple(typeof(a) for a in set_args)) == ()
 
 

@@ -314,3 +314,18 @@ def test_block_path_is_the_same_in_cartesian_and_polar_coordinates():
     time_error = np.abs(paths["cartesian", 1e-3][::2] - paths["cartesian", 2e-3]).max()
     assert math.log2(diff[0] / diff[1]) > 1.8, diff
     assert diff[1] < 1e-6 * travel and diff[1] < 1e-2 * time_error, (diff, time_error, travel)
+
+
+def test_a_law_changed_or_pickled_after_its_first_evaluation_runs_its_own_parameters():
+    """ContactLaw keeps its compiled law's call between evaluations: a parameter changed afterwards
+    gets a new one (the normal force doubles with eps_N: N = eps_N |xi3|), and a pickled law, whose
+    addresses belong to the process that made them, makes its own."""
+    import pickle
+    law = ContactLaw(Plane(), Adhesion.isotropic(1e4), Friction.isotropic(0.3), 1e5)
+    x = np.array([[0.1, 0.2, -1e-4]])
+    assert law.evaluate(x).force[0, 2] == pytest.approx(10.0, rel=1e-12)
+    law.eps_N = 2e5
+    assert law.evaluate(x).force[0, 2] == pytest.approx(20.0, rel=1e-12)
+    copy = pickle.loads(pickle.dumps(law))
+    assert copy._call is None
+    np.testing.assert_array_equal(copy.evaluate(x).force, law.evaluate(x).force)

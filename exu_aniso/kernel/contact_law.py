@@ -85,7 +85,7 @@ class ContactLaw:
         self.d_N = check_nonnegative("normal_damping", normal_damping)
         self.d_T = check_nonnegative("tangential_damping", tangential_damping)
         self.return_map = check_return_map(return_map)
-        self._call = None       # (parameters, the compiled law's call, its stored bundle: kernel.point.law_call)
+        self._call = None       # (parameters, what they name, the compiled law's call and its stored bundle)
 
     def __getstate__(self):
         state = dict(self.__dict__)
@@ -185,11 +185,12 @@ class ContactLaw:
         a second one for the tangent: (force, df/dx, df/dv, history candidate, status, gap)."""
         from exu_aniso.kernel import point as kernel
         from exu_aniso.kernel.sets import SCRATCH_SLOTS, Y_DV, Y_F, Y_GAP, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
-        # made again if the law's parameters were changed since (the old code's address is not used again)
+        # made again if the law's parameters were changed since (the old code's address is not used again);
+        # the surface and nets are held with it, so that their ids in the key name them
         key = (self.eps_N, self.d_N, self.d_T, self.return_map, id(self.surface), id(self._nets))
         if self._call is None or self._call[0] != key:
-            self._call = (key,) + kernel.law_call(kernel._law_bundle(self))
-        law = self._call[1]
+            self._call = (key, (self.surface, self._nets)) + kernel.law_call(kernel._law_bundle(self))
+        law = self._call[2]
         K = x.shape[0]
         Y = np.zeros((K, Y_ROWS, 3))
         Y[:, Y_X], Y[:, Y_V] = x, v
