@@ -337,8 +337,8 @@ def compile_kernels(scenes):
     """``exu-aniso compile``: compile (or find in the cache) every contact kernel that the scenes'
     default runs use, by simulating each scene's Exudyn model for COMPILE_STEPS time steps, its times
     scaled alike (the whole default run where the scene's rules forbid that; nothing written),
-    several scenes in parallel worker processes on several cores. Prints how many set kernels it
-    compiled and the wall time. Exit code 0, or 1 when a run failed."""
+    several scenes in parallel worker processes on several cores. Prints how many kernels (contact
+    laws and set kernels) it compiled and the wall time. Exit code 0, or 1 when a run failed."""
     import time
 
     names = list(dict.fromkeys(s for x in scenes for s in (MAIN_JOB if x == "all" else (x,))))
@@ -355,7 +355,7 @@ def compile_kernels(scenes):
 
 def _compile_scene(scene):
     """Simulate COMPILE_STEPS steps of a scene's defaults (its kernels compiled or loaded on the way):
-    (None or the failure's message, the number of set kernels compiled)."""
+    (None or the failure's message, the number of kernels compiled: laws and set kernels)."""
     from exu_aniso.kernel import point
     before = len(point.compiled_here)          # this process may have compiled another scene's before
     try:

@@ -665,8 +665,7 @@ class CovariantSet:
     and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
 
     def __init__(self, contact_law, node_kind, ref, points):
-        self.bundle = _law_bundle(contact_law)
-        self.law, self._stored_law = law_call(self.bundle)
+        self._take_law(contact_law)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
         if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
             self.kind, nq = LinearSlave(), self.linear.n
@@ -690,6 +689,12 @@ class CovariantSet:
         else:
             self._fn, self.tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.Y, self.X, self.kind)
         self._entry = None
+
+    def _take_law(self, contact_law):
+        """The law bundle (``bundle``), its call for the set's kernel (``law``, law_call) and the stored
+        bundle the call reads, held as long as the set."""
+        self.bundle = _law_bundle(contact_law)
+        self.law, self._stored_law = law_call(self.bundle)
 
     def _buffers(self, b, n):
         """The packed arrays of K points b (K, 3) over n coordinates: P (3, K, 9) (points, converged
@@ -733,8 +738,7 @@ class CovariantPairSet(CovariantSet):
         from exu_aniso.kernel.sets import PAIR_SLOTS
         if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
             raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
-        self.bundle = _law_bundle(contact_law)
-        self.law, self._stored_law = law_call(self.bundle)
+        self._take_law(contact_law)
         self.mkind = NODE_KINDS[master_kind]
         nm = node_coordinates_of(self.mkind)
         self.linear = node_kind if isinstance(node_kind, LinearMap) else None
@@ -773,8 +777,7 @@ class CovariantGroupSet(CovariantSet):
     def __init__(self, contact_law, node_kind, ref, points, nb):
         import scipy.sparse as sp
 
-        self.bundle = _law_bundle(contact_law)
-        self.law, self._stored_law = law_call(self.bundle)
+        self._take_law(contact_law)
         self.linear = None
         self.kind = NODE_KINDS[node_kind]
         nq = node_coordinates_of(self.kind)

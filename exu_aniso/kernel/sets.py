@@ -69,8 +69,8 @@ Y_ROWS = 12
 def point_states(law, Y, H, Hn, first, count, dt, tangent, S):
     """The contact law at the points k = first, ..., first + count - 1 of the buffer Y: at Y[k, Y_X]
     with velocity Y[k, Y_V] from the converged history H[k] and dt [s] since it, the force into
-    Y[k, Y_F], the status into Y[k, Y_INFO, 2] and the normal gap into Y[k, Y_GAP, 0]; with tangent also df/dx and df/dv into
-    Y[k, Y_KX:Y_KX + 3] and Y[k, Y_DV:Y_DV + 3]; the history candidate into Hn[k] (not with tangent:
+    Y[k, Y_F], the status into Y[k, Y_INFO, 2] and the normal gap into Y[k, Y_GAP, 0]; with tangent
+    also df/dx and df/dv into Y[k, Y_KX:Y_KX + 3] and Y[k, Y_DV:Y_DV + 3]; the history candidate into Hn[k] (not with tangent:
     a Jacobian call leaves the candidate of the last residual). Returns (points in contact, any
     unresolved). Resolved at compile time by the type of ``law`` (overloads in
     ``exu_aniso.kernel.point``: a LawCall, the law's compiled code called through its address, as

@@ -27,16 +27,20 @@ def _store(typingctx, address, value):
     return types.none(types.int64, value), codegen
 
 
+def _value_at(context, builder, ty, ptr):
+    """The value of numba type ty that _store wrote at the LLVM pointer ptr, as a new reference."""
+    value = builder.load(builder.bitcast(ptr, context.get_value_type(ty).as_pointer()))
+    context.nrt.incref(builder, ty, value)
+    return value
+
+
 @intrinsic
 def _load(typingctx, address, typeref):
     """The value of numba type ``typeref`` stored at ``address`` (_store), as a new reference."""
     ty = typeref.instance_type
 
     def codegen(context, builder, sig, args):
-        ptr = builder.inttoptr(args[0], context.get_value_type(ty).as_pointer())
-        value = builder.load(ptr)
-        context.nrt.incref(builder, ty, value)
-        return value
+        return _value_at(context, builder, ty, builder.inttoptr(args[0], context.get_value_type(types.voidptr)))
     return ty(types.int64, typeref), codegen
 
 
@@ -58,10 +62,7 @@ def _deref(typingctx, pointer):
     ty = pointer.dtype
 
     def codegen(context, builder, sig, args):
-        ptr = builder.bitcast(args[0], context.get_value_type(ty).as_pointer())
-        value = builder.load(ptr)
-        context.nrt.incref(builder, ty, value)
-        return value
+        return _value_at(context, builder, ty, args[0])
     return ty(pointer), codegen
 
 
