@@ -20,3 +20,17 @@ def time_step(p):
 def time_grid(p):
     """The N + 1 sample times [s] of a run, 0 to t_end in steps of time_step(p) (every engine's grid)."""
     return np.linspace(0.0, p.t_end, step_count(p) + 1)
+
+
+def driver_travel(t, speed, start=0.0, ramp=0.0):
+    """A drive's driver point: its travel [m or rad] and rate at time(s) t [s] when it rests until
+    ``start``, then speeds up at a constant rate to ``speed`` over ``ramp`` [s] and holds it:
+    speed tau^2 / (2 ramp) for tau = t - start < ramp, speed (tau - ramp / 2) after. Its rate is
+    continuous, so the drive's force has no jump an integrator would have to resolve; ramp = 0 is
+    the jump to speed at start. Returns arrays of t's shape (scalars for a scalar t)."""
+    tau = np.asarray(t, dtype=float) - start
+    if ramp > 0.0:
+        s = np.clip(tau / ramp, 0.0, 1.0)
+        travel = speed * np.where(tau < ramp, 0.5 * ramp * s * s, tau - 0.5 * ramp)
+        return travel, speed * s
+    return speed * np.maximum(tau, 0.0), np.where(tau > 0.0, speed, 0.0 if start > 0.0 else speed)

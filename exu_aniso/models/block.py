@@ -12,10 +12,12 @@ docstring); ``RunBlock`` returns the same ``Result`` so the two engines compare 
   first rotations of a block at rest; ``nodeType="RotVecLG"`` for the Lie-group rotation vector,
   which the explicit solvers need), normal_load as a constant
   downward force at the centre of mass, no gravity, started at the static penetration;
-* drives: "force" -> constant load at the centre of mass; "displacement" -> a spring along the drive
-  direction d only, F = k (s t - d.(r - r0)) d, from Exudyn C++ items (``AddSpringDrive``: a
-  driver at constant velocity, a slider held at d.(r - r0), a coordinate spring; under an explicit
-  solver, which cannot solve constraints, a Python ``ObjectGenericODE2`` with its exact Jacobian).
+* drives: "force" -> constant load at the centre of mass; "displacement" -> a spring and a dashpot
+  along the drive direction d only, F = (k (s - d.(r - r0)) + c (s' - d.v)) d, from Exudyn C++ items
+  (``AddSpringDrive``: a driver at constant velocity, a slider held at d.(r - r0), a coordinate
+  spring; with drive_ramp > 0 the spring's force is a Python function of the driver's travel s(t);
+  under an explicit solver, which cannot solve constraints, a Python ``ObjectGenericODE2`` with
+  its exact Jacobian).
 
 Run ``python -m exu_aniso.models.block`` (or this file) for a plot of the default scene.
 """
@@ -33,6 +35,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
+from exu_aniso.engines.timing import driver_travel
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
                                                      BodyMotion, HistoryOutputs, RunScene,
                                                      SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
@@ -123,7 +126,8 @@ def BuildBlock(p: BlockParams, jacobian="analytic", nodeType="EP", solverType=No
     if p.drive == "displacement":               # spring along d only, driver point moving at drive_speed
         along = np.zeros(nq)
         along[:2] = d
-        oDrive = AddSpringDrive(mbs, nBlock, along, p.drive_stiffness, p.drive_speed,
+        oDrive = AddSpringDrive(mbs, nBlock, along, p.drive_stiffness, p.drive_speed, damping=p.drive_damping,
+                                ramp=p.drive_ramp,
                                 python=solverType is not None and solverType not in IMPLICIT_SOLVERS)
 
     if contactBuilder is None:
@@ -174,7 +178,9 @@ def BlockTrajectory(model, history=None):
         traj["drive_force"] = np.full(len(traj["t"]), p.force)
     else:
         disp = d[0] * (traj["x"] - p.x0) + d[1] * (traj["y"] - p.y0)
-        traj["drive_force"] = p.drive_stiffness * (p.drive_speed * traj["t"] - disp)
+        s, s_t = driver_travel(traj["t"], p.drive_speed, 0.0, p.drive_ramp)
+        traj["drive_force"] = (p.drive_stiffness * (s - disp)
+                               + p.drive_damping * (s_t - d[0] * traj["vx"] - d[1] * traj["vy"]))
     traj["dissipated_energy"] = diss
     traj["slip_distance"] = slip
     return traj

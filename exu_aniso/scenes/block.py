@@ -18,8 +18,9 @@ brackets):
   gravity); the contact points carry it through the normal penalty. The block starts at the static
   penetration (no initial bounce).
 
-Drives: "force" P (cos a, sin a, 0) at the COM; "displacement": a spring along the drive direction
-d only, F = k (s t - d.(r - r0)) d.
+Drives: "force" P (cos a, sin a, 0) at the COM; "displacement": a spring and a dashpot along the
+drive direction d only from a driver point at travel s(t) (drive_speed t, or speeding up over
+drive_ramp first), F = (k (s - d.(r - r0)) + c (s' - d.v)) d.
 """
 from __future__ import annotations
 
@@ -30,6 +31,7 @@ import numpy as np
 from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
 from exu_aniso.engines.result import Result
+from exu_aniso.engines.timing import driver_travel
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
@@ -69,6 +71,10 @@ BLOCK_PARAMS = {
     "drive_speed": (0.1, "m/s", "speed of the driver point (drive = 'displacement')", "real"),
     "drive_stiffness": (1e3, "N/m", "stiffness of the drive spring, acting along the drive direction only",
                         "> 0"),
+    "drive_damping": (0.0, "N s/m", "dashpot beside the drive spring, along the drive direction only: "
+                      "c (driver's speed - d.v)", ">= 0"),
+    "drive_ramp": (0.0, "s", "the driver speeds up from rest to drive_speed at a constant rate over this time "
+                   "(0: it starts at drive_speed)", ">= 0"),
     "t_end": (2.0, "s", "simulated time", "> 0"),
     "dt": (1e-3, "s", "time step", "> 0"),
     "model": ("planar", "-", "planar (x, y, theta; held normal load) or full 6-DOF rigid body",
@@ -120,6 +126,17 @@ def block_points(p):
         X, Y = np.meshgrid(s, s, indexing="xy")
         xy = np.stack([X.ravel(), Y.ravel()], axis=-1)
     return np.column_stack([xy, np.full(len(xy), -a)])
+
+
+def drive_force(p, d, u, v, t):
+    """The displacement drive's force (n,) [N] on the block at displacement u (n,) [m] from its start
+    and velocity v (n,) [m/s] (n = 2 or 3, d likewise), time t [s]: (k (s - d.u) + c (s' - d.v)) d with
+    the driver's travel s and rate s' (``driver_travel``: drive_speed after drive_ramp), and its
+    derivatives (n, n) by u and by v (k = drive_stiffness, c = drive_damping)."""
+    s, s_t = driver_travel(t, p.drive_speed, 0.0, p.drive_ramp)
+    k, c = p.drive_stiffness, p.drive_damping
+    dd = np.outer(d, d)
+    return (k * (float(s) - d @ u) + c * (float(s_t) - d @ v)) * d, -k * dd, -c * dd
 
 
 def _n_block_points(p):
@@ -237,12 +254,12 @@ class _BlockPlanar(BodyModel):
         self.v0 = np.zeros(3)
         self.d = np.array([math.cos(math.radians(p.drive_angle)), math.sin(math.radians(p.drive_angle))])
 
-    def drive(self, q, t):
+    def drive(self, q, v, t):
+        """The drive's force (2,) on the block and its derivatives by q[:2] and v[:2]."""
         p = self.p
         if p.drive == "force":
-            return p.force * self.d, np.zeros((2, 2))
-        stretch = p.drive_speed * t - self.d @ (q[:2] - self.q0[:2])
-        return p.drive_stiffness * stretch * self.d, -p.drive_stiffness * np.outer(self.d, self.d)
+            return p.force * self.d, np.zeros((2, 2)), np.zeros((2, 2))
+        return drive_force(p, self.d, q[:2] - self.q0[:2], v[:2], t)
 
     def points(self, q, v):
         c, s = math.cos(q[2]), math.sin(q[2])
@@ -259,7 +276,7 @@ class _BlockPlanar(BodyModel):
         X, V, P = self.points(q, v)
         st = self.law.evaluate(X, V, H, tangent, dt)
         f = st.force
-        Fd, dFd = self.drive(q, t)
+        Fd, dFd, dFd_v = self.drive(q, v, t)
         g = np.array([f[:, 0].sum() + Fd[0], f[:, 1].sum() + Fd[1],
                       np.sum(P[:, 0] * f[:, 1] - P[:, 1] * f[:, 0])])
         Gq = Gv = None
@@ -274,6 +291,7 @@ class _BlockPlanar(BodyModel):
             dV[:, 0, 2], dV[:, 1, 2] = -v[2] * P[:, 0], -v[2] * P[:, 1]
             Gq += np.einsum("kai,kab,kbj->ij", J, st.damping, dV)
             Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
+            Gv[:2, :2] += dFd_v
         return g, Gq, Gv, st
 
     def motion(self, q, v):
@@ -283,7 +301,7 @@ class _BlockPlanar(BodyModel):
                 np.array([v[0], v[1], 0.0]), np.array([0.0, 0.0, v[2]]))
 
     def record(self, q, v, t, st):
-        Fd, _ = self.drive(q, t)
+        Fd = self.drive(q, v, t)[0]
         return dict(x=q[0], y=q[1], theta=q[2], vx=v[0], vy=v[1], omega=v[2], z=self.p.size / 2 + self.gap,
                     drive_force=float(Fd @ self.d))
 
@@ -298,20 +316,33 @@ class _BlockFull(RigidBody6):
         self.d = np.array([math.cos(a), math.sin(a), 0.0])
 
     def external(self, q, t):
+        """The normal load and the force drive (the displacement drive, which depends on the
+        velocity too, in ``evaluate``)."""
         p = self.p
         F = np.array([0.0, 0.0, -p.normal_load])
-        dF = np.zeros((3, 3))
         if p.drive == "force":
             F += p.force * self.d
-        else:
-            F += p.drive_stiffness * (p.drive_speed * t - self.d @ (q[0] - self.q0[0])) * self.d
-            dF = -p.drive_stiffness * np.outer(self.d, self.d)
-        return F, np.zeros(3), dF, np.zeros(3)
+        return F, np.zeros(3), np.zeros((3, 3)), np.zeros(3)
+
+    def _drive(self, q, v, t):
+        """The displacement drive's force (3,) at the COM and its derivatives by r and by v[:3]."""
+        if self.p.drive == "force":
+            return np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3))
+        return drive_force(self.p, self.d, q[0] - self.q0[0], v[:3], t)
+
+    def evaluate(self, q, v, t, H, tangent=True, dt=None):
+        g, Gq, Gv, st = super().evaluate(q, v, t, H, tangent, dt)
+        F, dF, dF_v = self._drive(q, v, t)
+        g[:3] += F
+        if tangent:
+            Gq[:3, :3] += dF
+            Gv[:3, :3] += dF_v
+        return g, Gq, Gv, st
 
     def record(self, q, v, t, st):
         r, R, yaw = q
         w = self.world_omega(q, v)
-        F, _, _, _ = self.external(q, t)
+        F = self.external(q, t)[0] + self._drive(q, v, t)[0]
         return dict(x=r[0], y=r[1], theta=yaw, vx=v[0], vy=v[1], omega=w[2], z=r[2], vz=v[2],
                     tilt=math.acos(max(-1.0, min(1.0, R[2, 2]))), drive_force=float(F @ self.d))
 

@@ -4,28 +4,41 @@ An elastic cube (edge ``size``, ``cells`` trilinear hexahedra along each edge, Y
 ``E``, Poisson's ratio ``nu``, ``density``; ``exu_aniso.fe.block_mesh``) stands on the plane z = 0
 with the centre of its bottom face at (x0, y0). Its bottom face's nodes carry the contact: polar
 adhesion (eps_r along the radius from the origin, eps_phi along the circles) and polar friction
-(mu_r, mu_phi), the stiffnesses totals over the bottom nodes. Its top face is driven: every top node
-is tied by a stiff spring (per node and direction ``TOP_STIFFNESS_FACTOR`` E size / top nodes: the
-drive is far stiffer than the block) to its place on a driver moved by the prescribed displacement
-of the top face: first pressed down by ``press`` (w) over ``t_press``, then moved horizontally by
-``travel`` (v) along ``direction`` until t_end, both along a smooth step (3 s^2 - 2 s^3: no jump in
-velocity). The elastic body is the full linear FE body (``model=full``: every node's coordinates)
-or a reduced one (``model=reduced``: Exudyn's ObjectFFRFreducedOrder, a floating frame and
-``modes``; ``basis=craig_bampton``: the static modes of every top and bottom node coordinate,
-which hold the contact's local compliance, plus ``modes`` fixed-interface eigenmodes;
-``basis=eigenmodes``: ``modes`` free-free eigenmodes only, which miss it). Stiffness-proportional
-damping ``stiffness_damping`` (D = beta K) keeps the run quasi-static.
+(mu_r, mu_phi), the stiffnesses totals over the bottom nodes.
 
-What it measures: the path of the bottom face's centre over the net against the top's prescribed
-path (the elastic block lets its bottom be steered by the anisotropy), the force the drive exerts on
-the top face (the contact's reaction, through the block), the contact state of every bottom node,
-and the energy ledger with the strain energy u.K u / 2, the drive springs' energy and the damping's
-dissipation beside the contact's.
+The drive, as the paper ran it: the block is pressed down by a prescribed displacement w, then
+moved horizontally, and the net alone decides where it goes across that push. Its top face is held
+by a press plate, rigid and bonded to it: the body is Exudyn's floating-frame body
+(ObjectFFRFreducedOrder) with a basis that vanishes at the top face, so the frame is the top face's
+rigid motion, the plate. The plate's height is prescribed: down by ``press`` (w) over ``t_press``
+along a smooth step (3 s^2 - 2 s^3), then held; its tilt is held level. Across the plane and about
+the vertical axis the plate is free: after the pressing it is pulled along ``drive_angle`` by the
+rigid block scene's drive, a spring ``drive_stiffness`` and a dashpot ``drive_damping`` beside it,
+both along that direction only, F = (k (s - d.(r - r0)) + c (s' - d.v)) d, from a driver point that
+rests until t_press, speeds up over ``drive_ramp`` and has gone ``travel`` (v) at t_end. So the
+bottom is steered by the net as the rigid block is, and the rigid ``block`` scene under the same
+drive (``rigid_block``: the same points, law, mass and drive, held at the penetration w) is this
+scene's stiff limit exactly, not a second model of it. (A spring rather than a carriage that
+prescribes the travel: the rigid block scene has that drive, so its limit needs no model of its
+own; at 1e5 N/m the spring lags the driver by its force / k, 0.1 mm per 10 N.) The basis
+(``fe_block_basis``): ``model=full``, every coordinate of the nodes off the top face (the full
+mesh in the frame); ``model=reduced`` with ``basis=craig_bampton``, the static modes of every bottom
+node coordinate (which hold the contact's local compliance) plus ``modes`` fixed-interface
+eigenmodes; with ``basis=eigenmodes``, ``modes`` eigenmodes of the block clamped at its top (which
+miss it, and the run says so: ``compliance_share``). The floating frame carries the block's yaw
+exactly; a linear FE body in global coordinates would resist a finite yaw with the spurious strain
+(1 - cos yaw) of its rotation. Stiffness-proportional damping ``stiffness_damping`` (D = beta K)
+keeps the run quasi-static.
 
-Its limit (``rigid_limit``): as E grows the block becomes rigid and its bottom nodes follow the top's
-prescribed motion; the contact force is then the contact law driven along that rigid motion, which
-this module computes without any multibody engine (the law stepped along the path, its history
-committed each step). The scene approaches it like 1/E (tests/test_fe_block.py).
+What it measures: the path of the bottom face's centre and of the plate over the net, the plate's
+rotation about the vertical, the drive's force and the press's, the contact state of every bottom
+node, the share of the contact nodes' static compliance the basis keeps, and the energy ledger with
+the strain energy u.K u / 2, the drive spring's energy and the damping's dissipation beside the
+contact's.
+
+Its limit (``rigid_limit``): as E grows the block becomes rigid and the bottom face's centre follows the rigid block scene's path under the same drive, which the reference engine
+integrates (``exu_aniso.scenes.block.simulate_block``, planar model); the error falls like 1/E
+(tests/test_fe_block.py).
 """
 from __future__ import annotations
 
@@ -34,20 +47,21 @@ import math
 import numpy as np
 
 from exu_aniso.engines import energy
-from exu_aniso.engines.timing import time_grid, time_step
+from exu_aniso.engines.timing import driver_travel
 from exu_aniso.fe import block_mesh
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.kernel.contact_law import ContactLaw
-from exu_aniso.law.history import HISTORY_FIELDS, SLIP, STICK, N_HISTORY
+from exu_aniso.law.history import HISTORY_FIELDS, SLIP, STICK
 from exu_aniso.law.return_maps import RETURN_MAPS
+from exu_aniso.scenes.block import BlockParams, simulate_block
 from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters
 
 FE_BLOCK_PARAMS = {
-    "model": ("full", "-", "the elastic body: full (every mesh node's coordinates) or reduced (a floating frame "
-              "and modes: Exudyn's ObjectFFRFreducedOrder)", ("full", "reduced")),
-    "basis": ("craig_bampton", "-", "reduced: craig_bampton (static modes of every top and bottom node coordinate, "
-              "plus `modes` fixed-interface eigenmodes) or eigenmodes (`modes` free-free eigenmodes)",
+    "model": ("full", "-", "the elastic body in its floating frame (the top face's motion): full (every coordinate "
+              "of the nodes off the top face) or reduced (a basis of modes, see basis)", ("full", "reduced")),
+    "basis": ("craig_bampton", "-", "reduced: craig_bampton (static modes of every bottom node coordinate, plus `modes` "
+              "fixed-interface eigenmodes) or eigenmodes (`modes` eigenmodes of the block clamped at its top)",
               ("craig_bampton", "eigenmodes")),
     "modes": (0, "-", "reduced: the number of eigenmodes (see basis)", "int >= 0"),
     "size": (0.1, "m", "edge length of the cube", "> 0"),
@@ -69,22 +83,28 @@ FE_BLOCK_PARAMS = {
                    "elastic block is steered by the adhesion net as their rigid one (the block scene's choice)",
                    RETURN_MAPS),
     "press": (1e-3, "m", "w: the top face pressed down over t_press", "> 0"),
-    "travel": (0.1, "m", "v: the top face's horizontal travel after the pressing, until t_end", ">= 0"),
-    "direction": (90.0, "deg", "direction of the travel from +x (90: along +y, along the circle at the start)",
-                  "real"),
+    "travel": (0.1, "m", "v: the driver's travel along drive_angle after the pressing, at constant speed until "
+               "t_end", ">= 0"),
+    "drive_angle": (90.0, "deg", "direction of the drive from +x (90: along +y, along the circle at the start)",
+                    "real"),
+    "drive_stiffness": (1e5, "N/m", "the drive spring from the driver to the press plate, along drive_angle only "
+                        "(the rigid block scene's drive)", "> 0"),
+    "drive_ramp": (0.1, "s", "after the pressing the driver speeds up from rest at a constant rate over this time "
+                   "(its rate continuous: no jump of the dashpot's force)", ">= 0"),
+    "drive_damping": (300.0, "N s/m", "the dashpot beside the drive spring (about half the critical 2 sqrt(k m) of "
+                      "the block's mass on it: the block follows the driver without ringing)", ">= 0"),
     "t_press": (0.2, "s", "duration of the pressing", "> 0"),
     "t_end": (1.2, "s", "simulated time", "> 0"),
     "dt": (1e-3, "s", "time step", "> 0"),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
 }
 
-TOP_STIFFNESS_FACTOR = 100.0
-"""The drive's spring per top node and direction is TOP_STIFFNESS_FACTOR E size / (top nodes) [N/m]:
-a hundred times the block's own axial stiffness E size in all, so the top face follows its prescribed
-motion to about 1 %, and in the stiff limit the springs' compliance falls like 1/E as the block's."""
+FULL_MODES_MAX = 1500
+"""model=full: at most this many coordinates (Exudyn's floating-frame body is dense in its modes)."""
 
-DRIVER_MASS_FACTOR = 1e-3
-"""The driver (a mass point moved by prescribed coordinates) has this share of the block's mass."""
+COMPLIANCE_SHARE_MIN = 0.9
+"""Below this share of the bottom nodes' static compliance (``compliance_share``) a basis misses the
+contact's give: the run warns."""
 
 
 @scene_parameters(FE_BLOCK_PARAMS)
@@ -100,12 +120,27 @@ class FeBlockParams(SceneParams):
         if not self.t_press < self.t_end:
             raise ValueError(f"t_press must be < t_end (the travel follows the pressing); got t_press="
                              f"{self.t_press!r}, t_end={self.t_end!r}")
-        if self.model == "reduced" and self.basis == "eigenmodes" and self.modes < 1:
-            raise ValueError("modes must be >= 1 with model=reduced and basis=eigenmodes (the body's only "
-                             "deformation)")
+        if not self.drive_ramp < self.t_end - self.t_press:
+            raise ValueError(f"drive_ramp must be < t_end - t_press (the driver reaches its speed within the "
+                             f"travel); got drive_ramp={self.drive_ramp!r}, t_end - t_press="
+                             f"{self.t_end - self.t_press!r}")
         if self.cells > 12:
-            raise ValueError(f"cells must be <= 12 (the full body's coordinates grow like cells^3: "
+            raise ValueError(f"cells must be <= 12 (the mesh's coordinates grow like cells^3: "
                              f"{3 * (self.cells + 1) ** 3} here); got {self.cells}")
+        free = 3 * self.cells * (self.cells + 1) ** 2          # the coordinates off the top face
+        if self.model == "full" and free > FULL_MODES_MAX:
+            raise ValueError(f"model=full holds every coordinate off the top face as a mode of Exudyn's dense "
+                             f"floating-frame body: {free} here with cells={self.cells}, at most {FULL_MODES_MAX} "
+                             f"allowed; use model=reduced")
+        if self.model == "reduced":
+            room = free if self.basis == "eigenmodes" else free - 3 * (self.cells + 1) ** 2
+            if self.basis == "eigenmodes" and self.modes < 1:
+                raise ValueError("modes must be >= 1 with model=reduced and basis=eigenmodes (the body's only "
+                                 "deformation)")
+            if self.modes > room:
+                raise ValueError(f"modes must be <= {room} with basis={self.basis} and cells={self.cells} (the "
+                                 f"{'free' if self.basis == 'eigenmodes' else 'interior'} coordinates); got "
+                                 f"{self.modes}")
 
     def contact_points(self):
         return (self.cells + 1) ** 2
@@ -127,34 +162,61 @@ def fe_block_contact_law(p):
                       return_map=p.return_map)
 
 
-def top_stiffness(p):
-    """The drive's spring per top node and direction [N/m] (TOP_STIFFNESS_FACTOR)."""
-    return TOP_STIFFNESS_FACTOR * p.E * p.size / (p.cells + 1) ** 2
+def fe_block_basis(p, mesh):
+    """The mode basis (3N, m) of the floating-frame body: zero at the top face's nodes (the frame is
+    the top face's motion); every other coordinate (model full), the bottom nodes' static modes plus
+    p.modes fixed-interface eigenmodes (reduced, craig_bampton) or p.modes eigenmodes of the block
+    clamped at its top (reduced, eigenmodes)."""
+    top = mesh.node_sets["top"]
+    if p.model == "full":
+        return mesh.clamped_modes(top)
+    if p.basis == "eigenmodes":
+        return mesh.clamped_modes(top, p.modes)
+    return mesh.craig_bampton_modes(top, mesh.node_sets["bottom"], p.modes)
 
 
-def _smooth(s):
-    """3 s^2 - 2 s^3 on [0, 1] and its derivative (0 and 1 outside)."""
-    s = np.clip(s, 0.0, 1.0)
-    return s * s * (3.0 - 2.0 * s), 6.0 * s * (1.0 - s)
+def basis_name(p):
+    """The basis in words (for warnings)."""
+    if p.model == "full":
+        return "the full mesh"
+    if p.basis == "eigenmodes":
+        return f"{p.modes} eigenmodes of the block clamped at its top"
+    return f"the bottom nodes' static modes and {p.modes} eigenmodes"
 
 
-def drive(p, t):
-    """The top face's prescribed displacement [m] and velocity [m/s] at time(s) t: (n, 3), (n, 3)."""
-    t = np.atleast_1d(np.asarray(t, dtype=float))
-    s1, ds1 = _smooth(t / p.t_press)
-    s2, ds2 = _smooth((t - p.t_press) / (p.t_end - p.t_press))
-    a = math.radians(p.direction)
-    e = np.array([math.cos(a), math.sin(a), 0.0])
-    u = p.travel * s2[:, None] * e - p.press * s1[:, None] * np.array([0.0, 0.0, 1.0])
-    v = p.travel * ds2[:, None] / (p.t_end - p.t_press) * e - p.press * (ds1 / p.t_press)[:, None] * np.array(
-        [0.0, 0.0, 1.0])
-    return u, v
+def drive_direction(p):
+    """The drive's unit direction d (2,) in the plane."""
+    a = math.radians(p.drive_angle)
+    return np.array([math.cos(a), math.sin(a)])
+
+
+def drive_speed(p):
+    """The driver's speed [m/s] once it has sped up: travel / (t_end - t_press - drive_ramp / 2), so
+    that it has travelled ``travel`` at t_end."""
+    return p.travel / (p.t_end - p.t_press - 0.5 * p.drive_ramp)
+
+
+def press_depth(p, t):
+    """The plate's prescribed descent [m] (positive down) and its rate [m/s] at time(s) t: press
+    (3 s^2 - 2 s^3) with s = t / t_press, held after t_press (no jump in velocity)."""
+    s = np.clip(np.atleast_1d(np.asarray(t, dtype=float)) / p.t_press, 0.0, 1.0)
+    return p.press * s * s * (3.0 - 2.0 * s), p.press * 6.0 * s * (1.0 - s) / p.t_press
+
+
+def drive_stretch(p, t, x, y, vx, vy):
+    """The drive spring's stretch [m] and its rate [m/s] when the plate's centre is at (x, y) [m] and
+    moves at (vx, vy) [m/s] (arrays over time t [s]): s(t) - d.(r - r0) and its derivative. The drive's
+    force on the plate along d is drive_stiffness stretch + drive_damping rate [N]."""
+    d = drive_direction(p)
+    s, s_t = driver_travel(t, drive_speed(p), p.t_press, p.drive_ramp)
+    return (s - d[0] * (np.asarray(x) - p.x0) - d[1] * (np.asarray(y) - p.y0),
+            s_t - d[0] * np.asarray(vx) - d[1] * np.asarray(vy))
 
 
 # trajectory columns (trajectory.csv) -> SI unit
-COLUMNS = {"t": "s", "x_top": "m", "y_top": "m", "x_bottom": "m", "y_bottom": "m", "z_bottom": "m",
-           "force_x": "N", "force_y": "N", "force_z": "N", "stick_fraction": "-", "slip_fraction": "-",
-           "strain_energy": "J", "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
+COLUMNS = {"t": "s", "x_top": "m", "y_top": "m", "yaw_top": "rad", "x_bottom": "m", "y_bottom": "m", "z_bottom": "m",
+           "drive_force": "N", "force_x": "N", "force_y": "N", "force_z": "N", "stick_fraction": "-",
+           "slip_fraction": "-", "strain_energy": "J", "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
 TITLE_KEYS = ("steer_end", "force_ratio_end")
 
 _STATUS = HISTORY_FIELDS.index("status")
@@ -168,9 +230,10 @@ def contact_columns(H):
 
 def fe_block_energy(p, traj, Xb, Vb, H, kinetic, strain, springs, damping, work_in):
     """The energy ledger (energy_ledger's summary entries; the ENERGY_COLUMNS added to traj): work of
-    the drive = kinetic (block and driver) + stored (strain, the drive's springs, the contact's
-    penalty and adhesion) + dissipated (the contact's and the Rayleigh damping's). Xb, Vb (n, K, 3):
-    the bottom nodes; H (n, K, 9) their history; the other terms (n,) [J] from the model."""
+    the press and of the driver = kinetic (block and plate) + stored (strain, the bond's and the drive
+    spring's energy, the contact's penalty and adhesion) + dissipated (the contact's and the Rayleigh
+    damping's). Xb, Vb (n, K, 3): the bottom nodes; H (n, K, 9) their history; the other terms (n,)
+    [J] from the model."""
     stored, dissipated = energy.contact_energy(fe_block_contact_law(p), Xb, Vb, H)
     return energy_ledger(dict(work_in=work_in, kinetic=kinetic, potential=np.zeros(len(work_in)),
                               stored=stored + strain + springs, dissipated=dissipated + damping), traj,
@@ -178,49 +241,71 @@ def fe_block_energy(p, traj, Xb, Vb, H, kinetic, strain, springs, damping, work_
 
 
 def fe_block_summary(traj, p, wall_s, steps, newton_iterations):
-    """Summary of a run: the end of the bottom centre's path against the top's, its offset along and
-    across the travel (lag_end, steer_end [m]: the steering by the net), the drive's force on the top
-    face at the end and the ratio of its horizontal part to its vertical one, the contact state."""
-    a = math.radians(p.direction)
-    e, n = np.array([math.cos(a), math.sin(a)]), np.array([-math.sin(a), math.cos(a)])
-    d = np.array([traj["x_bottom"][-1] - traj["x_top"][-1], traj["y_bottom"][-1] - traj["y_top"][-1]])
+    """Summary of a run: where the bottom face's centre ends, its offset across the drive direction
+    from its start (steer_end [m]: the steering by the net; positive to the left of the drive, towards
+    the origin on the defaults) and along it (advance_end [m]), its distance from the origin, the
+    plate's rotation about the vertical (yaw_end [rad]), the drive spring's force and the plate's
+    force on the top face at the end and the ratio of the latter's horizontal part to its vertical
+    one, the contact state."""
+    d = drive_direction(p)
+    n = np.array([-d[1], d[0]])
+    u = np.array([traj["x_bottom"][-1] - p.x0, traj["y_bottom"][-1] - p.y0])
     F = np.array([traj["force_x"][-1], traj["force_y"][-1], traj["force_z"][-1]])
+    undefined = {}
+    if F[2] != 0.0:
+        ratio = float(math.hypot(F[0], F[1]) / abs(F[2]))
+    else:
+        ratio, undefined["force_ratio_end"] = None, "the plate presses with no force at the end"
     return dict(complete=True, x_bottom_end=float(traj["x_bottom"][-1]), y_bottom_end=float(traj["y_bottom"][-1]),
                 x_top_end=float(traj["x_top"][-1]), y_top_end=float(traj["y_top"][-1]),
-                lag_end=float(-d @ e), steer_end=float(d @ n),
+                advance_end=float(u @ d), steer_end=float(u @ n), yaw_end=float(traj["yaw_top"][-1]),
                 r_bottom_end=float(math.hypot(traj["x_bottom"][-1], traj["y_bottom"][-1])),
-                force_x_end=float(F[0]), force_y_end=float(F[1]), force_z_end=float(F[2]),
-                force_ratio_end=float(math.hypot(F[0], F[1]) / abs(F[2])) if F[2] != 0.0 else None,
+                drive_force_end=float(traj["drive_force"][-1]),
+                force_x_end=float(F[0]), force_y_end=float(F[1]), force_z_end=float(F[2]), force_ratio_end=ratio,
                 stick_fraction_end=float(traj["stick_fraction"][-1]), slip_fraction_end=float(traj["slip_fraction"][-1]),
                 strain_energy_end=float(traj["strain_energy"][-1]),
                 dissipated_energy=float(traj["dissipated_energy"][-1]),
-                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations))
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations), undefined=undefined)
+
+
+def rigid_block(p):
+    """The block scene's parameters of this scene's stiff limit: the rigid cube (planar model) with the
+    bottom nodes as its points (grid:(cells + 1)), the same law and totals, held at the penetration w
+    (normal_load = eps_n press), the block's mass, pulled by the same drive from t_press on (its time
+    0) for t_end - t_press."""
+    return BlockParams(mass=p.density * p.size ** 3, size=p.size, x0=p.x0, y0=p.y0, points=f"grid:{p.cells + 1}",
+                       normal_load=p.eps_n * p.press, eps_n=p.eps_n, adhesion="polar", eps_1=p.eps_r,
+                       eps_2=p.eps_phi, friction="polar", mu_1=p.mu_r, mu_2=p.mu_phi, return_map=p.return_map,
+                       drive="displacement", drive_angle=p.drive_angle, drive_speed=drive_speed(p),
+                       drive_stiffness=p.drive_stiffness, drive_damping=p.drive_damping, drive_ramp=p.drive_ramp,
+                       t_end=p.t_end - p.t_press, dt=p.dt, model="planar",
+                       solver=p.solver, core_radius=p.core_radius)
 
 
 def rigid_limit(p):
-    """The scene's limit of a rigid block: the bottom nodes translated by the top's prescribed
-    displacement, the contact law stepped along that motion on the scene's time grid (its history
-    committed each step, as an engine does). Returns dict t (n,), force (n, 3): the force the contact
-    exerts on the block [N] (the drive's force on the top face is its negative), H (n, K, 9)."""
-    law = fe_block_contact_law(p)
-    mesh = fe_block_mesh(p)
-    X0 = mesh.nodes[mesh.node_sets["bottom"]] + np.array([p.x0, p.y0, 0.0])
-    t = time_grid(p)
-    U, V = drive(p, t)
-    dt = time_step(p)
-    H = np.zeros((len(t), len(X0), N_HISTORY))
-    F = np.zeros((len(t), 3))
-    h = np.zeros((len(X0), N_HISTORY))
-    for i in range(len(t)):
-        st = law.evaluate(X0 + U[i], np.broadcast_to(V[i], X0.shape), h, False, dt if i else 0.0)
-        h = st.history
-        H[i], F[i] = h, st.force.sum(axis=0)
-    return dict(t=t, force=F, H=H)
+    """The scene's stiff limit: the rigid block scene under the same drive (``rigid_block``) on the
+    reference engine, its times shifted by t_press. Returns the block's Result trajectory with t on
+    this scene's clock (x, y: the bottom face's centre [m], theta [rad], drive_force [N], ...)."""
+    traj = dict(simulate_block(rigid_block(p)).trajectory)
+    traj["t"] = np.asarray(traj["t"]) + p.t_press
+    return traj
+
+
+def path_from_rigid(p, traj, limit=None):
+    """The largest distance [m] of the bottom face's centre from the rigid limit's path at the same
+    times, over the travel (t >= t_press; the limit interpolated onto the run's samples)."""
+    limit = rigid_limit(p) if limit is None else limit
+    t = np.asarray(traj["t"])
+    late = t >= p.t_press
+    x = np.interp(t[late], limit["t"], limit["x"])
+    y = np.interp(t[late], limit["t"], limit["y"])
+    return float(np.hypot(np.asarray(traj["x_bottom"])[late] - x, np.asarray(traj["y_bottom"])[late] - y).max())
 
 
 def PlotFeBlock(traj, params, fig):
-    """trajectory.png: the bottom centre's path and the top's over the polar net (left), the drive's
-    force on the top face and the sliding share of the bottom nodes (right)."""
+    """trajectory.png: the bottom centre's path and the press plate's over the polar net (left), the
+    drive spring's force, the plate's force on the top face and the sliding share of the bottom nodes
+    (right)."""
     p = params
     a1, a2 = fig.subplots(1, 2)
     xb, yb = np.asarray(traj["x_bottom"]), np.asarray(traj["y_bottom"])
@@ -229,7 +314,7 @@ def PlotFeBlock(traj, params, fig):
     phi = np.linspace(0.0, 2.0 * math.pi, 361)
     for rc in np.linspace(max(r.min() - 0.05, 0.0), r.max() + 0.05, 6):
         a1.plot(rc * np.cos(phi), rc * np.sin(phi), color="0.85", lw=0.6)
-    a1.plot(xt, yt, "k--", lw=0.9, label="top face (prescribed)")
+    a1.plot(xt, yt, "k--", lw=0.9, label="press plate (pulled along the drive)")
     a1.plot(xb, yb, color="C0", lw=1.4, label="bottom face's centre")
     a1.plot([p.x0], [p.y0], "o", color="C3", ms=4, label="start")
     pad = 0.3 * max(np.ptp(np.concatenate([xb, xt])), np.ptp(np.concatenate([yb, yt])), p.size)
@@ -242,10 +327,11 @@ def PlotFeBlock(traj, params, fig):
                  fontsize=9)
     a1.legend(fontsize=7, loc="best")
     t = np.asarray(traj["t"])
-    for key, label in (("force_x", "$F_x$"), ("force_y", "$F_y$"), ("force_z", "$F_z$")):
-        a2.plot(t, traj[key], label=label)
+    for key, label in (("force_x", "$F_x$"), ("force_y", "$F_y$"), ("force_z", "$F_z$"),
+                       ("drive_force", "drive spring")):
+        a2.plot(t, traj[key], label=label, ls="--" if key == "drive_force" else "-")
     a2.set_xlabel("t [s]")
-    a2.set_ylabel("drive's force on the top face [N]")
+    a2.set_ylabel("plate's force on the top face, drive spring's [N]")
     a2b = a2.twinx()
     a2b.plot(t, traj["slip_fraction"], color="0.5", lw=0.8, ls=":", label="sliding share of the bottom nodes")
     a2b.set_ylim(-0.05, 1.05)

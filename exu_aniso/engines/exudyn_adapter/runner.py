@@ -32,9 +32,10 @@ from exu_aniso.engines.result import Result
 from exu_aniso.util.output import atomic_write
 from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.energy import RigidMotion, motion_about_z
+from exu_aniso.engines.timing import driver_travel
 from exu_aniso.engines.exudyn_adapter.solver_settings import NEWTON_MODES, SOLVER_TYPES
 from exu_aniso.util.rotations import rotation_matrix, skew, wrap_angle
-from exu_aniso.util.validation import check_in_range, check_instance, check_positive
+from exu_aniso.util.validation import check_in_range, check_instance, check_nonnegative, check_positive
 
 
 NODE_TYPES = {"RotVecLG": exu.NodeType.RotationRotationVector, "EP": exu.NodeType.RotationEulerParameters}
@@ -64,17 +65,20 @@ def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None,
                                          solver=p.solver if solverType is None else solverType)
 
 
-def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian):
+def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian, force_t=None, jacobian_t=None):
     """Add an ObjectGenericODE2 on one node applying the generalized force ``force(t, q) -> (n,)``
     (q: node coordinates without reference values) with the exact LHS Jacobian built from
-    ``jacobian(t, q) -> (n, n)`` = -dQ/dq (velocity-independent drives). Returns the object number."""
+    ``jacobian(t, q) -> (n, n)`` = -dQ/dq; a drive with a dashpot adds ``force_t(t, q_t) -> (n,)``
+    and its ``jacobian_t(t) -> (n, n)`` = -dQ/dq_t. Returns the object number."""
     n = int(nCoordinates)
 
     def UFforce(mbs, t, itemNumber, q, q_t):
-        return force(t, np.asarray(q))
+        f = force(t, np.asarray(q))
+        return f if force_t is None else f + force_t(t, np.asarray(q_t))
 
     def UFjacobian(mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
-        return fODE2 * jacobian(t, np.asarray(q))
+        J = fODE2 * jacobian(t, np.asarray(q))
+        return J if jacobian_t is None else J + fODE2_t * jacobian_t(t)
 
     return mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nodeNumber], massMatrix=np.zeros((n, n)),
                                            forceUserFunction=UFforce, jacobianUserFunction=UFjacobian))
@@ -122,10 +126,14 @@ def AddYawDrive(mbs, nodeNumber, nodeType, torque):
 IMPLICIT_SOLVERS = tuple(SOLVER_TYPES.values())
 
 
-def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False):
+def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, start=0.0, ramp=0.0, damping=0.0):
     """A drive spring on a node: the generalized force k (speed t - d.q) d on the node's coordinates
     q (displacements), d = ``direction`` over them (a unit coordinate vector, or e.g. (d_x, d_y, 0)
-    for a spring along an in-plane direction), k = ``stiffness``. Returns the spring's object number.
+    for a spring along an in-plane direction), k = ``stiffness``, plus a dashpot c (speed - d.q_t) d
+    beside it, c = ``damping`` [N s/m, or N m s/rad]. Returns the spring's object number.
+    start, ramp [s] > 0: the driver rests until start and speeds up over ramp
+    (``exu_aniso.engines.timing.driver_travel`` in place of speed t); the spring's force is then a
+    Python function of time, one call per Newton iteration.
 
     Built from Exudyn C++ items, so no Python runs in it: a driver coordinate (a one-coordinate
     ``NodeGenericODE2`` starting at 0 with velocity ``speed``) held at that velocity by an
@@ -138,9 +146,17 @@ def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False):
     same spring as a Python ``ObjectGenericODE2`` with its exact Jacobian (``AddNodeDrive``)."""
     d = np.asarray(direction, dtype=float)
     k, speed = float(stiffness), float(speed)
+    start, ramp = check_nonnegative("start", start), check_nonnegative("ramp", ramp)
+    c = check_nonnegative("damping", damping)
+
+    def driver(t):
+        s, s_t = driver_travel(t, speed, start, ramp)
+        return float(s), float(s_t)
     if python:
-        K = k * np.outer(d, d)
-        return AddNodeDrive(mbs, nodeNumber, d.size, lambda t, q: k * (speed * t - d @ q) * d, lambda t, q: K)
+        K, C = k * np.outer(d, d), c * np.outer(d, d)
+        return AddNodeDrive(mbs, nodeNumber, d.size, lambda t, q: k * (driver(t)[0] - d @ q) * d,
+                            lambda t, q: K, force_t=lambda t, q_t: c * (driver(t)[1] - d @ q_t) * d,
+                            jacobian_t=lambda t: C)
 
     def generic_node(q0, q0_t):
         return mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0], initialCoordinates=[q0],
@@ -158,15 +174,24 @@ def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False):
                            mbs.AddMarker(MarkerNodeCoordinates(nodeNumber=nSlider))],
             scalingMarker0=d.reshape(1, -1), scalingMarker1=np.ones((1, 1)), offset=[0.0], velocityLevel=True))
         mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nSlider, coordinate=0))
+    nGround = mbs.AddNode(NodePointGround(visualization=VNodePointGround(show=False)))
+    mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
+    if start > 0.0 or ramp > 0.0:
+        # the driver's travel in the spring's force itself: a prescribed velocity that jumps would put
+        # an index-2 solver's integrated driver half a step off
+        def force(mbs, t, itemNumber, displacement, velocity, stiffness, damping, offset):
+            s, s_t = driver(t)                  # displacement, velocity: 0 - (driven) and its rate
+            return k * (s + displacement) + c * (s_t + velocity)
+        return mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[mDriven, mGround], stiffness=k, damping=c, springForceUserFunction=force,
+            visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
     nDriver = generic_node(0.0, speed)
     mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nDriver], massMatrix=np.zeros((1, 1))))
     mDriver = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nDriver, coordinate=0))
-    nGround = mbs.AddNode(NodePointGround(visualization=VNodePointGround(show=False)))
-    mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
     mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mGround, mDriver], offset=speed, velocityLevel=True,
                                             visualization=VObjectConnectorCoordinate(show=False)))
     return mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
-        markerNumbers=[mDriven, mDriver], stiffness=k, damping=0.0,
+        markerNumbers=[mDriven, mDriver], stiffness=k, damping=c,
         visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
 
 
