@@ -224,12 +224,12 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapsho
 
     def partial(failure):
         traj = ScrewTrajectory(model, contactOutputs=False)
-        return traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations)
+        return traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations, p)
 
     def complete(wall, steps, iters, info):
         history = HistoryOutputs(model["mbs"], model["contact"])
         traj = ScrewTrajectory(model, contactOutputs, history)
-        summary = screw_summary(traj, wall, steps, iters)
+        summary = screw_summary(traj, wall, steps, iters, p)
         summary.update(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]),
                                     model["contact"]["law"], history[2]))
         info.update(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",

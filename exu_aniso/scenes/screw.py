@@ -193,8 +193,9 @@ def pitch(p):
     return 2.0 * math.pi * p.radius * math.tan(math.radians(p.helix_angle))
 
 
-SCREW_SUMMARY_KEYS = ("angle_end", "z_end", "advance_per_rev", "torque_mean", "axial_force_mean",
-                      "dissipated_energy", "wall_s", "steps", "newton_iterations", "undefined")
+SCREW_SUMMARY_KEYS = ("angle_end", "z_end", "advance_per_rev", "advance_per_rev_theory", "torque_mean",
+                      "torque_mean_theory", "axial_force_mean", "dissipated_energy", "wall_s", "steps",
+                      "newton_iterations", "undefined")
 
 
 def screw_energy(p, traj, motion, points, law, H):
@@ -234,11 +235,37 @@ def _undefined_advance(t, ang):
     return None
 
 
-def screw_summary(traj, wall_s, steps, newton_iterations):
+def _not_steady_sliding(t, ang, torque, diss):
+    """Reason why the samples of the last half (t, angle, drive torque, dissipated energy) are not
+    steady sliding, or None. Steady sliding: in every output step the screw turns forward (d angle
+    > 0) and its contact slides, i.e. dissipates at least half the drive's work of that step
+    (d dissipated >= torque d angle / 2; in steady sliding they are equal). A screw that sticks
+    (it turns only by the elastic wind-up of its contact) or that stops and turns back in a
+    stick-slip cycle fails it."""
+    if len(t) < 2:
+        return f"fewer than two samples in the last half of the run ({len(t)})"
+    dang, ddiss = np.diff(ang), np.diff(diss)
+    back = dang <= 0.0
+    if back.any():
+        return (f"no steady sliding over the last half: the screw stops or turns backwards in "
+                f"{100.0 * back.mean():.3g} % of the output steps (stick-slip; the closed form is steady sliding, "
+                f"see sliding_growth_rate)")
+    stuck = ddiss < 0.5 * 0.5 * (torque[1:] + torque[:-1]) * dang
+    if stuck.any():
+        return (f"no steady sliding over the last half: the contact sticks (dissipates less than half the drive's "
+                f"work) in {100.0 * stuck.mean():.3g} % of the output steps (the closed form is steady sliding)")
+    return None
+
+
+def screw_summary(traj, wall_s, steps, newton_iterations, params=None):
     """Summary of a screw trajectory (t, angle, z, torque, axial_force, dissipated_energy):
     advance per revolution = 2 pi dz/dangle fitted over the last half of the run (signed; None
     when the screw does not turn there, see ``_undefined_advance``), mean drive torque and axial
-    force over the last half; ``undefined`` maps every None value to its reason."""
+    force over the last half; ``undefined`` maps every None value to its reason.
+
+    params (ScrewParams): also the closed-form steady sliding beside them, advance_per_rev_theory
+    and torque_mean_theory (``screw_theory``), where it applies to the parameters and the run
+    slides steadily over the last half (``_not_steady_sliding``); else None with the reason."""
     t = np.asarray(traj["t"], float)
     late = t >= 0.5 * t[-1]
     ang, z = np.asarray(traj["angle"], float)[late], np.asarray(traj["z"], float)[late]
@@ -248,12 +275,22 @@ def screw_summary(traj, wall_s, steps, newton_iterations):
         adv = float(np.polyfit(ang, z, 1)[0] * 2.0 * math.pi)
     else:
         adv, undefined["advance_per_rev"] = None, why
-    return dict(angle_end=float(traj["angle"][-1]), z_end=float(traj["z"][-1]), advance_per_rev=adv,
-                torque_mean=float(traj["torque"][late].mean()),
-                axial_force_mean=float(traj["axial_force"][late].mean()),
-                dissipated_energy=float(traj["dissipated_energy"][-1]),
-                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
-                undefined=undefined)
+    out = dict(angle_end=float(traj["angle"][-1]), z_end=float(traj["z"][-1]), advance_per_rev=adv,
+               torque_mean=float(traj["torque"][late].mean()),
+               axial_force_mean=float(traj["axial_force"][late].mean()),
+               dissipated_energy=float(traj["dissipated_energy"][-1]),
+               wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
+               undefined=undefined)
+    if params is not None:
+        theory, why = screw_theory(params)
+        if why is None:
+            why = _not_steady_sliding(t[late], ang, np.asarray(traj["torque"], float)[late],
+                                      np.asarray(traj["dissipated_energy"], float)[late])
+        out["advance_per_rev_theory"] = theory.advance_per_rev if why is None else None
+        out["torque_mean_theory"] = theory.torque if why is None else None
+        if why is not None:
+            undefined["advance_per_rev_theory"] = undefined["torque_mean_theory"] = why
+    return out
 
 
 def reference_model(p, law=None):
@@ -370,7 +407,7 @@ def simulate_screw(params=None, **options):
     check_keywords("simulate_screw", options, RUN_OPTIONS)
     model, floor = reference_model(p)
     traj, wall, iters, steps, info, motion, H = run(model, p, floor=floor, **options)
-    summary = screw_summary(traj, wall, steps, iters)
+    summary = screw_summary(traj, wall, steps, iters, p)
     summary.update(screw_energy(p, traj, motion, model.s, model.law, H))
     return Result(traj, summary, p, info)
 
@@ -459,3 +496,76 @@ def sliding_onset_angle(p: ScrewParams) -> float:
     st = steady_sliding(p)
     k_phi = 1.0 / (c * c / eps1 + s * s / eps2)
     return st.circumferential_traction / k_phi / p.radius + st.torque / p.drive_stiffness
+
+
+def screw_theory(p):
+    """(SteadySliding, None) where the closed form applies to the parameters, else (None, reason):
+    the rotation drive at a positive speed (the constant torque accelerates the screw or lets it
+    stick, the axial drive sets an axial force the closed form does not know), the radial or exact
+    map, the cylinder, and an axial load the friction can hold. Whether a run reaches the steady
+    sliding is the summary's check (``screw_summary``)."""
+    check_instance("p", p, ScrewParams)
+    if p.drive != "rotation":
+        return None, (f"drive = {p.drive!r}: the closed form is the steady sliding under the rotation drive (a "
+                      f"constant torque accelerates the screw or lets it stick; the axial drive sets the axial force)")
+    if not p.rotation_speed > 0.0:
+        return None, f"rotation_speed = {p.rotation_speed!r} rad/s: the closed form is for a positive rotation"
+    if p.surface == "cone" and p.half_angle != 0.0:
+        return None, f"surface = 'cone' (half_angle = {p.half_angle!r} deg): the closed form is the cylinder's"
+    try:
+        return steady_sliding(p), None
+    except ValueError as e:
+        return None, str(e)
+
+
+def sliding_growth_rate(p: ScrewParams) -> float:
+    """Growth rate [1/s] of a small disturbance of the closed-form steady sliding (``steady_sliding``)
+    under the rotation drive: the largest real part of the eigenvalues of the linearised dynamics;
+    positive: the steady sliding is unstable (a flutter), the screw turns in a stick-slip cycle
+    instead and the closed form does not describe the run.
+
+    The model: the screw's point on the hole axis (reduced model, the totals of the law), its
+    rotation x = R psi with the mass J_axial / R^2 on the drive spring k / R^2, its axial position
+    with the mass m; the contact's elastic displacement u (e_phi, e_z) with traction T = C u on the
+    friction ellipse T.A.T = N^2 (A = F^-1 of the helix frame) slides at the rate lambda n, n = C^-1 T
+    (radial map) or A T (exact map), lambda from the consistency d(T.A.T)/dt = 0. State (drive
+    spring's stretch, the two velocities, u); the Jacobian by central differences at the steady
+    state. Its eigenvalue along the ellipse's normal is zero (the ellipse is kept exactly)."""
+    st = steady_sliding(p)
+    if p.drive != "rotation":
+        raise ValueError(f"drive must be 'rotation' for sliding_growth_rate; got {p.drive!r}")
+    m, J = screw_inertia(p)
+    R = p.radius
+    Mx, kx = J[2, 2] / R ** 2, p.drive_stiffness / R ** 2
+    c, s = _helix_components(p)
+    Q = np.array([[c, -s], [s, c]])                          # columns e1, e2 in (e_phi, e_z)
+    eps1, eps2 = _adhesion_stiffnesses(p)
+    mu1, mu2 = _friction_coefficients(p)
+    C = Q @ np.diag([eps1, eps2]) @ Q.T
+    A = Q @ np.diag([mu1 ** -2, mu2 ** -2]) @ Q.T
+    Ci = np.linalg.inv(C)
+
+    def direction(T):
+        return Ci @ T if p.return_map == "radial" else A @ T
+
+    T0 = np.array([st.circumferential_traction, p.axial_load])
+    u0 = Ci @ T0
+    V = p.rotation_speed * R
+    n0 = direction(T0)
+    lam0 = V / n0[0]
+    y0 = np.array([st.torque / p.drive_stiffness / R, V, lam0 * n0[1], *u0])
+
+    def f(y):
+        d, vx, vz, u1, u2 = y
+        T = C @ np.array([u1, u2])
+        n = direction(T)
+        v = np.array([vx, vz])
+        lam = (T @ A @ C @ v) / (T @ A @ C @ n)
+        return np.array([V - vx, (kx * d - T[0]) / Mx, -(T[1] - p.axial_load) / m, *(v - lam * n)])
+
+    h = 1e-7 * np.maximum(np.abs(y0), 1e-12)
+    E = np.eye(5)
+    jac = np.column_stack([(f(y0 + h[i] * E[i]) - f(y0 - h[i] * E[i])) / (2.0 * h[i]) for i in range(5)])
+    ev = np.linalg.eigvals(jac)
+    scale = np.abs(ev).max()
+    return float(max(e.real for e in ev if abs(e) > 1e-9 * scale))
