@@ -1,7 +1,7 @@
 """One naming rule for theories in summary.json (docs/guide/command_line.md): a value X that has a
 closed form sits beside X_theory (same unit, same sign convention), and where the closed form does
 not apply to the run X_theory is null with its reason under "undefined". No other spelling
-(departure_angle_theory_deg, X_closed_form, theory_X, X_expected, X_mean beside X_theory).
+(X_theory_deg, X_closed_form, theory_X, X_expected, X_mean beside X_theory).
 
 Checked on the summaries of short Exudyn runs of the block, particle, capstan, feeder and fastening
 scenes: each scene once where its theory applies and, where it has one, once where it does not."""
