@@ -48,7 +48,7 @@ def run_case(c):
             from exu_aniso.scenes.particle import simulate_particle
             r = simulate_particle(p)
     s = r.summary
-    m, t = s["oracle_measured"], s["oracle_theory"]
+    m, t = s["oracle"], s["oracle_theory"]
     if c["case"] == "departure":
         startup = math.degrees(oracles.startup_impulse_error("departure", p.mu_1, p.radius, p.gravity, p.speed,
                                                              p.dt))

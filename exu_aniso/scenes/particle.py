@@ -54,9 +54,9 @@ with the reason under ``undefined``.
 
 Summary (every engine): end state, ``speed_end``, ``contact_fraction`` (share of samples in
 contact), ``slip_distance``, ``dissipated_energy``, cost figures, the case's measured value and its
-theory (``departure_angle_deg`` / ``departure_angle_theory_deg``; ``cavity_speed_ratio`` /
+theory (``departure_angle_deg`` / ``departure_angle_deg_theory``; ``cavity_speed_ratio`` /
 ``cavity_speed_ratio_theory`` and ``cavity_speed_error``; ``incline_acceleration`` /
-``incline_acceleration_theory``), the same pair as ``oracle_measured`` / ``oracle_theory`` (the
+``incline_acceleration_theory``), the same pair as ``oracle`` / ``oracle_theory`` (the
 plot title's keys), and the energy ledger (``particle_energy``). Values that cannot be measured are
 None with their reason under ``undefined``.
 """
@@ -166,8 +166,8 @@ class ParticleParams(SceneParams):
 COLUMNS = {"t": "s", "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s", "gap": "m",
            "normal_force": "N", "status": "-", "slip_distance": "m", "dissipated_energy": "J",
            **{k: "J" for k in ENERGY_COLUMNS}}
-TITLE_KEYS = ("oracle_measured", "oracle_theory")
-ORACLE_KEYS = {"departure": ("departure_angle_deg", "departure_angle_theory_deg"),
+TITLE_KEYS = ("oracle", "oracle_theory")
+ORACLE_KEYS = {"departure": ("departure_angle_deg", "departure_angle_deg_theory"),
                "cavity": ("cavity_speed_ratio", "cavity_speed_ratio_theory"),
                "incline": ("incline_acceleration", "incline_acceleration_theory")}
 
@@ -441,7 +441,7 @@ def particle_summary(traj, params, wall_s, steps, newton_iterations):
         if why:
             undefined["departure_angle_deg"] = why
         theory, why_t = particle_theory(p)
-        s["departure_angle_deg"], s["departure_angle_theory_deg"] = measured, theory
+        s["departure_angle_deg"], s["departure_angle_deg_theory"] = measured, theory
     elif p.case == "cavity":
         v, psi = _cavity(p, traj)
         s["cavity_psi_end_deg"] = float(math.degrees(psi[-1]))
@@ -469,12 +469,12 @@ def particle_summary(traj, params, wall_s, steps, newton_iterations):
         if theory is None:
             undefined[keys[1]] = why_t
         if measured is None:
-            undefined["oracle_measured"] = undefined.get(keys[0], "not measured")
+            undefined["oracle"] = undefined.get(keys[0], "not measured")
         if theory is None:
             undefined["oracle_theory"] = why_t
     else:
-        undefined["oracle_measured"] = undefined["oracle_theory"] = "case=free has no textbook oracle"
-    s["oracle_measured"], s["oracle_theory"] = measured, theory
+        undefined["oracle"] = undefined["oracle_theory"] = "case=free has no textbook oracle"
+    s["oracle"], s["oracle_theory"] = measured, theory
     s["undefined"] = undefined
     return s
 
