@@ -132,6 +132,43 @@ class ElasticMesh:
         P[free] = V / np.abs(V).max(axis=0)
         return P
 
+    def craig_bampton_modes(self, fixed_nodes, boundary_nodes, count=0):
+        """A Craig-Bampton basis (3N, b + count) of the body clamped at fixed_nodes: the static
+        (constraint) modes of every coordinate of boundary_nodes (those not among fixed_nodes) --
+        a unit displacement of one boundary coordinate, the other boundary coordinates held, the
+        interior in equilibrium, K_ii u_i = -K_ib e -- then count eigenmodes of the body clamped at
+        the fixed and the boundary nodes (fixed-interface modes), each scaled to a largest nodal
+        displacement of 1 as clamped_modes does. It vanishes at fixed_nodes; its static modes span
+        the static response to any load on the boundary nodes (K^-1 P), so the body under loads
+        there is the full mesh's in statics (compliance_share 1)."""
+        import scipy.sparse.linalg
+        fixed = np.zeros(self.number_of_nodes, dtype=bool)
+        fixed[np.asarray(fixed_nodes, dtype=np.int64)] = True
+        if not fixed.any():
+            raise ValueError("fixed_nodes must hold some of the nodes (a clamped body)")
+        boundary = np.zeros(self.number_of_nodes, dtype=bool)
+        boundary[np.asarray(boundary_nodes, dtype=np.int64)] = True
+        boundary &= ~fixed
+        b = np.flatnonzero(np.repeat(boundary, 3))
+        i = np.flatnonzero(np.repeat(~fixed & ~boundary, 3))
+        if b.size == 0:
+            raise ValueError("boundary_nodes must hold some nodes that are not fixed")
+        count = check_integer("count", count, 0)
+        if count > i.size:
+            raise ValueError(f"count must be <= {i.size} (the interior coordinates, off the fixed and boundary "
+                             f"nodes); got {count}")
+        K = self.stiffness.tocsr()
+        P = np.zeros((self.number_of_coordinates, b.size + count))
+        P[b, np.arange(b.size)] = 1.0
+        if i.size:
+            Kii = K[i][:, i].tocsc()
+            P[i, :b.size] = -scipy.sparse.linalg.splu(Kii).solve(K[i][:, b].toarray())
+        if count:
+            import scipy.linalg
+            _, V = scipy.linalg.eigh(Kii.toarray(), self.mass[i][:, i].toarray(), subset_by_index=[0, count - 1])
+            P[i, b.size:] = V / np.abs(V).max(axis=0)
+        return P
+
     def node_at(self, point, tolerance=None):
         """Index of the node at the reference position point (3,) [m], within tolerance (default
         1e-9 of the mesh's size); a ValueError naming the point and the closest node otherwise."""
