@@ -392,7 +392,8 @@ def _run_job(scene, params, engine, out, progress, snapshot, solution_file, outp
         return 2, None, f"exu-aniso: error: {scene}: {e}"
     except Exception as e:  # report the failure with context, keep the exit code meaningful
         return 1, None, f"exu-aniso: {scene} ({engine}) failed: {type(e).__name__}: {e}"
-    show = {k: v for k, v in summary.items() if k not in ("params", "units", "step_warning")}
+    # basis_warning (fe_screw): printed as a BasisWarning while the run was made, as an EnergyWarning is
+    show = {k: v for k, v in summary.items() if k not in ("params", "units", "step_warning", "basis_warning")}
     warning = summary.get("step_warning")
     return 0, f"{scene} [{engine}] -> {out}: " + ", ".join(
         f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in show.items()), (

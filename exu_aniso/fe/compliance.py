@@ -21,15 +21,23 @@ block).
 
 A body clamped at ``fixed_nodes``: K is the stiffness of the other coordinates, the basis must
 vanish at the fixed nodes, contact coordinates at fixed nodes have no compliance and are left out.
-A free body (``fixed_nodes`` None, a floating frame carrying the rigid motion): the elastic
-displacements are those free of rigid motion in the mass metric (R^T M u = 0, R the six rigid-body
-modes: ``ElasticMesh.without_rigid_motion``'s choice), so the loads count only in their
-self-equilibrated part (inertia relief); C_full solves the saddle-point system [K, M R; R^T M, 0],
-and the basis's own rigid-body content is removed in the same metric first.
+A free body (``fixed_nodes`` None, a floating frame carrying the rigid motion): a load moves it as a
+whole, so each unit load counts in its self-equilibrated part, balanced on the contact nodes
+themselves (the unit loads projected off the rigid-body modes restricted to the contact
+coordinates, least squares: P -> P (I - R_c R_c^+)); such a load does no work on rigid motion, the
+compliance does not depend on the rigid part of a displacement, and the basis's own rigid-body
+content is removed (in the mass metric, ``ElasticMesh.without_rigid_motion``'s choice) before it
+is counted. C_full solves the saddle-point system [K, M R; R^T M, 0] (the displacements free of
+rigid motion in the mass metric), one sparse factorization. The static modes of the contact nodes
+with the rigid motion removed, as the fe_block scene's reduced body holds them, keep all of it.
 """
 from __future__ import annotations
 
 import numpy as np
+
+class BasisWarning(UserWarning):
+    """A reduced body's basis keeps too small a share of its contact's compliance (compliance_share)."""
+
 
 RANK_TOLERANCE = 1e-10
 """Columns of a basis (each scaled to unit length) whose singular values fall below this share of
@@ -41,10 +49,12 @@ def _coordinates(nodes):
     return (3 * nodes[:, None] + np.arange(3)).ravel()
 
 
-def _orthonormal(B):
-    """An orthonormal basis (Euclidean) of the span of the columns of B, dependent columns dropped."""
+def _orthonormal(B, before=None):
+    """An orthonormal basis (Euclidean) of the span of the columns of B, dependent columns dropped,
+    and those that a projection left at round-off of their length ``before`` it."""
     norms = np.linalg.norm(B, axis=0)
-    B = B[:, norms > 0.0] / norms[norms > 0.0]
+    keep = norms > (0.0 if before is None else RANK_TOLERANCE * np.linalg.norm(before, axis=0))
+    B = B[:, keep] / norms[keep]
     if B.shape[1] == 0:
         return B
     U, s, _ = np.linalg.svd(B, full_matrices=False)
@@ -95,16 +105,18 @@ def compliance_share(mesh, basis, contact_nodes, fixed_nodes=None):
     else:
         R = mesh.rigid_body_modes()
         MR = mesh.mass @ R
-        Psi = Psi - R @ np.linalg.solve(R.T @ MR, MR.T @ Psi)       # its rigid-body content to the frame
-        A = scipy.sparse.bmat([[K, scipy.sparse.csr_matrix(MR)], [scipy.sparse.csr_matrix(MR.T), None]]).tocsc()
+        before, Psi = Psi, Psi - R @ np.linalg.solve(R.T @ MR, MR.T @ Psi)     # its rigid motion to the frame
         rows = _coordinates(contact)
+        Rc = R[rows]
+        E = np.eye(rows.size) - Rc @ np.linalg.pinv(Rc)              # unit loads balanced on the contact nodes
+        A = scipy.sparse.bmat([[K, scipy.sparse.csr_matrix(MR)], [scipy.sparse.csr_matrix(MR.T), None]]).tocsc()
         F = np.zeros((n + 6, rows.size))
-        F[rows, np.arange(rows.size)] = 1.0
+        F[rows] = E
         X = scipy.sparse.linalg.splu(A).solve(F)[:n]
-        full = float(np.trace(X[rows]))
-        Q = _orthonormal(Psi)
+        full = float(np.trace(E @ X[rows]))
+        Q = _orthonormal(Psi, before)
         KQ = K @ Q
-        PQ = Q[rows]
+        PQ = E @ Q[rows]
     if Q.shape[1] == 0:
         return 0.0
     Kr = Q.T @ KQ

@@ -14,8 +14,15 @@ its head (the face z = +length/2) by a torsional spring ``drive_stiffness`` to a
 The body is Exudyn's ObjectFFRFreducedOrder (a floating frame of reference and modes, so the shank
 turns through whole revolutions with linear elasticity in its frame), with a basis that vanishes at
 the head: the frame is the head's rigid motion, and the drive acts on it. ``model=full``: every
-coordinate of the other nodes is a mode (the full FE body in that frame); ``model=reduced``: the
-``modes`` lowest eigenmodes of the shank clamped at its head (``ElasticMesh.clamped_modes``).
+coordinate of the other nodes is a mode (the full FE body in that frame); ``model=reduced`` with
+``basis=craig_bampton``: the static modes of every thread node coordinate with the head clamped
+(``ElasticMesh.craig_bampton_modes``: they span the shank's static response to any load on the
+thread, so its give under the contact is the mesh's) plus ``modes`` eigenmodes of the shank clamped
+at its head and thread; with ``basis=eigenmodes``: the ``modes`` lowest eigenmodes of the shank
+clamped at its head (``ElasticMesh.clamped_modes``), which bend and twist it but hardly let the
+thread give radially. The summary says how much of the thread nodes' static compliance the basis
+keeps (``contact_compliance_share``, ``exu_aniso.fe.compliance_share``) and warns below
+COMPLIANCE_SHARE_FLOOR (``basis_warning``, a BasisWarning).
 Stiffness-proportional damping ``stiffness_damping`` (D = beta K) damps the body's own vibration.
 The shank starts at rest pressed into the hole (``press_fit``: the basis's static state under the
 interference fit), not undeformed with the whole interference as a jump of force on it.
@@ -40,11 +47,13 @@ Its limit: as E grows the shank becomes the rigid screw of the screw scene with 
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
 from exu_aniso.engines import energy
 from exu_aniso.fe import shank_mesh
+from exu_aniso.fe.compliance import BasisWarning, compliance_share
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters, solver_advice
 from exu_aniso.scenes.fe_block import contact_columns
@@ -52,14 +61,19 @@ from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewPara
 
 FE_SCREW_PARAMS = {
     "model": ("reduced", "-", "the elastic body in its floating frame: full (every coordinate of the nodes off the "
-              "head) or reduced (the `modes` lowest eigenmodes of the shank clamped at its head)", ("full", "reduced")),
-    "modes": (12, "-", "reduced: the number of clamped-head eigenmodes", "int >= 1"),
+              "head) or reduced (the mode basis `basis`, clamped at the head)", ("full", "reduced")),
+    "basis": ("craig_bampton", "-", "reduced: craig_bampton (the static modes of every thread node coordinate off the "
+              "head, which hold the contact's local compliance, plus `modes` eigenmodes of the shank clamped at its "
+              "head and thread) or eigenmodes (the `modes` lowest eigenmodes of the shank clamped at its head, which "
+              "miss most of its radial give under the thread)", ("craig_bampton", "eigenmodes")),
+    "modes": (0, "-", "reduced: the number of eigenmodes (see basis)", "int >= 0"),
     "radius": (0.005, "m", "radius of the hole (the shank's outer radius is radius + interference)", "> 0"),
     "bore": (0.0025, "m", "inner radius of the hollow shank (a cannulated screw), in (0, radius)", "> 0"),
     "length": (0.02, "m", "length of the shank, all of it engaged in the hole", "> 0"),
     "cells_r": (1, "-", "hexahedra across the wall", "int >= 1"),
-    "cells_theta": (8, "-", "hexahedra around the circumference (the thread nodes per ring), at least 6", "int >= 1"),
-    "cells_z": (4, "-", "hexahedra along the shank (cells_z + 1 rings of thread nodes)", "int >= 1"),
+    "cells_theta": (24, "-", "hexahedra around the circumference (the thread nodes per ring), at least 6; the "
+                    "twist's error is the polygonal section's (studies/fe_screw.py)", "int >= 1"),
+    "cells_z": (2, "-", "hexahedra along the shank (cells_z + 1 rings of thread nodes)", "int >= 1"),
     "E": (3e9, "Pa", "Young's modulus (3 GPa: a polyamide screw)", "> 0"),
     "nu": (0.3, "-", "Poisson's ratio, in (-1, 0.5)", "real"),
     "density": (1150.0, "kg/m^3", "density", "> 0"),
@@ -86,6 +100,15 @@ FE_SCREW_PARAMS = {
 }
 
 
+MAX_MODES = 1500
+"""The most modes of Exudyn's dense floating-frame body the scene builds (its evaluation grows
+faster than the square of the modes)."""
+
+COMPLIANCE_SHARE_FLOOR = 0.9
+"""Below this share of the thread nodes' static compliance (exu_aniso.fe.compliance_share) a run
+warns (BasisWarning): its basis makes the shank stiffer under the contact than its mesh."""
+
+
 @scene_parameters(FE_SCREW_PARAMS)
 class FeScrewParams(SceneParams):
     """Elastic screw in a hole with a spiral net; see FE_SCREW_PARAMS for units and meaning."""
@@ -98,11 +121,24 @@ class FeScrewParams(SceneParams):
         if not self.bore < self.radius:
             raise ValueError(f"bore must be < radius (a tube); got bore={self.bore!r}, radius={self.radius!r}")
         free = 3 * (self.cells_r + 1) * self.cells_theta * self.cells_z
-        if self.model == "reduced" and self.modes > free:
-            raise ValueError(f"modes must be <= {free} (the coordinates off the head); got {self.modes}")
-        if self.model == "full" and free > 1500:
+        static = 3 * self.cells_theta * self.cells_z                     # the thread's coordinates off the head
+        if self.model == "reduced":
+            if self.basis == "eigenmodes" and self.modes < 1:
+                raise ValueError("modes must be >= 1 with model=reduced and basis=eigenmodes (the shank's only "
+                                 "deformation)")
+            if self.basis == "eigenmodes" and self.modes > free:
+                raise ValueError(f"modes must be <= {free} with basis=eigenmodes (the coordinates off the head); "
+                                 f"got {self.modes}")
+            if self.basis == "craig_bampton" and self.modes > free - static:
+                raise ValueError(f"modes must be <= {free - static} with basis=craig_bampton (the coordinates off "
+                                 f"the head and the thread: the fixed-interface eigenmodes); got {self.modes}")
+            if self.basis == "craig_bampton" and static + self.modes > MAX_MODES:
+                raise ValueError(f"basis=craig_bampton holds {static} static modes (3 cells_theta cells_z) + modes "
+                                 f"= {static + self.modes} modes of Exudyn's dense floating-frame body here, at "
+                                 f"most {MAX_MODES} allowed; use fewer cells_theta or cells_z")
+        if self.model == "full" and free > MAX_MODES:
             raise ValueError(f"model=full holds every coordinate off the head as a mode of Exudyn's dense "
-                             f"floating-frame body: {free} here, at most 1500 allowed; use model=reduced")
+                             f"floating-frame body: {free} here, at most {MAX_MODES} allowed; use model=reduced")
 
     def contact_points(self):
         return (self.cells_z + 1) * self.cells_theta
@@ -137,9 +173,43 @@ def fe_screw_contact_law(p):
 
 
 def fe_screw_basis(p, mesh):
-    """The mode basis (3N, m): zero at the head's nodes; every other coordinate (full) or the
-    clamped shank's ``modes`` lowest eigenmodes (reduced)."""
-    return mesh.clamped_modes(mesh.node_sets["head"], None if p.model == "full" else p.modes)
+    """The mode basis (3N, m): zero at the head's nodes; every other coordinate (full), the static
+    modes of the thread nodes' coordinates with the head clamped plus ``modes`` fixed-interface
+    eigenmodes (reduced, craig_bampton: ``ElasticMesh.craig_bampton_modes``) or the clamped shank's
+    ``modes`` lowest eigenmodes (reduced, eigenmodes: ``ElasticMesh.clamped_modes``)."""
+    head = mesh.node_sets["head"]
+    if p.model == "full":
+        return mesh.clamped_modes(head, None)
+    if p.basis == "craig_bampton":
+        return mesh.craig_bampton_modes(head, mesh.node_sets["thread"], p.modes)
+    return mesh.clamped_modes(head, p.modes)
+
+
+def basis_name(p):
+    """The basis in words, for the warning: e.g. "12 clamped eigenmodes"."""
+    if p.model == "full":
+        return "the full body"
+    if p.basis == "eigenmodes":
+        return f"{p.modes} clamped eigenmodes"
+    return f"Craig-Bampton: {3 * p.cells_theta * p.cells_z} static modes + {p.modes} fixed-interface eigenmodes"
+
+
+def contact_compliance(p, mesh, basis, warn=True):
+    """The summary's entries on the basis: contact_compliance_share, the share of the thread nodes'
+    static compliance (the head clamped) that the basis keeps against the full mesh
+    (``exu_aniso.fe.compliance_share``; 1 for model=full), and basis_warning: None, or below
+    COMPLIANCE_SHARE_FLOOR the warning (naming the basis and the fix), which warn=True also issues as
+    a BasisWarning."""
+    share = 1.0 if p.model == "full" else compliance_share(mesh, basis, mesh.node_sets["thread"],
+                                                           mesh.node_sets["head"])
+    text = None
+    if share < COMPLIANCE_SHARE_FLOOR:
+        text = (f"the shank's basis ({basis_name(p)}) keeps {share:.3g} of the thread nodes' static compliance "
+                f"(< {COMPLIANCE_SHARE_FLOOR}): the shank is stiffer under the contact than its mesh, and the "
+                f"normal force, the torque and the twist are off by that; use basis=craig_bampton or more modes")
+        if warn:
+            warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
+    return dict(contact_compliance_share=share, basis_warning=text)
 
 
 def thread_directions(mesh):
