@@ -67,11 +67,11 @@ def run_case(case):
     s = res.summary
     rigid = RunScrew(rigid_screw(p, fe_screw_mesh(p).total_mass)).summary
     fe = static_twist(p, s["torque_mean"])
-    return dict(wall_s=s["wall_s"], steps=s["steps"], share=s["contact_compliance_share"], torque_mean=s["torque_mean"], twist_tip=s["twist_tip_mean"],
+    return dict(wall_s=s["wall_s"], steps=s["steps"], share=s["contact_compliance_share"], torque_mean=s["torque_mean"], twist_tip=s["twist_tip"],
                 twist_static=float(fe[0]), twist_closed=s["twist_tip_theory"], torque_rigid=rigid["torque_mean"],
                 advance=s["advance_per_rev"], advance_rigid=rigid["advance_per_rev"],
                 residual=s["energy"]["residual"], energy_ok=s["energy_ok"], profile=s["twist_profile"],
-                theory=s["twist_theory"])
+                theory=s["twist_profile_theory"])
 
 
 def cases_of(quick):

@@ -285,22 +285,28 @@ def static_twist(p, torque, mesh=None):
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m", "axial_force": "N",
            "twist_tip": "rad", "strain_energy": "J", "stick_fraction": "-", "slip_fraction": "-",
            "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
-TITLE_KEYS = ("advance_per_rev", "twist_tip_mean")
+TITLE_KEYS = ("advance_per_rev", "twist_tip")
 
 
 def fe_screw_summary(p, traj, wall_s, steps, newton_iterations):
-    """The screw's summary (advance per revolution, mean torque and axial force over the last half;
-    ``exu_aniso.scenes.screw.screw_summary``) and the twist: every ring's rotation relative to the
+    """The screw's summary (advance per revolution, mean torque and axial force over the last half,
+    with the rigid screw's closed-form steady sliding beside them: ``exu_aniso.scenes.screw.screw_summary``
+    of ``rigid_screw``) and the twist: every ring's rotation relative to the
     head averaged over the last half (twist_profile, tip first) against twist_closed_form of the
-    mean torque (twist_theory), their tip values (traj["twist_rings"] (n, rings): the rotations) and the ratio (twist_ratio: 1 for a shaft of the
+    mean torque (twist_profile_theory), their tip values (twist_tip, twist_tip_theory; from
+    traj["twist_rings"] (n, rings): the rotations) and the ratio (twist_ratio: 1 for a shaft of the
     closed form's section)."""
-    s = screw_summary(traj, wall_s, steps, newton_iterations)
+    s = screw_summary(traj, wall_s, steps, newton_iterations, params=rigid_screw(p, 1.0))
     late = np.asarray(traj["t"]) >= 0.5 * traj["t"][-1]
     profile = np.asarray(traj["twist_rings"])[late].mean(axis=0)
     theory = twist_closed_form(p, s["torque_mean"])
-    s.update(twist_profile=profile.tolist(), twist_theory=theory.tolist(), twist_tip_mean=float(profile[0]),
-             twist_tip_theory=float(theory[0]),
-             twist_ratio=float(profile[0] / theory[0]) if theory[0] != 0.0 else None,
+    if theory[0] != 0.0:
+        ratio = float(profile[0] / theory[0])
+    else:
+        ratio = None
+        s["undefined"]["twist_ratio"] = "the closed form's tip twist is 0 (no torque over the last half)"
+    s.update(twist_profile=profile.tolist(), twist_profile_theory=theory.tolist(), twist_tip=float(profile[0]),
+             twist_tip_theory=float(theory[0]), twist_ratio=ratio,
              strain_energy_end=float(traj["strain_energy"][-1]),
              slip_fraction_end=float(traj["slip_fraction"][-1]))
     return s
