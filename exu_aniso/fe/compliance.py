@@ -123,3 +123,14 @@ def compliance_share(mesh, basis, contact_nodes, fixed_nodes=None):
     L = np.linalg.cholesky(0.5 * (Kr + Kr.T))
     Y = np.linalg.solve(L, PQ.T)                    # trace(P^T Q Kr^-1 Q^T P) = |L^-1 Q^T P|^2
     return float(np.sum(Y * Y) / full)
+
+
+def missing_compliance(share, floor, basis, contact, body):
+    """The warning's text for a basis that keeps share < floor of the contact nodes' static compliance
+    (``compliance_share``), else None. basis, contact, body: words for the basis, the contact nodes
+    and the body (e.g. "12 clamped eigenmodes", "thread nodes", "shank")."""
+    if share >= floor:
+        return None
+    return (f"the {body}'s basis ({basis}) keeps {share:.3g} of the {contact}' static compliance (< {floor}): the "
+            f"{body} is stiffer under the contact than its mesh, and the contact's forces and the body's deformation "
+            f"are off by that; use basis=craig_bampton or more modes")

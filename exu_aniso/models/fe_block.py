@@ -26,7 +26,7 @@ from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf, FloatingFrameMo
 from exu_aniso.engines.exudyn_adapter.runner import (AddSpringDrive, HistoryOutputs, RunScene, SceneView,
                                                      SettingsInfo, SimulationSettingsFor)
 from exu_aniso.engines.timing import driver_travel
-from exu_aniso.scenes.fe_block import (FeBlockParams, contact_columns, drive_direction, drive_speed, drive_stretch,
+from exu_aniso.scenes.fe_block import (FeBlockParams, contact_columns, contact_compliance, drive_direction, drive_speed, drive_stretch,
                                       fe_block_basis, fe_block_contact_law, fe_block_energy, fe_block_mesh,
                                       fe_block_summary, press_depth)
 from exu_aniso.util.validation import check_instance
@@ -137,6 +137,7 @@ def RunFeBlock(p: FeBlockParams = None, progress=False, snapshot=None, solutionF
     def complete(wall, steps, iters, info):
         traj, Xb, Vb, H, terms = FeBlockTrajectory(model)
         summary = fe_block_summary(traj, p, wall, steps, iters)
+        summary.update(contact_compliance(p, model["mesh"], model["body"]["basis"]))
         summary.update(fe_block_energy(p, traj, Xb, Vb, H, **terms))
         info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
         return traj, summary

@@ -53,7 +53,7 @@ import numpy as np
 
 from exu_aniso.engines import energy
 from exu_aniso.fe import shank_mesh
-from exu_aniso.fe.compliance import BasisWarning, compliance_share
+from exu_aniso.fe.compliance import BasisWarning, compliance_share, missing_compliance
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters, solver_advice
 from exu_aniso.scenes.fe_block import contact_columns
@@ -202,13 +202,9 @@ def contact_compliance(p, mesh, basis, warn=True):
     a BasisWarning."""
     share = 1.0 if p.model == "full" else compliance_share(mesh, basis, mesh.node_sets["thread"],
                                                            mesh.node_sets["head"])
-    text = None
-    if share < COMPLIANCE_SHARE_FLOOR:
-        text = (f"the shank's basis ({basis_name(p)}) keeps {share:.3g} of the thread nodes' static compliance "
-                f"(< {COMPLIANCE_SHARE_FLOOR}): the shank is stiffer under the contact than its mesh, and the "
-                f"normal force, the torque and the twist are off by that; use basis=craig_bampton or more modes")
-        if warn:
-            warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
+    text = missing_compliance(share, COMPLIANCE_SHARE_FLOOR, basis_name(p), "thread nodes", "shank")
+    if text is not None and warn:
+        warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
     return dict(contact_compliance_share=share, basis_warning=text)
 
 
