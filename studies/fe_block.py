@@ -62,7 +62,7 @@ def main(argv=None):
     args = parse_args("fe_block", __doc__.splitlines()[0], argv)
     timer = Timer()
     q = args.quick
-    short = dict(cells=1, t_end=0.6, t_press=0.1, travel=0.02) if q else {}
+    short = dict(cells=1) if q else {}
     ratios = (0.01, 100.0) if q else (0.01, 0.1, 1.0, 10.0, 100.0)
     path_cases = [dict(params=dict(eps_r=GEOMETRIC_MEAN * math.sqrt(r), eps_phi=GEOMETRIC_MEAN / math.sqrt(r),
                                    **short), ratio=r, rigid=True) for r in ratios]
