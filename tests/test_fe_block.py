@@ -116,7 +116,7 @@ def test_a_basis_says_how_much_of_the_contact_it_feels():
     (dict(drive_ramp=1.0), "drive_ramp must be < t_end - t_press"),
     (dict(return_map="seed"), "return_map=seed is refused here"),
     (dict(model="reduced", basis="eigenmodes", modes=0), "modes must be >= 1"),
-    (dict(model="reduced", modes=100), "modes must be <= 96"),
+    (dict(model="reduced", cells=3, modes=100), "modes must be <= 96"),
     (dict(model="full", cells=8), "model=full holds every coordinate"),
     (dict(cells=13), "cells must be <= 12"),
     (dict(E=-1.0), "E must be > 0"),

@@ -47,10 +47,12 @@ import math
 import operator
 import os
 import re
+import warnings
 
 import numpy as np
 
 from exu_aniso.engines import energy
+from exu_aniso.fe.compliance import BasisWarning, missing_compliance
 from exu_aniso.engines.timing import step_count
 
 SOLVERS = ("trapezoidal", "generalized_alpha")
@@ -361,4 +363,20 @@ def energy_ledger(terms, traj, what, advice=energy.DEFAULT_ADVICE):
     energy.warn_if_open(summary, what, advice)
     return summary
 
+
+COMPLIANCE_SHARE_FLOOR = 0.9
+"""Below this share of a flexible body's contact nodes' static compliance
+(``exu_aniso.fe.compliance_share``) its basis misses the contact's give: the run warns."""
+
+
+def basis_compliance(share, basis, contact, body, warn=True):
+    """The summary's entries on a flexible body's basis: contact_compliance_share (share, the share of
+    the contact nodes' static compliance the basis keeps against the full mesh) and basis_warning:
+    None, or below COMPLIANCE_SHARE_FLOOR the warning naming the basis and the fix
+    (``exu_aniso.fe.compliance.missing_compliance``; basis, contact, body: words for them), which
+    warn=True also issues as a BasisWarning."""
+    text = missing_compliance(share, COMPLIANCE_SHARE_FLOOR, basis, contact, body)
+    if text is not None and warn:
+        warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
+    return dict(contact_compliance_share=float(share), basis_warning=text)
 

@@ -43,21 +43,21 @@ integrates (``exu_aniso.scenes.block.simulate_block``, planar model); the error 
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
 from exu_aniso.engines import energy
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.fe import block_mesh
-from exu_aniso.fe.compliance import BasisWarning, compliance_share, missing_compliance
+from exu_aniso.fe.compliance import compliance_share
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.law.history import HISTORY_FIELDS, SLIP, STICK
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.block import BlockParams, simulate_block
-from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters
+from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, SceneParams, basis_compliance, energy_ledger,
+                                   scene_parameters)
 
 FE_BLOCK_PARAMS = {
     "model": ("reduced", "-", "the elastic body in its floating frame (the top face's motion): full (every coordinate "
@@ -67,7 +67,8 @@ FE_BLOCK_PARAMS = {
               ("craig_bampton", "eigenmodes")),
     "modes": (0, "-", "reduced: the number of eigenmodes (see basis)", "int >= 0"),
     "size": (0.1, "m", "edge length of the cube", "> 0"),
-    "cells": (3, "-", "trilinear hexahedra along each edge", "int >= 1"),
+    "cells": (4, "-", "trilinear hexahedra along each edge (4: within 1 % of the converged mesh in the drive's and the "
+              "press's forces, studies/fe_block.py)", "int >= 1"),
     "E": (1e6, "Pa", "Young's modulus", "> 0"),
     "nu": (0.3, "-", "Poisson's ratio, in (-1, 0.5)", "real"),
     "density": (1000.0, "kg/m^3", "density", "> 0"),
@@ -104,9 +105,6 @@ FE_BLOCK_PARAMS = {
 FULL_MODES_MAX = 1500
 """model=full: at most this many coordinates (Exudyn's floating-frame body is dense in its modes)."""
 
-COMPLIANCE_SHARE_FLOOR = 0.9
-"""Below this share of the bottom nodes' static compliance (``compliance_share``) a basis misses the
-contact's give: the run warns."""
 
 
 @scene_parameters(FE_BLOCK_PARAMS)
@@ -129,8 +127,8 @@ class FeBlockParams(SceneParams):
         if self.return_map == "seed":
             raise ValueError("return_map=seed is refused here: the papers' closed-form sliding rule jumps at the "
                              "stick/slip switch, and on the elastic block Newton finds no root at the bottom nodes' "
-                             "transitions (the defaults stopped at t = 0.33 s, at dt / 4 at 0.84 s, with "
-                             "generalized-alpha at 0.25 s); use return_map=radial (the papers' steering) or exact")
+                             "transitions, at any step tried (docs/guide/scenes.md, the elastic block); use "
+                             "return_map=radial (the papers' steering) or exact")
         if self.cells > 12:
             raise ValueError(f"cells must be <= 12 (the mesh's coordinates grow like cells^3: "
                              f"{3 * (self.cells + 1) ** 3} here); got {self.cells}")
@@ -192,17 +190,12 @@ def basis_name(p):
 
 
 def contact_compliance(p, mesh, basis, warn=True):
-    """The summary's entries on the basis: contact_compliance_share, the share of the bottom nodes'
-    static compliance (the top face clamped to the frame) that the basis keeps against the full mesh
-    (``exu_aniso.fe.compliance_share``; 1 for model=full), and basis_warning: None, or below
-    COMPLIANCE_SHARE_FLOOR the warning naming the basis and the fix, which warn=True also issues as
-    a BasisWarning."""
+    """The summary's entries on the basis (``scenes.base.basis_compliance``): the share of the
+    bottom nodes' static compliance (the top clamped) that the basis keeps against the full mesh
+    (``exu_aniso.fe.compliance_share``; 1 for model=full), and the warning below the floor."""
     share = 1.0 if p.model == "full" else compliance_share(mesh, basis, mesh.node_sets["bottom"],
                                                            mesh.node_sets["top"])
-    text = missing_compliance(share, COMPLIANCE_SHARE_FLOOR, basis_name(p), "bottom nodes", "block")
-    if text is not None and warn:
-        warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
-    return dict(contact_compliance_share=share, basis_warning=text)
+    return basis_compliance(share, basis_name(p), "bottom nodes", "block", warn)
 
 
 def drive_direction(p):

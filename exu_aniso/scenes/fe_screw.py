@@ -22,7 +22,7 @@ at its head and thread; with ``basis=eigenmodes``: the ``modes`` lowest eigenmod
 clamped at its head (``ElasticMesh.clamped_modes``), which bend and twist it but hardly let the
 thread give radially. The summary says how much of the thread nodes' static compliance the basis
 keeps (``contact_compliance_share``, ``exu_aniso.fe.compliance_share``) and warns below
-COMPLIANCE_SHARE_FLOOR (``basis_warning``, a BasisWarning).
+``scenes.base.COMPLIANCE_SHARE_FLOOR`` (``basis_warning``, a BasisWarning).
 Stiffness-proportional damping ``stiffness_damping`` (D = beta K) damps the body's own vibration.
 The shank starts at rest pressed into the hole (``press_fit``: the basis's static state under the
 interference fit), not undeformed with the whole interference as a jump of force on it.
@@ -47,15 +47,15 @@ Its limit: as E grows the shank becomes the rigid screw of the screw scene with 
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
 from exu_aniso.engines import energy
 from exu_aniso.fe import shank_mesh
-from exu_aniso.fe.compliance import BasisWarning, compliance_share, missing_compliance
+from exu_aniso.fe.compliance import compliance_share
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters, solver_advice
+from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, SceneParams, basis_compliance, energy_ledger,
+                                   scene_parameters, solver_advice)
 from exu_aniso.scenes.fe_block import contact_columns
 from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewParams, screw_contact_law, screw_summary
 
@@ -104,9 +104,6 @@ MAX_MODES = 1500
 """The most modes of Exudyn's dense floating-frame body the scene builds (its evaluation grows
 faster than the square of the modes)."""
 
-COMPLIANCE_SHARE_FLOOR = 0.9
-"""Below this share of the thread nodes' static compliance (exu_aniso.fe.compliance_share) a run
-warns (BasisWarning): its basis makes the shank stiffer under the contact than its mesh."""
 
 
 @scene_parameters(FE_SCREW_PARAMS)
@@ -195,17 +192,12 @@ def basis_name(p):
 
 
 def contact_compliance(p, mesh, basis, warn=True):
-    """The summary's entries on the basis: contact_compliance_share, the share of the thread nodes'
-    static compliance (the head clamped) that the basis keeps against the full mesh
-    (``exu_aniso.fe.compliance_share``; 1 for model=full), and basis_warning: None, or below
-    COMPLIANCE_SHARE_FLOOR the warning (naming the basis and the fix), which warn=True also issues as
-    a BasisWarning."""
+    """The summary's entries on the basis (``scenes.base.basis_compliance``): the share of the
+    thread nodes' static compliance (the head clamped) that the basis keeps against the full mesh
+    (``exu_aniso.fe.compliance_share``; 1 for model=full), and the warning below the floor."""
     share = 1.0 if p.model == "full" else compliance_share(mesh, basis, mesh.node_sets["thread"],
                                                            mesh.node_sets["head"])
-    text = missing_compliance(share, COMPLIANCE_SHARE_FLOOR, basis_name(p), "thread nodes", "shank")
-    if text is not None and warn:
-        warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
-    return dict(contact_compliance_share=share, basis_warning=text)
+    return basis_compliance(share, basis_name(p), "thread nodes", "shank", warn)
 
 
 def thread_directions(mesh):
