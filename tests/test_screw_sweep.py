@@ -82,11 +82,17 @@ def test_ratio_sweep_against_the_closed_form(sweep_out):
     for i, body in enumerate(S["body [-]"]):
         adv, cf = S["advance_per_rev [mm]"][i], S["advance_per_rev_theory [mm]"][i]
         assert not S["failed [-]"][i]
-        # rigid: steady sliding reached (measured within 5e-6); elastic: the shank's polygon and compliance
-        # (measured 3e-6 in advance, 3e-3 in torque at t_end = 0.5 s)
+        # rigid: steady sliding reached (measured within 5e-6); elastic (the quick mode's 1 x 8 x 2 cells with
+        # the thread's static modes, 0.3 s): the advance to the same, the torque below the rigid screw's by the
+        # shank's radial give under the thread's normal penalty, which lowers the normal force (measured 2.7 %;
+        # 2.5 % on the defaults' 1 x 24 x 2 cells, docs/guide/scenes.md)
         tol = 1e-3 if body == "rigid" else 1e-2
         assert adv == pytest.approx(cf, rel=tol, abs=1e-6), (body, S["ratio [-]"][i])
-        assert S["torque_mean [N m]"][i] == pytest.approx(S["torque_sliding_limit [N m]"][i], rel=tol)
+        torque, limit = S["torque_mean [N m]"][i], S["torque_sliding_limit [N m]"][i]
+        if body == "rigid":
+            assert torque == pytest.approx(limit, rel=tol)
+        else:
+            assert 0.95 * limit < torque < limit, (torque, limit)
         assert S["steady_sliding [-]"][i] == 1, S["why_no_theory [-]"][i]
     # the thread limit: advance/pitch -> (1 - r)/(1 + r tan^2 a) -> 1 as r -> 0
     i = S["ratio [-]"].index(0.01)
