@@ -139,3 +139,21 @@ def test_fe_block_study_quick(tmp_path, quick_study):
     C = read_table(tmp_path / "convergence.csv")
     assert 0.0 in C["path_error [m]"] and all(w > 0.0 for w in C["solve_wall [s]"])
     assert (tmp_path / "fe_block.png").stat().st_size > 10000 and "Regenerate" in (tmp_path / "report.md").read_text()
+
+
+def test_the_rigid_block_under_the_same_drive_on_both_engines():
+    """The stiff limit's model (rigid_block: the block scene with the drive's dashpot and ramp, which
+    only this scene uses) is the same on Exudyn and the reference engine: the path to 1e-9 m, the
+    drive's force to 1e-6 of its largest value; the ledger closes (eps_r = eps_phi: no hypo-elastic
+    part) and its work is the drive's."""
+    from exu_aniso.models.block import RunBlock
+    from exu_aniso.scenes.block import simulate_block
+    from exu_aniso.scenes.fe_block import rigid_block
+    b = rigid_block(FeBlockParams(eps_n=1e5, eps_r=1e4, eps_phi=1e4, **SHORT))
+    assert b.drive_damping > 0.0 and b.drive_ramp > 0.0
+    a, r = RunBlock(b), simulate_block(b)
+    ta, tr = a.trajectory, r.trajectory
+    assert np.hypot(np.asarray(ta["x"]) - tr["x"], np.asarray(ta["y"]) - tr["y"]).max() < 1e-9
+    F = np.asarray(tr["drive_force"])
+    assert np.abs(np.asarray(ta["drive_force"]) - F).max() < 1e-6 * np.abs(F).max()
+    assert a.summary["energy"]["residual"] < 1e-6 and r.summary["energy"]["residual"] < 1e-6
