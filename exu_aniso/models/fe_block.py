@@ -105,9 +105,8 @@ def FeBlockTrajectory(model):
     diss, _, H = HistoryOutputs(mbs, model["contact"])
     stick, slip = contact_columns(H)
     Xb = m.X[:, bottom]
-    # the frame's force on the top face: the drive's and the press's (lam: Exudyn's Force output of a
-    # coordinate constraint is the multiplier, the force on its second marker's negative), less the
-    # block's inertia, which the ledger carries: here the forces on the frame's node as applied
+    # the forces applied at the frame: the drive's along d (x, y) and the press's (z; lam: Exudyn's Force
+    # output of a coordinate constraint is the multiplier, the force on its second marker's negative)
     traj = dict(t=t, x_top=q[:, 0], y_top=q[:, 1], yaw_top=np.arctan2(m.rotation[:, 1, 0], m.rotation[:, 0, 0]),
                 x_bottom=Xb[..., 0].mean(axis=1), y_bottom=Xb[..., 1].mean(axis=1), z_bottom=Xb[..., 2].mean(axis=1),
                 drive_force=Fd, force_x=Fd * drive_direction(p)[0], force_y=Fd * drive_direction(p)[1],

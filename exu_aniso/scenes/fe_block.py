@@ -227,7 +227,8 @@ def drive_stretch(p, t, x, y, vx, vy):
             s_t - d[0] * np.asarray(vx) - d[1] * np.asarray(vy))
 
 
-# trajectory columns (trajectory.csv) -> SI unit
+# trajectory columns (trajectory.csv) -> SI unit; x_top, y_top, yaw_top: the plate (the frame); force_x,
+# force_y, force_z: the forces applied at the frame (the drive's along d, the press's, negative down)
 COLUMNS = {"t": "s", "x_top": "m", "y_top": "m", "yaw_top": "rad", "x_bottom": "m", "y_bottom": "m", "z_bottom": "m",
            "drive_force": "N", "force_x": "N", "force_y": "N", "force_z": "N", "stick_fraction": "-",
            "slip_fraction": "-", "strain_energy": "J", "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
@@ -318,8 +319,7 @@ def path_from_rigid(p, traj, limit=None):
 
 def PlotFeBlock(traj, params, fig):
     """trajectory.png: the bottom centre's path and the press plate's over the polar net (left), the
-    drive spring's force, the plate's force on the top face and the sliding share of the bottom nodes
-    (right)."""
+    drive's and the press's forces and the sliding share of the bottom nodes (right)."""
     p = params
     a1, a2 = fig.subplots(1, 2)
     xb, yb = np.asarray(traj["x_bottom"]), np.asarray(traj["y_bottom"])
@@ -341,11 +341,10 @@ def PlotFeBlock(traj, params, fig):
                  fontsize=9)
     a1.legend(fontsize=7, loc="best")
     t = np.asarray(traj["t"])
-    for key, label in (("force_x", "$F_x$"), ("force_y", "$F_y$"), ("force_z", "$F_z$"),
-                       ("drive_force", "drive spring")):
-        a2.plot(t, traj[key], label=label, ls="--" if key == "drive_force" else "-")
+    a2.plot(t, traj["drive_force"], label="the drive's force along its direction")
+    a2.plot(t, -np.asarray(traj["force_z"]), label="the press's force (down)")
     a2.set_xlabel("t [s]")
-    a2.set_ylabel("plate's force on the top face, drive spring's [N]")
+    a2.set_ylabel("force on the press plate [N]")
     a2b = a2.twinx()
     a2b.plot(t, traj["slip_fraction"], color="0.5", lw=0.8, ls=":", label="sliding share of the bottom nodes")
     a2b.set_ylim(-0.05, 1.05)
