@@ -25,7 +25,7 @@ own; at 1e5 N/m the spring lags the driver by its force / k, 0.1 mm per 10 N.) T
 mesh in the frame); ``model=reduced`` with ``basis=craig_bampton``, the static modes of every bottom
 node coordinate (which hold the contact's local compliance) plus ``modes`` fixed-interface
 eigenmodes; with ``basis=eigenmodes``, ``modes`` eigenmodes of the block clamped at its top (which
-miss it, and the run says so: ``compliance_share``). The floating frame carries the block's yaw
+miss it, and the run says so: ``contact_compliance``). The floating frame carries the block's yaw
 exactly; a linear FE body in global coordinates would resist a finite yaw with the spurious strain
 (1 - cos yaw) of its rotation. Stiffness-proportional damping ``stiffness_damping`` (D = beta K)
 keeps the run quasi-static.
@@ -36,9 +36,11 @@ node, the share of the contact nodes' static compliance the basis keeps, and the
 the strain energy u.K u / 2, the drive spring's energy and the damping's dissipation beside the
 contact's.
 
-Its limit (``rigid_limit``): as E grows the block becomes rigid and the bottom face's centre follows the rigid block scene's path under the same drive, which the reference engine
-integrates (``exu_aniso.scenes.block.simulate_block``, planar model); the error falls like 1/E
-(tests/test_fe_block.py).
+Its limit (``rigid_limit``): as E grows the block becomes rigid and the bottom face's centre follows
+the rigid block scene's path under the same drive, which the reference engine integrates
+(``exu_aniso.scenes.block.simulate_block``, planar model); the error falls like 1/E
+(tests/test_fe_block.py). ``return_map=seed`` is refused: the papers' closed-form sliding rule jumps
+at the stick/slip switch, and Newton finds no root at the bottom nodes' transitions.
 """
 from __future__ import annotations
 
@@ -83,7 +85,8 @@ FE_BLOCK_PARAMS = {
     "mu_phi": (0.3, "-", "friction coefficient along the circles", "> 0"),
     "core_radius": (1e-3, "m", "regularisation radius of the polar fields at the origin", ">= 0"),
     "return_map": ("radial", "-", "sliding return map; radial here, the package's default is exact: the papers' "
-                   "elastic block is steered by the adhesion net as their rigid one (the block scene's choice)",
+                   "elastic block is steered by the adhesion net as their rigid one (the block scene's choice); "
+                   "seed is refused (no Newton root at the stick/slip switch on this body)",
                    RETURN_MAPS),
     "press": (1e-3, "m", "w: the top face pressed down over t_press", "> 0"),
     "travel": (0.1, "m", "v: the driver's travel along drive_angle after the pressing, at constant speed until "
