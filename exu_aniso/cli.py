@@ -35,7 +35,8 @@ import numpy as np
 from exu_aniso.engines.failure import SimulationFailure
 from exu_aniso.util.output import atomic_write as _atomic_write
 from exu_aniso.engines.result import step_accounting, step_warning
-from exu_aniso.util.output import csv_rows, json_safe, write_json
+from exu_aniso.util.output import (ResultFolderError, csv_rows, json_safe, result_folder, run_identity,
+                                   write_json)
 from exu_aniso.catalog import MAIN_JOB, SCENES
 from exu_aniso.util.validation import ParameterError
 
@@ -108,16 +109,19 @@ def output_rows(t, step):
     return first if first[-1] == len(t) - 1 else np.append(first, len(t) - 1)
 
 
-def write_csv(path, scene, traj, step=None):
-    """trajectory.csv: the scene's columns, at the output step ``step`` [s] (None: every sample)."""
+def write_csv(path, scene, traj, step=None, stamp=None):
+    """trajectory.csv: the scene's columns, at the output step ``step`` [s] (None: every sample);
+    stamp: the run's identity, written as a first line "# stamp" (csv readers skip it with their
+    comment option: ``util.output.read_table``, pandas' comment="#", numpy's comments="#")."""
     cols = [k for k in COLUMNS[scene] if k in traj]
     rows = slice(None) if step is None or "t" not in traj else output_rows(traj["t"], step)
     # each number as repr writes it: the shortest text that reads back to the same double
     rows = csv_rows(np.column_stack([np.asarray(traj[k], dtype=float)[rows] for k in cols])) if cols else b""
-    _atomic_write(path, lambda f: f.write((",".join(cols) + "\n").encode() + rows))
+    head = "" if stamp is None else f"# {stamp}\n"
+    _atomic_write(path, lambda f: f.write((head + ",".join(cols) + "\n").encode() + rows))
 
 
-def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None):
+def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None, stamp=None):
     """trajectory.png: the scene's plot (block: plots.PlotBlockPath; screw: plots.PlotScrewAdvance
     over plots.PlotScrewTorque; see catalog). A failed run's plot says INCOMPLETE, an open
     energy ledger says so in red."""
@@ -139,7 +143,7 @@ def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=
         fig.text(0.5, 0.5, "INCOMPLETE", transform=fig.transFigure, ha="center", va="center", fontsize=40,
                  color="red", alpha=0.25, rotation=30)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
+    fig.savefig(buf, format="png", dpi=110, metadata=None if stamp is None else {"Description": stamp})
     plt.close(fig)
     _atomic_write(path, lambda f: f.write(buf.getvalue()))
 
@@ -184,43 +188,46 @@ def check_out(out):
 def run_scene(scene, params, engine, out, progress=False, snapshot=False, solution_file=None, output_step=None):
     """Simulate and write trajectory.csv, trajectory.png and summary.json ("complete": true), and
     with ``snapshot`` snapshot.png (Exudyn engine; only when the run completes); output_step: the
-    step of trajectory.csv [s] (None: the scene's dt; write_outputs). ``out`` is created
-    only when the results are written, so a run killed while simulating leaves no empty directory.
+    step of trajectory.csv [s] (None: the scene's dt; write_outputs). The files go into a staging
+    folder beside ``out`` that replaces ``out`` whole at the end (``util.output.result_folder``: a
+    lock refuses a second run into the same folder, a killed run leaves the earlier results as they
+    were), and each carries the run's identity (run_id, params_hash: ``util.output.run_identity``).
 
     When the simulation fails with a SimulationFailure carrying a partial trajectory, the three
     files are still written ("complete": false, the failure message, the plot marked INCOMPLETE)
-    and the failure is re-raised; any other simulation error writes summary.json only. A run whose
-    state went non-finite writes its files with "complete": false and raises NonFiniteState."""
-    with tempfile.TemporaryDirectory(prefix="exu-aniso-snapshot-") as tmp:
+    and the failure is re-raised; any other simulation error writes summary.json only. Either way
+    the folder then holds the failed run's files alone. A run whose state went non-finite writes
+    its files with "complete": false and raises NonFiniteState. Bad input found while preparing
+    the run (ParameterError) writes nothing and leaves ``out`` as it was."""
+    identity = dict(zip(("run_id", "params_hash"), run_identity(params.as_dict())))
+    with result_folder(out) as staging, tempfile.TemporaryDirectory(prefix="exu-aniso-snapshot-") as tmp:
         shot = os.path.join(tmp, "snapshot.png") if snapshot else None
         try:
             res = simulate(scene, params, engine, progress=progress, solution_file=solution_file, snapshot=shot)
         except SimulationFailure as failure:
-            os.makedirs(out, exist_ok=True)
             if failure.partial is not None:
-                write_outputs(scene, params, engine, out, failure.partial, failure.as_dict(), output_step)
+                write_outputs(scene, params, engine, staging, failure.partial, failure.as_dict(), output_step,
+                              identity)
             else:
-                write_summary(out, dict(failure.as_dict(), engine=engine, params=params.as_dict()))
+                write_summary(staging, dict(failure.as_dict(), engine=engine, params=params.as_dict(), **identity))
             raise
         except ParameterError:       # bad input found while preparing the run: nothing is written (exit 2)
             raise
         except Exception as e:
-            os.makedirs(out, exist_ok=True)
-            write_summary(out, dict(complete=False, failure=f"{type(e).__name__}: {e}", engine=engine,
-                                    params=params.as_dict()))
+            write_summary(staging, dict(complete=False, failure=f"{type(e).__name__}: {e}", engine=engine,
+                                        params=params.as_dict(), **identity))
             raise
-        os.makedirs(out, exist_ok=True)
         bad = res.summary.get("state_nonfinite")
         if bad is not None:
             message = (f"the state went non-finite: {bad['column']} at t = {bad['t']:.6g} s (an overflow or a NaN; "
                        "check the parameters' magnitudes)")
-            write_outputs(scene, params, engine, out, res, dict(
+            write_outputs(scene, params, engine, staging, res, dict(
                 complete=False, failure=message, time_reached=bad["t"], end_time=float(res.trajectory["t"][-1])),
-                output_step)
+                output_step, identity)
             raise NonFiniteState(message)
         if shot is not None and os.path.exists(shot):
-            _atomic_write(os.path.join(out, "snapshot.png"), lambda f: f.write(open(shot, "rb").read()))
-        return write_outputs(scene, params, engine, out, res, output_step=output_step)
+            _atomic_write(os.path.join(staging, "snapshot.png"), lambda f: f.write(open(shot, "rb").read()))
+        return write_outputs(scene, params, engine, staging, res, output_step=output_step, identity=identity)
 
 
 def write_summary(out, summary):
@@ -232,12 +239,16 @@ def write_summary(out, summary):
     write_json(os.path.join(out, "summary.json"), clean)
 
 
-def write_outputs(scene, params, engine, out, res, failure=None, output_step=None):
+def write_outputs(scene, params, engine, out, res, failure=None, output_step=None, identity=None):
     """The three result files of one run; failure: None (complete) or SimulationFailure.as_dict();
     output_step [s]: the step of trajectory.csv (None: the scene's nominal step dt; 0: every step
-    the solver took, the samples the energy ledger is integrated over). summary.json
-    also says how the steps went (nominal_steps, step_reductions, smallest_step, step_warning)."""
-    summary = dict(complete=failure is None)
+    the solver took, the samples the energy ledger is integrated over); identity: dict run_id,
+    params_hash (None: a new one, ``run_identity``), in summary.json, in trajectory.csv's first line
+    (a comment) and in trajectory.png's metadata. summary.json also says how the steps went
+    (nominal_steps, step_reductions, smallest_step, step_warning)."""
+    if identity is None:
+        identity = dict(zip(("run_id", "params_hash"), run_identity(params.as_dict())))
+    summary = dict(complete=failure is None, **identity)
     summary.update(res.summary)
     if failure is not None:
         summary.update(failure)
@@ -248,7 +259,8 @@ def write_outputs(scene, params, engine, out, res, failure=None, output_step=Non
     summary["output_step"] = params.dt if output_step is None else output_step
     summary["params"] = params.as_dict()
     summary["units"] = {k: u for k, u in COLUMNS[scene].items() if k in res.trajectory}
-    write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory, summary["output_step"] or None)
+    stamp = f"exu-aniso run_id={identity['run_id']} params_hash={identity['params_hash']} scene={scene} engine={engine}"
+    write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory, summary["output_step"] or None, stamp)
     keys = SCENES[scene].title_keys
     model = getattr(params, "model", None)
     title = f"{scene} ({engine}, {params.return_map} map{', ' + model if model else ''}): " + ", ".join(
@@ -261,7 +273,7 @@ def write_outputs(scene, params, engine, out, res, failure=None, output_step=Non
         warning = (f"WARNING: energy ledger open, residual {summary['energy']['residual']:.3g} > "
                    f"{summary['energy_tolerance']:.3g}")
     plot_trajectory(os.path.join(out, "trajectory.png"), scene, res.trajectory, title, params,
-                    incomplete=failure is not None, warning=warning)
+                    incomplete=failure is not None, warning=warning, stamp=stamp)
     write_summary(out, summary)
     return summary
 
@@ -388,7 +400,7 @@ def _run_job(scene, params, engine, out, progress, snapshot, solution_file, outp
     except NonFiniteState as e:
         return 1, None, (f"exu-aniso: {scene} ({engine}) did not complete: {e}\n(trajectory.csv, trajectory.png "
                          f"and summary.json with \"complete\": false written to {out})")
-    except ParameterError as e:  # a combination found impossible while preparing the run: bad input
+    except (ParameterError, ResultFolderError) as e:  # bad input found while preparing the run, or its folder
         return 2, None, f"exu-aniso: error: {scene}: {e}"
     except Exception as e:  # report the failure with context, keep the exit code meaningful
         return 1, None, f"exu-aniso: {scene} ({engine}) failed: {type(e).__name__}: {e}"

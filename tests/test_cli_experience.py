@@ -349,13 +349,13 @@ def test_a_run_whose_solver_cut_the_step_says_so_and_writes_its_output_step(tmp_
     s = json.loads((tmp_path / "a" / "summary.json").read_text())
     assert s["nominal_steps"] == 4 and s["steps"] > 4 and s["step_reductions"] > 0 and s["smallest_step"] < 0.05
     assert s["output_step"] == 0.05 and s["step_warning"] is None          # cut to dt / 4: below the warning
-    rows = list(csv.reader(open(tmp_path / "a" / "trajectory.csv")))[1:]
+    rows = list(csv.reader(open(tmp_path / "a" / "trajectory.csv")))[2:]
     assert [round(float(r[0]), 9) for r in rows] == [0.0, 0.05, 0.1, 0.15, 0.2]
     assert cli.main(args + ["--out", str(tmp_path / "b"), "--output-step", "0.1"]) == 0
-    rows = list(csv.reader(open(tmp_path / "b" / "trajectory.csv")))[1:]
+    rows = list(csv.reader(open(tmp_path / "b" / "trajectory.csv")))[2:]
     assert [round(float(r[0]), 9) for r in rows] == [0.0, 0.1, 0.2]
     assert cli.main(args + ["--out", str(tmp_path / "c"), "--output-step", "0"]) == 0    # every step taken
-    rows = list(csv.reader(open(tmp_path / "c" / "trajectory.csv")))[1:]
+    rows = list(csv.reader(open(tmp_path / "c" / "trajectory.csv")))[2:]
     assert len(rows) == s["steps"] + 1
     assert cli.main(args + ["--out", str(tmp_path / "d"), "--output-step", "-1"]) == 2
     assert "--output-step must be a finite time step >= 0" in capsys.readouterr().err

@@ -184,20 +184,22 @@ def test_result_name_taken_by_a_directory_exits_2_and_writes_nothing(tmp_path, c
 
 
 def test_out_is_created_only_when_results_are_written(tmp_path, monkeypatch):
-    """A run killed while simulating leaves no empty --out: the directory does not exist until then."""
+    """A run killed while simulating leaves no empty --out: the folder does not exist until its results
+    are moved into place (its parent holds the run's hidden lock and staging folder meanwhile; the
+    staging folder goes when the results are in place)."""
     out = tmp_path / "a" / "b"
     seen = []
     real = cli.simulate
 
     def spy(*a, **k):
-        seen.append(out.exists() or (tmp_path / "a").exists())
+        seen.append((out.exists(), sorted(n.split("-")[0] for n in os.listdir(tmp_path / "a"))))
         return real(*a, **k)
 
     monkeypatch.setattr(cli, "simulate", spy)
     assert cli.main(["run", "block", "--engine", "reference", "--set", "t_end=0.01", "--out", str(out),
                      "--quiet"]) == 0
-    assert seen == [False]
-    assert (out / "summary.json").exists()
+    assert seen == [(False, [".b.lock", ".b.staging"])]
+    assert (out / "summary.json").exists() and sorted(os.listdir(tmp_path / "a")) == [".b.lock", "b"]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -205,7 +207,7 @@ def test_out_is_created_only_when_results_are_written(tmp_path, monkeypatch):
 
 def _read_csv(path):
     with open(path) as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
     return {k: np.array([float(r[i]) for r in rows[1:]]) for i, k in enumerate(rows[0])}
 
 

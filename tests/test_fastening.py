@@ -235,7 +235,7 @@ def test_fastening_cli_writes_the_iso_values(tmp_path):
     for k in ("seating_angle", "torque_end", "clamp_force_end", "torque_per_clamp_force",
               "torque_per_clamp_force_theory", "mu_thread_iso16047", "mu_head_iso16047"):
         assert s[k] is not None, k
-    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    header = (out / "trajectory.csv").read_text().splitlines()[1].split(",")
     assert {"angle", "torque", "thread_torque", "head_torque", "clamp_force"} <= set(header)
     assert (out / "trajectory.png").stat().st_size > 0
 

@@ -97,7 +97,7 @@ def _no_constant(name):
 
 def _csv(path):
     with open(path) as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
     return {k: np.array([float(r[i]) for r in rows[1:]]) for i, k in enumerate(rows[0])}
 
 

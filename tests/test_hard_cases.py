@@ -114,7 +114,7 @@ def test_cli_failure_writes_partial_results_and_exits_1(tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["complete"] is False and "simulation failed at t" in summary["failure"]
     with open(out / "trajectory.csv") as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
     assert rows[0][0] == "t" and len(rows) > 2
     assert float(rows[-1][0]) == pytest.approx(summary["time_reached"]) and float(rows[-1][0]) < DIVERGING["t_end"]
     assert (out / "trajectory.png").stat().st_size > 5000
@@ -123,7 +123,7 @@ def test_cli_failure_writes_partial_results_and_exits_1(tmp_path, capsys):
 
 def test_cli_failure_subprocess_has_no_traceback(tmp_path):
     sets = [x for k, v in DIVERGING.items() for x in ("--set", f"{k}={v}")]
-    r = subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "block", "--out", str(tmp_path)] + sets,
+    r = subprocess.run([sys.executable, "-m", "exu_aniso.cli", "run", "block", "--out", str(tmp_path / "r")] + sets,
                        capture_output=True, text=True, timeout=HANG_S, cwd=tmp_path)
     # cwd outside the source tree: 'python -m' would otherwise import the source exu_aniso, which
     # lacks exu_aniso.models (installed from models/)

@@ -320,7 +320,7 @@ def test_ledger_recomputed_from_csv(tmp_path):
         assert main(["run", "particle", "--engine", name, "--out", str(out), "--quiet",
                      *[a for k, v in sets.items() for a in ("--set", f"{k}={v}")]]) == 0
         with open(out / "trajectory.csv") as f:
-            rows = list(csv.DictReader(f))
+            rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
         c = {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
         p = json.loads((out / "summary.json").read_text())["params"]
         m, a = p["mass"], math.radians(p["tilt"])
