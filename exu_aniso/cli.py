@@ -152,8 +152,22 @@ RESULT_FILES = ("trajectory.csv", "trajectory.png", "summary.json", "snapshot.pn
 
 
 class NonFiniteState(RuntimeError):
-    """A run whose state went non-finite (overflow, NaN): its files are written with "complete": false
-    and the command exits 1."""
+    """A run whose state went non-finite (overflow, NaN), or one whose engine accepted steps without
+    Newton's convergence (the reference engine's last resort at the step's floor, which Exudyn's
+    solver would have failed at): its files are written with "complete": false and the command
+    exits 1."""
+
+
+def unconverged_steps(res):
+    """The failure text of a run whose engine accepted steps without Newton's convergence (the
+    reference engine's info: forced_accepts, max_forced_residual), or None."""
+    n = int(res.info.get("forced_accepts") or 0)
+    if not n:
+        return None
+    return (f"{n} step{'s' if n > 1 else ''} accepted without Newton's convergence (the largest scaled residual "
+            f"{res.info['max_forced_residual']:.3g} against the tolerance {res.info.get('newton_tol', 1e-10):.3g}): "
+            f"the results after the first of them are not the model's; use a smaller dt, or return_map exact "
+            f"or radial where the seed map's jump at the stick/slip switch leaves a step without a root")
 
 
 def check_out(out):
@@ -224,6 +238,14 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
             write_outputs(scene, params, engine, staging, res, dict(
                 complete=False, failure=message, time_reached=bad["t"], end_time=float(res.trajectory["t"][-1])),
                 output_step, identity)
+            raise NonFiniteState(message)
+        message = unconverged_steps(res)
+        if message is not None:
+            end = float(res.trajectory["t"][-1])
+            write_outputs(scene, params, engine, staging, res, dict(
+                complete=False, failure=message, time_reached=end, end_time=end,
+                unconverged_steps=int(res.info["forced_accepts"]),
+                unconverged_residual_max=float(res.info["max_forced_residual"])), output_step, identity)
             raise NonFiniteState(message)
         if shot is not None and os.path.exists(shot):
             _atomic_write(os.path.join(staging, "snapshot.png"), lambda f: f.write(open(shot, "rb").read()))

@@ -78,3 +78,17 @@ def test_run_all_in_worker_processes_reports_in_order(tmp_path, monkeypatch, cap
     assert [ln.split(" ")[0] for ln in lines] == ["block", "screw"], lines
     for scene in ("block", "screw"):
         assert (tmp_path / scene / "summary.json").exists() and (tmp_path / scene / "trajectory.csv").exists()
+
+
+def test_reference_steps_accepted_without_convergence_are_not_hidden(tmp_path, capsys):
+    """The reference engine's last resort at its step's floor (accepting the smallest-residual iterate,
+    the seed map's jump at stick/slip) is counted and said: the run exits 1, summary.json says
+    "complete": false with the count and the largest residual (measured on this run: 4 steps, 0.094
+    against 1e-10), the files are written."""
+    out = tmp_path / "r"
+    code = run(["run", "screw", "--engine", "reference", "--set", "return_map=seed", "--set", "t_end=0.3",
+                "--out", str(out), "--quiet"])
+    assert code == 1 and "accepted without Newton's convergence" in capsys.readouterr().err
+    s = json.loads((out / "summary.json").read_text())
+    assert s["complete"] is False and s["unconverged_steps"] >= 1 and s["unconverged_residual_max"] > 1e-10
+    assert (out / "trajectory.csv").exists()
