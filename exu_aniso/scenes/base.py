@@ -115,12 +115,15 @@ def _parse_number(name, value, integer=False):
 # refused here with its name rather than failing deep inside.
 MAGNITUDE_LIMITS = {
     "m": (1e-9, 1e4), "kg": (1e-9, 1e6), "kg/m": (1e-9, 1e6), "s": (1e-12, 1e5),
-    "-": (None, 1e3), "deg": (None, 3600.0), "N": (None, 1e9), "N m": (None, 1e7),
-    "N/m": (None, 1e14), "N/m^2": (None, 1e14), "N m/rad": (None, 1e12), "N m/rad | N/m": (None, 1e14),
-    "N m^2": (None, 1e9), "N s/m": (None, 1e12), "N s/m^2": (None, 1e12), "m/s": (None, 1e4),
-    "m/s^2": (None, 1e4), "rad/s": (None, 1e5), "Hz": (None, 1e6), "1/s": (None, 1e6),
-    "Pa": (None, 1e13), "kg/m^3": (1e-3, 1e5),
+    "-": (1e-9, 1e3), "deg": (1e-9, 3600.0), "N": (1e-9, 1e9), "N m": (1e-12, 1e7),
+    "N/m": (1e-6, 1e14), "N/m^2": (1e-6, 1e14), "N m/rad": (1e-9, 1e12), "N m/rad | N/m": (1e-9, 1e14),
+    "N m^2": (1e-12, 1e9), "N s/m": (1e-9, 1e12), "N s/m^2": (1e-9, 1e12), "m/s": (1e-12, 1e4),
+    "m/s^2": (1e-12, 1e4), "rad/s": (1e-12, 1e5), "Hz": (1e-9, 1e6), "1/s": (1e-12, 1e6),
+    "Pa": (1e-3, 1e13), "kg/m^3": (1e-3, 1e5),
 }
+"""The physical range of a real parameter by its unit: (lo, hi), |value| <= hi and a value that is
+not 0 at least lo in magnitude (no denormal or vanishing value that passes as positive and then
+divides: a friction coefficient of 5e-324 gave a ZeroDivisionError deep in the law)."""
 MAX_COUNT = 1_000_000        # largest value of any integer count parameter (before the cost checks below)
 
 # What a run may cost, checked from the parameters before anything is built (``SceneParams.check_cost``):
@@ -130,15 +133,16 @@ MAX_POINT_STEPS = 1e9        # contact points x steps (~25 min at the block's 1.
 MEMORY_SHARE = 0.8           # of the machine's available memory a run's estimate may take
 
 
-def _check_magnitude(name, value, unit):
+def _check_magnitude(name, value, unit, positive=False):
     lo, hi = MAGNITUDE_LIMITS.get(unit, (None, None))
     u = "" if unit in (None, "-") else " " + unit
     if hi is not None and not abs(value) <= hi:
         raise ValueError(f"{name} must satisfy |{name}| <= {hi:g}{u} (the physical range of this unit in "
                          f"exu_aniso's scenes); got {value!r}")
-    if lo is not None and 0.0 < value < lo:
-        raise ValueError(f"{name} must be 0 or >= {lo:g}{u} (the physical range of this unit in exu_aniso's "
-                         f"scenes); got {value!r}")
+    if lo is not None and 0.0 < abs(value) < lo:
+        least = f"at least {lo:g}{u}" if positive else f"0 or at least {lo:g}{u} in magnitude"
+        raise ValueError(f"{name} must be {least} (the physical range of this unit in exu_aniso's scenes); got "
+                         f"{value!r}")
     return value
 
 
@@ -187,7 +191,7 @@ def _check(name, value, rule, unit=None):
             raise ValueError(f"{name} must be an integer >= {least} and <= {MAX_COUNT} (a bound on a run's cost); "
                              f"got {value!r}")
         return v
-    v = _check_magnitude(name, _parse_number(name, value), unit)
+    v = _check_magnitude(name, _parse_number(name, value), unit, positive=rule == "> 0")
     if rule == "> 0" and not v > 0.0:
         raise ValueError(f"{name} must be > 0; got {value!r}")
     if rule == ">= 0" and not v >= 0.0:
@@ -288,7 +292,7 @@ class SceneParams:
             if rule in ("int >= 1", "int >= 0"):
                 allowed = f"int in [{rule[-1]}, {MAX_COUNT:.0e}]"
             elif hi is not None:       # the physical range of the unit (MAGNITUDE_LIMITS)
-                allowed = {"real": f"[-{hi:g}, {hi:g}]",
+                allowed = {"real": f"[-{hi:g}, {hi:g}]" if lo is None else f"0 or {lo:g} <= |x| <= {hi:g}",
                            "> 0": f"(0, {hi:g}]" if lo is None else f"[{lo:g}, {hi:g}]",
                            ">= 0": f"[0, {hi:g}]" if lo is None else f"0 or [{lo:g}, {hi:g}]"}[rule]
             rows.append((name, str(default), unit, allowed, desc))
