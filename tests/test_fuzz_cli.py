@@ -133,7 +133,10 @@ def test_random_valid_parameters(scene, tmp_path):
             why = f"seed {SEED} case {case}: {cmd}"
             print(f"\n{why}: exit {rc}")
             runs[engine] = check_run(rc, err, out, why)
-        if len(runs) == 2 and all(c is not None for _, c in runs.values()):
+        # compared where both kept their nominal step: a run whose solver cut a step is written at the
+        # first sample at or after each output time, which the two engines' different cuts put apart
+        # (the seed map's stick/slip jump cuts Exudyn's steps more often than the reference's)
+        if len(runs) == 2 and all(c is not None and not s.get("step_reductions") for s, c in runs.values()):
             a, b = runs["exudyn"][1], runs["reference"][1]
             # relative to the largest value of any column of the same unit: a lateral motion of round-off
             # size (1e-17 m beside an advance of 1e-3 m) is compared with the advance, not with itself
