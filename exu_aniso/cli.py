@@ -35,8 +35,8 @@ import numpy as np
 from exu_aniso.engines.failure import SimulationFailure
 from exu_aniso.util.output import atomic_write as _atomic_write
 from exu_aniso.engines.result import step_accounting, step_warning
-from exu_aniso.util.output import (ResultFolderError, csv_rows, json_safe, result_folder, run_identity,
-                                   write_json)
+from exu_aniso.util.output import csv_rows, json_safe, write_json
+from exu_aniso.util.result_folder import ResultFolderError, result_folder, run_identity
 from exu_aniso.catalog import MAIN_JOB, SCENES
 from exu_aniso.util.validation import ParameterError
 
@@ -203,9 +203,9 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
     """Simulate and write trajectory.csv, trajectory.png and summary.json ("complete": true), and
     with ``snapshot`` snapshot.png (Exudyn engine; only when the run completes); output_step: the
     step of trajectory.csv [s] (None: the scene's dt; write_outputs). The files go into a staging
-    folder beside ``out`` that replaces ``out`` whole at the end (``util.output.result_folder``: a
+    folder beside ``out`` that replaces ``out`` whole at the end (``util.result_folder.result_folder``: a
     lock refuses a second run into the same folder, a killed run leaves the earlier results as they
-    were), and each carries the run's identity (run_id, params_hash: ``util.output.run_identity``).
+    were), and each carries the run's identity (run_id, params_hash: ``util.result_folder.run_identity``).
 
     When the simulation fails with a SimulationFailure carrying a partial trajectory, the three
     files are still written ("complete": false, the failure message, the plot marked INCOMPLETE)

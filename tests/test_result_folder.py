@@ -1,4 +1,4 @@
-"""A result folder holds one run's files, whole (exu_aniso.util.output.result_folder, cli.run_scene):
+"""A result folder holds one run's files, whole (exu_aniso.util.result_folder.result_folder, cli.run_scene):
 a run killed while writing leaves the earlier run's files as they were, a failed rerun leaves its own
 files alone, a rerun without --snapshot leaves no old snapshot, a second run into a folder in use is
 refused, every file names its run (run_id, params_hash), and a folder that is not a result folder is
@@ -14,7 +14,7 @@ import pytest
 from PIL import Image
 
 from exu_aniso import cli
-from exu_aniso.util.output import FolderInUse, result_folder, run_identity
+from exu_aniso.util.result_folder import FolderInUse, result_folder, run_identity
 
 QUICK = ["--set", "t_end=0.1", "--set", "dt=2e-3", "--quiet"]
 
