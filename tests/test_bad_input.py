@@ -368,3 +368,38 @@ def test_cli_process_prints_no_traceback(tmp_path):
     assert r.returncode == 2
     assert "Traceback" not in r.stderr and "rings must be an integer; got '2.5'" in r.stderr
     assert r.stdout == "" and not out.exists()
+
+
+def test_api_bounds_name_the_argument():
+    """The fields' constructors bound their values (a friction coefficient whose 1 / mu^2 leaves the
+    doubles, an adhesion stiffness that makes a chart look singular), the mesh helpers their size and
+    geometry, node_at a finite point: each error names the argument and the rule."""
+    from exu_aniso.fe import block_mesh, shank_mesh
+    from exu_aniso.fields.tensor_fields import Adhesion, Friction
+    for call, message in ((lambda: Friction.isotropic(1e-200), "mu must lie in"),
+                          (lambda: Friction.isotropic(1e200), "mu must lie in"),
+                          (lambda: Friction.polar(0.3, 1e-12), "mu_phi must lie in"),
+                          (lambda: Adhesion.isotropic(1e300), "stiffness must lie in"),
+                          (lambda: block_mesh(cells=(400, 400, 400)), "cells must give at most"),
+                          (lambda: block_mesh(size=(0.1, 0.1, 1e-200)), "size must have its smallest entry"),
+                          (lambda: shank_mesh(bore=0.005 * (1 - 1e-15)), "bore must leave a wall"),
+                          (lambda: block_mesh(cells=(1, 1, 1)).node_at([float("nan")] * 3), "point must be finite")):
+        with pytest.raises(ValueError, match=message):
+            call()
+
+
+def test_duplicate_points_on_a_rigid_body_are_refused():
+    """A rigid body's localPoints listing a point twice (as the finite-element route refuses a node
+    twice): the error names the rows."""
+    import exudyn as exu
+    from exudyn.utilities import InertiaCuboid
+    from exu_aniso.fields.tensor_fields import Adhesion, Friction
+    from exu_aniso.geometry import Plane
+    from exu_aniso.kernel.contact_law import ContactLaw
+    import exu_aniso  # noqa: F401
+    mbs = exu.SystemContainer().AddSystem()
+    o = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1] * 3), referencePosition=[0.0, 0.0, 0.05])
+    law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), normal_stiffness=1e5)
+    with pytest.raises(ValueError, match=r"localPoints lists a point more than once \(rows \[0, 2\]"):
+        mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=[[0, 0, -0.05], [0.05, 0, -0.05], [0, 0, -0.05]],
+                                     contactLaw=law)

@@ -17,9 +17,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from exu_aniso.util.validation import check_integer, check_positive, check_real
+from exu_aniso.util.validation import check_integer, check_positive, check_real, check_vector
 
 FEM_EXTRA = 'pip install ".[fem]" (scikit-fem, a pure-Python finite-element assembler)'
+
+MAX_MESH_NODES = 100_000
+"""The most nodes a mesh helper builds (checked before the assembly: 300,000 coordinates and their
+sparse matrices fit this machine's memory many times; 400^3 cells did not)."""
+
+MIN_ASPECT = 1e-6
+"""The smallest ratio of a mesh's extents (and of a tube's wall to its radius): flatter, the node
+sets (found within 1e-9 of the mesh's size) and the stiffness lose their meaning in doubles."""
+
+
+def _check_nodes(count, what):
+    if count > MAX_MESH_NODES:
+        raise ValueError(f"cells must give at most {MAX_MESH_NODES} nodes (a bound on the assembly's memory); "
+                         f"{what} gives {count}")
 
 
 def _skfem():
@@ -172,7 +186,7 @@ class ElasticMesh:
     def node_at(self, point, tolerance=None):
         """Index of the node at the reference position point (3,) [m], within tolerance (default
         1e-9 of the mesh's size); a ValueError naming the point and the closest node otherwise."""
-        p = np.asarray(point, dtype=float)
+        p = check_vector("point", point, 3)
         d = np.linalg.norm(self.nodes - p, axis=1)
         k = int(np.argmin(d))
         tol = 1e-9 * float(np.ptp(self.nodes, axis=0).max()) if tolerance is None else tolerance
@@ -191,6 +205,10 @@ def block_mesh(size=(0.1, 0.1, 0.1), cells=(4, 4, 4), E=1e7, nu=0.3, rho=1000.0)
         raise ValueError(f"size and cells must have three entries (x, y, z); got size={size!r}, cells={cells!r}")
     size = tuple(check_positive(f"size[{i}]", s) for i, s in enumerate(size))
     cells = tuple(check_integer(f"cells[{i}]", c, 1) for i, c in enumerate(cells))
+    if min(size) < MIN_ASPECT * max(size):
+        raise ValueError(f"size must have its smallest entry at least {MIN_ASPECT:g} of its largest (a block, not a "
+                         f"sheet the doubles cannot resolve); got size={size!r}")
+    _check_nodes(int(np.prod([c + 1 for c in cells])), f"cells={cells!r}")
     lx, ly, lz = size
     mesh = sk.MeshHex.init_tensor(np.linspace(-lx / 2, lx / 2, cells[0] + 1), np.linspace(-ly / 2, ly / 2, cells[1] + 1),
                                   np.linspace(0.0, lz, cells[2] + 1))
@@ -217,6 +235,10 @@ def shank_mesh(radius=0.005, bore=0.0025, length=0.02, cells=(1, 8, 4), E=2e9, n
     if len(cells) != 3:
         raise ValueError(f"cells must have three entries (n_r, n_theta, n_z); got {cells!r}")
     n_r, n_theta, n_z = (check_integer(f"cells[{i}]", c, m) for i, (c, m) in enumerate(zip(cells, (1, 6, 1))))
+    if radius - bore < MIN_ASPECT * radius:
+        raise ValueError(f"bore must leave a wall of at least {MIN_ASPECT:g} of the radius (the thread's nodes are "
+                         f"found within 1e-9 of the size); got bore={bore!r}, radius={radius!r}")
+    _check_nodes((n_r + 1) * n_theta * (n_z + 1), f"cells={cells!r}")
     grid = sk.MeshHex.init_tensor(np.linspace(bore, radius, n_r + 1), np.arange(n_theta + 1, dtype=float),
                                   np.linspace(-length / 2, length / 2, n_z + 1))
     r, j, z = grid.p

@@ -113,10 +113,27 @@ def _checked_user(name, function):
     return triple
 
 
+ADHESION_RANGE = (1e-12, 1e16)
+"""Adhesion stiffness per point [N/m]: beyond it the sticking stiffness against a double's
+resolution of a chart makes the surface's chart look singular, below it nothing sticks."""
+
+FRICTION_RANGE = (1e-9, 1e3)
+"""Friction coefficient [-]: F holds 1 / mu^2, which leaves the doubles outside it."""
+
+
+def _in_range(name, value, bounds, what):
+    v = check_positive(name, value)
+    if not bounds[0] <= v <= bounds[1]:
+        raise ValueError(f"{name} must lie in [{bounds[0]:g}, {bounds[1]:g}] ({what}); got {value!r}")
+    return v
+
+
 def _pair(kind, n1, v1, n2, v2):
     if kind == _ADHESION:
-        return check_positive(n1, v1), check_positive(n2, v2)
-    return 1.0 / check_positive(n1, v1) ** 2, 1.0 / check_positive(n2, v2) ** 2
+        what = "an adhesion stiffness per point [N/m]"
+        return _in_range(n1, v1, ADHESION_RANGE, what), _in_range(n2, v2, ADHESION_RANGE, what)
+    what = "a friction coefficient; F holds 1 / mu^2"
+    return 1.0 / _in_range(n1, v1, FRICTION_RANGE, what) ** 2, 1.0 / _in_range(n2, v2, FRICTION_RANGE, what) ** 2
 
 
 def _helix(helix_angle):

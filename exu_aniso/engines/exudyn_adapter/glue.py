@@ -1447,6 +1447,12 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
         points = np.zeros((len(slave.mesh_indices), 3))
     else:
         points = check_points("localPoints", localPoints)
+        _, inverse, counts = np.unique(points, axis=0, return_inverse=True, return_counts=True)
+        if (counts > 1).any():
+            rows = np.flatnonzero(counts[np.ravel(inverse)] > 1)
+            raise ValueError(f"CreateAnisotropicContact: localPoints lists a point more than once (rows "
+                             f"{rows[:6].tolist()}: {points[rows[0]].tolist()}); each row is one contact point, so "
+                             f"give each once (its stiffness is the contact law's per point)")
     _check_cable_points(slave, points)
     master = None
     if masterBodyNumber is not None:
