@@ -403,3 +403,21 @@ def test_duplicate_points_on_a_rigid_body_are_refused():
     with pytest.raises(ValueError, match=r"localPoints lists a point more than once \(rows \[0, 2\]"):
         mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=[[0, 0, -0.05], [0.05, 0, -0.05], [0, 0, -0.05]],
                                      contactLaw=law)
+
+
+@pytest.mark.parametrize("text,message", [
+    ("-" * 3000 + "1", "of at most 200 characters"),
+    ("(-8)**(1/3)", "must be a real number; the expression '\\(-8\\)\\*\\*\\(1/3\\)' gives a complex one"),
+    ("--1", "without digit separators, hex/octal/binary or doubled signs"),
+    ("0x10", "without digit separators, hex/octal/binary or doubled signs"),
+    ("1_000", "without digit separators, hex/octal/binary or doubled signs"),
+])
+def test_a_number_is_a_plain_decimal_or_a_small_expression(text, message):
+    """The parameter parser's rule, named with the parameter: no recursion error on a long chain of
+    signs, no complex power, no hex, digit separators or doubled signs passed as numbers; plain
+    decimals and expressions with pi still read."""
+    from exu_aniso.scenes.block import BlockParams
+    with pytest.raises(ValueError, match="mass: .*" + message):
+        BlockParams.from_strings({"mass": text})
+    assert BlockParams.from_strings({"mass": "2*pi"}).mass == pytest.approx(2 * math.pi)
+    assert BlockParams.from_strings({"mass": ".5e1"}).mass == 5.0

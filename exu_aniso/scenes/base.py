@@ -85,16 +85,37 @@ def _eval_expr(text):
     return ev(ast.parse(text.strip(), mode="eval"))
 
 
+EXPRESSION_LENGTH_MAX = 200
+"""The longest text a number or an expression may be (deeper nesting only hides a typo)."""
+
+_PLAIN_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+_NOT_PLAIN = re.compile(r"[_xXoObB]|[+-]\s*[+-]")     # digit separators, hex/octal/binary, doubled signs
+
+
 def _parse_number(name, value, integer=False):
+    """A parameter's number from its text or value: a plain decimal number, or an expression of
+    numbers and pi with + - * / ** and parentheses (no digit separators, no hex, no doubled signs,
+    at most EXPRESSION_LENGTH_MAX characters); the error names the parameter and the rule."""
+    rule = "expected a decimal number (or an expression of numbers and pi with + - * / ** and parentheses)"
     if isinstance(value, str):
         s = value.strip()
-        try:
+        if len(s) > EXPRESSION_LENGTH_MAX:
+            raise ValueError(f"{name}: {rule} of at most {EXPRESSION_LENGTH_MAX} characters; got {len(s)} characters")
+        if _PLAIN_NUMBER.fullmatch(s):
             v = float(s)
-        except ValueError:
+        elif s.lower() in ("nan", "inf", "+inf", "-inf", "infinity", "+infinity", "-infinity"):
+            v = float(s)
+        else:
+            if _NOT_PLAIN.search(s):
+                raise ValueError(f"{name}: {rule}, without digit separators, hex/octal/binary or doubled signs; got "
+                                 f"{value!r}")
             try:
                 v = _eval_expr(s)
-            except (ValueError, SyntaxError, ZeroDivisionError, TypeError, OverflowError):
-                raise ValueError(f"{name}: expected a number (or an expression with pi); got {value!r}") from None
+            except (ValueError, SyntaxError, ZeroDivisionError, TypeError, OverflowError, RecursionError,
+                    MemoryError):
+                raise ValueError(f"{name}: {rule}; got {value!r}") from None
+            if isinstance(v, complex):
+                raise ValueError(f"{name}: must be a real number; the expression {value!r} gives a complex one")
     elif isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise ValueError(f"{name}: expected a number; got {value!r} ({type(value).__name__})")
     else:
@@ -108,8 +129,8 @@ def _parse_number(name, value, integer=False):
     return v
 
 
-# Physical range of a scene parameter by its unit: (smallest value a "> 0" parameter may take or None,
-# largest magnitude). Wide enough for any machine part a multibody contact model describes (lengths of
+# Physical range of a scene parameter by its unit: (smallest magnitude of a value other than 0, largest
+# magnitude). Wide enough for any machine part a multibody contact model describes (lengths of
 # a nanometre to ten kilometres, stiffnesses up to 1e14 N/m, friction coefficients up to 1e3); outside it
 # a double loses the contact's resolution or overflows (mu 1e300, a size of 1e300 m), and the value is
 # refused here with its name rather than failing deep inside.
