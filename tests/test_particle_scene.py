@@ -62,7 +62,7 @@ def test_defaults_and_table():
     (dict(case="departure", speed=3.0), r"speed must satisfy speed\^2 < gravity \* radius"),
     (dict(tilt=90.0), r"tilt must lie in \(-90, 90\)"),
     (dict(dt=2.0), "dt must be <= t_end"),
-    (dict(mass="heavy"), "mass: expected a number"),
+    (dict(mass="heavy"), "mass: expected a decimal number"),
 ])
 def test_bad_values_name_the_parameter_and_the_rule(values, match):
     with pytest.raises(ValueError, match=match):
