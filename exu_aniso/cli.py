@@ -360,8 +360,13 @@ def main(argv=None):
         print(f"exu-aniso: error: {e}", file=sys.stderr)
         return 2
     # --view: the runs' Exudyn solution files live in a temporary directory until the viewer closes
-    with tempfile.TemporaryDirectory(prefix="exu-aniso-view-") if a.view else contextlib.nullcontext() as tmp:
-        return _run_jobs(jobs, a, tmp)
+    try:
+        with tempfile.TemporaryDirectory(prefix="exu-aniso-view-") if a.view else contextlib.nullcontext() as tmp:
+            return _run_jobs(jobs, a, tmp)
+    except KeyboardInterrupt:       # Ctrl-C: a run's folder is replaced only when the run ends (result_folder)
+        print(f"\nexu-aniso: interrupted; {a.out} holds what it held before the interrupted run "
+              f"(runs that ended before it are in place)", file=sys.stderr)
+        return 130
 
 
 COMPILE_STEPS = 5       # time steps of a compile run: every kernel of the scene's default run is called in them
