@@ -151,7 +151,7 @@ def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=
 RESULT_FILES = ("trajectory.csv", "trajectory.png", "summary.json", "snapshot.png")
 
 
-class NonFiniteState(RuntimeError):
+class IncompleteRun(RuntimeError):
     """A run whose state went non-finite (overflow, NaN), or one whose engine accepted steps without
     Newton's convergence (the reference engine's last resort at the step's floor, which Exudyn's
     solver would have failed at): its files are written with "complete": false and the command
@@ -211,7 +211,7 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
     files are still written ("complete": false, the failure message, the plot marked INCOMPLETE)
     and the failure is re-raised; any other simulation error writes summary.json only. Either way
     the folder then holds the failed run's files alone. A run whose state went non-finite writes
-    its files with "complete": false and raises NonFiniteState. Bad input found while preparing
+    its files with "complete": false and raises IncompleteRun. Bad input found while preparing
     the run (ParameterError) writes nothing and leaves ``out`` as it was."""
     identity = dict(zip(("run_id", "params_hash"), run_identity(params.as_dict())))
     with result_folder(out) as staging, tempfile.TemporaryDirectory(prefix="exu-aniso-snapshot-") as tmp:
@@ -238,7 +238,7 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
             write_outputs(scene, params, engine, staging, res, dict(
                 complete=False, failure=message, time_reached=bad["t"], end_time=float(res.trajectory["t"][-1])),
                 output_step, identity)
-            raise NonFiniteState(message)
+            raise IncompleteRun(message)
         message = unconverged_steps(res)
         if message is not None:
             end = float(res.trajectory["t"][-1])
@@ -246,7 +246,7 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
                 complete=False, failure=message, time_reached=end, end_time=end,
                 unconverged_steps=int(res.info["forced_accepts"]),
                 unconverged_residual_max=float(res.info["max_forced_residual"])), output_step, identity)
-            raise NonFiniteState(message)
+            raise IncompleteRun(message)
         if shot is not None and os.path.exists(shot):
             _atomic_write(os.path.join(staging, "snapshot.png"), lambda f: f.write(open(shot, "rb").read()))
         return write_outputs(scene, params, engine, staging, res, output_step=output_step, identity=identity)
@@ -424,7 +424,7 @@ def _run_job(scene, params, engine, out, progress, snapshot, solution_file, outp
         kept = "partial trajectory.csv, trajectory.png and" if e.partial is not None else "only"
         return 1, None, (f"exu-aniso: {scene} ({engine}) did not complete: {e}\n"
                          f"({kept} summary.json with \"complete\": false written to {out})")
-    except NonFiniteState as e:
+    except IncompleteRun as e:
         return 1, None, (f"exu-aniso: {scene} ({engine}) did not complete: {e}\n(trajectory.csv, trajectory.png "
                          f"and summary.json with \"complete\": false written to {out})")
     except (ParameterError, ResultFolderError) as e:  # bad input found while preparing the run, or its folder

@@ -100,6 +100,7 @@ def FeBlockTrajectory(model):
     m = FloatingFrameMotion(mesh, body["basis"], q, Rt[:, 1:], eta, eta_t)
     lam = mbs.GetSensorStoredData(S["sPress"])[:, 1]
     bottom = mesh.node_sets["bottom"]
+    d = drive_direction(p)
     stretch, rate = drive_stretch(p, t, q[:, 0], q[:, 1], Rt[:, 1], Rt[:, 2])
     Fd = p.drive_stiffness * stretch + p.drive_damping * rate
     diss, _, H = HistoryOutputs(mbs, model["contact"])
@@ -109,7 +110,7 @@ def FeBlockTrajectory(model):
     # output of a coordinate constraint is the multiplier, the force on its second marker's negative)
     traj = dict(t=t, x_top=q[:, 0], y_top=q[:, 1], yaw_top=np.arctan2(m.rotation[:, 1, 0], m.rotation[:, 0, 0]),
                 x_bottom=Xb[..., 0].mean(axis=1), y_bottom=Xb[..., 1].mean(axis=1), z_bottom=Xb[..., 2].mean(axis=1),
-                drive_force=Fd, force_x=Fd * drive_direction(p)[0], force_y=Fd * drive_direction(p)[1],
+                drive_force=Fd, force_x=Fd * d[0], force_y=Fd * d[1],
                 force_z=-lam, stick_fraction=stick, slip_fraction=slip, strain_energy=m.strain,
                 dissipated_energy=diss)
     # work in: the driver's (the drive's force along its travel) and the press's

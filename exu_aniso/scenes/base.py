@@ -52,7 +52,7 @@ import warnings
 import numpy as np
 
 from exu_aniso.engines import energy
-from exu_aniso.fe.compliance import BasisWarning, missing_compliance
+from exu_aniso.fe.compliance import BasisWarning, compliance_share, missing_compliance
 from exu_aniso.engines.timing import step_count
 
 SOLVERS = ("trapezoidal", "generalized_alpha")
@@ -394,13 +394,16 @@ COMPLIANCE_SHARE_FLOOR = 0.9
 (``exu_aniso.fe.compliance_share``) its basis misses the contact's give: the run warns."""
 
 
-def basis_compliance(share, basis, contact, body, warn=True):
-    """The summary's entries on a flexible body's basis: contact_compliance_share (share, the share of
-    the contact nodes' static compliance the basis keeps against the full mesh) and basis_warning:
-    None, or below COMPLIANCE_SHARE_FLOOR the warning naming the basis and the fix
-    (``exu_aniso.fe.compliance.missing_compliance``; basis, contact, body: words for them), which
-    warn=True also issues as a BasisWarning."""
-    text = missing_compliance(share, COMPLIANCE_SHARE_FLOOR, basis, contact, body)
+def basis_compliance(p, mesh, basis, contact_set, fixed_set, words, warn=True):
+    """The summary's entries on a flexible body's basis (3N, m) of the ElasticMesh mesh, clamped at the
+    node set fixed_set: contact_compliance_share, the share of the node set contact_set's static
+    compliance the basis keeps against the full mesh (``exu_aniso.fe.compliance_share``; 1 for
+    p.model == "full"), and basis_warning: None, or below COMPLIANCE_SHARE_FLOOR the warning naming
+    the basis and the fix (``exu_aniso.fe.compliance.missing_compliance``; words: the basis, the
+    contact nodes and the body in words), which warn=True also issues as a BasisWarning."""
+    share = 1.0 if p.model == "full" else compliance_share(mesh, basis, mesh.node_sets[contact_set],
+                                                           mesh.node_sets[fixed_set])
+    text = missing_compliance(share, COMPLIANCE_SHARE_FLOOR, *words)
     if text is not None and warn:
         warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
     return dict(contact_compliance_share=float(share), basis_warning=text)

@@ -51,7 +51,6 @@ import numpy as np
 from exu_aniso.engines import energy
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.fe import block_mesh
-from exu_aniso.fe.compliance import compliance_share
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.kernel.contact_law import ContactLaw
@@ -193,12 +192,8 @@ def basis_name(p):
 
 
 def contact_compliance(p, mesh, basis, warn=True):
-    """The summary's entries on the basis (``scenes.base.basis_compliance``): the share of the
-    bottom nodes' static compliance (the top clamped) that the basis keeps against the full mesh
-    (``exu_aniso.fe.compliance_share``; 1 for model=full), and the warning below the floor."""
-    share = 1.0 if p.model == "full" else compliance_share(mesh, basis, mesh.node_sets["bottom"],
-                                                           mesh.node_sets["top"])
-    return basis_compliance(share, basis_name(p), "bottom nodes", "block", warn)
+    """The summary's entries on the basis: ``scenes.base.basis_compliance`` of the bottom nodes, the top clamped."""
+    return basis_compliance(p, mesh, basis, "bottom", "top", (basis_name(p), "bottom nodes", "block"), warn)
 
 
 def drive_direction(p):

@@ -52,7 +52,6 @@ import numpy as np
 
 from exu_aniso.engines import energy
 from exu_aniso.fe import shank_mesh
-from exu_aniso.fe.compliance import compliance_share
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, SceneParams, basis_compliance, energy_ledger,
                                    scene_parameters, solver_advice)
@@ -192,12 +191,8 @@ def basis_name(p):
 
 
 def contact_compliance(p, mesh, basis, warn=True):
-    """The summary's entries on the basis (``scenes.base.basis_compliance``): the share of the
-    thread nodes' static compliance (the head clamped) that the basis keeps against the full mesh
-    (``exu_aniso.fe.compliance_share``; 1 for model=full), and the warning below the floor."""
-    share = 1.0 if p.model == "full" else compliance_share(mesh, basis, mesh.node_sets["thread"],
-                                                           mesh.node_sets["head"])
-    return basis_compliance(share, basis_name(p), "thread nodes", "shank", warn)
+    """The summary's entries on the basis: ``scenes.base.basis_compliance`` of the thread nodes, the head clamped."""
+    return basis_compliance(p, mesh, basis, "thread", "head", (basis_name(p), "thread nodes", "shank"), warn)
 
 
 def thread_directions(mesh):

@@ -149,9 +149,15 @@ def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, s
     start, ramp = check_nonnegative("start", start), check_nonnegative("ramp", ramp)
     c = check_nonnegative("damping", damping)
 
+    last = {}
+
     def driver(t):
-        s, s_t = driver_travel(t, speed, start, ramp)
-        return float(s), float(s_t)
+        """The driver's travel and rate at t, evaluated once per time (the force runs at every Newton
+        iteration)."""
+        if last.get("t") != t:
+            s, s_t = driver_travel(t, speed, start, ramp)
+            last.update(t=t, value=(float(s), float(s_t)))
+        return last["value"]
     if python:
         K, C = k * np.outer(d, d), c * np.outer(d, d)
         return AddNodeDrive(mbs, nodeNumber, d.size, lambda t, q: k * (driver(t)[0] - d @ q) * d,
