@@ -198,6 +198,20 @@ def test_theory_domain_edge_bending_stiffness():
     assert "bending_stiffness" in outside["undefined"]["tension_ratio_error"]
 
 
+def test_a_theory_beyond_a_double_is_null_with_its_reason():
+    """exp(mu_1 phi) is a finite double up to mu_1 phi = ln(DBL_MAX) = 709.78: mu_1 = 50 over 180 deg
+    (157) gives 1.655e68 = e^157.08; mu_1 = 200 over 360 deg (1256.6) once raised OverflowError
+    after the whole run; it is now None with the reason naming mu_1 and wrap_angle."""
+    from exu_aniso.scenes.capstan import EXPONENT_MAX, capstan_theory
+    assert EXPONENT_MAX == pytest.approx(709.78, abs=0.01)
+    assert capstan_theory(CapstanParams(mu_1=50.0))[0] == pytest.approx(math.exp(50.0 * math.pi), rel=1e-12)
+    ratio, why = capstan_theory(CapstanParams(mu_1=200.0, wrap_angle=360.0))
+    assert ratio is None and "mu_1, wrap_angle" in why and "exp(1256.64) overflows" in why
+    edge = EXPONENT_MAX / math.pi                  # the last mu_1 over 180 deg whose theory is finite
+    assert math.isfinite(capstan_theory(CapstanParams(mu_1=edge * (1 - 1e-12)))[0])
+    assert capstan_theory(CapstanParams(mu_1=edge * (1 + 1e-12)))[0] is None
+
+
 @pytest.mark.slow
 def test_theory_domain_edge_quasi_static():
     """Euler-Eytelwein assumes a massless rope loaded quasi-statically: reported up to ramp_rate L
@@ -219,9 +233,10 @@ def test_ledger_recomputed_from_csv(tmp_path):
     end_directions over the end nodes' positions, trapezoid) and the end dashpots' dissipation
     (end_damping |v|^2 over the steps, trapezoid), and the tensions (force less dashpot). The rope's
     kinetic and strain energy (every node), the contact's penalty energy and normal dashpot (every
-    contact point) cannot be recomputed from the file: checked are the residual identity, the
-    non-negative kinetic energy and the dissipated energy's parts (history + end dashpots + a
-    non-negative normal-dashpot share). Exudyn engine only (no reference model)."""
+    contact point) cannot be recomputed from the file's state: they are columns, the ledger is their
+    sum; checked besides are the residual identity, the non-negative kinetic energy and the
+    dissipated energy's parts (history + end dashpots + a non-negative normal-dashpot share). Exudyn
+    engine only (no reference model)."""
     from exu_aniso import cli
     from exu_aniso.util.output import read_table
     from exu_aniso.scenes.capstan import end_directions
@@ -245,6 +260,14 @@ def test_ledger_recomputed_from_csv(tmp_path):
     np.testing.assert_allclose(T["tension_out"], T["force_out"] - p.end_damping * (V_out @ d_out), rtol=1e-12,
                                atol=1e-12)
     ends = p.end_damping * (trap(V_in, X_in) + trap(V_out, X_out))
+    np.testing.assert_allclose(T["end_dissipated_energy"], ends, rtol=0, atol=1e-9 * scale)
+    # the terms the state in the file cannot recompute are columns, and the ledger is their sum
+    # (the ledger's columns are the changes from the first sample)
+    for name, total in (("kinetic", T["kinetic_energy"]), ("potential", T["strain_energy"]),
+                        ("stored", T["contact_stored_energy"]),
+                        ("dissipated", T["contact_dissipated_energy"] + T["end_dissipated_energy"])):
+        np.testing.assert_allclose(T["energy_" + name], total - total[0], rtol=0, atol=1e-12 * scale, err_msg=name)
+    assert T["strain_energy"].min() >= 0.0 and T["strain_energy"][-1] > 0.0
     normal_dashpot = T["energy_dissipated"] - (T["dissipated_energy"] - T["dissipated_energy"][0]) - ends
     assert normal_dashpot.min() >= -1e-9 * scale        # per step the trapezoid's sign may flip; in sum it dissipates
     residual = T["energy_work_in"] - (T["energy_kinetic"] + T["energy_potential"] + T["energy_stored"]

@@ -264,6 +264,68 @@ def test_ledger_recomputed_from_csv(scene, sets, engine, tmp_path):
     assert s["energy_ok"] is (s["energy"]["residual"] <= s["energy_tolerance"])
 
 
+def _ledger_sums(c, stored, dissipated, scale):
+    """The ledger's columns (changes from the first sample) are the sums of the term columns the file
+    holds, to round-off, and its residual is work - kinetic - potential - stored - dissipated."""
+    for name, total in (("kinetic", c["kinetic_energy"]), ("stored", stored), ("dissipated", dissipated)):
+        np.testing.assert_allclose(c["energy_" + name], total - total[0], rtol=0, atol=1e-12 * scale, err_msg=name)
+    residual = (c["energy_work_in"] - c["energy_kinetic"] - c["energy_potential"] - c["energy_stored"]
+                - c["energy_dissipated"])
+    np.testing.assert_allclose(residual, c["energy_residual"], rtol=0, atol=1e-12 * scale)
+    assert c["kinetic_energy"].min() >= 0.0 and c["contact_stored_energy"].min() >= -1e-12 * scale
+    friction = c["dissipated_energy"] - c["dissipated_energy"][0]
+    assert np.all(c["contact_dissipated_energy"] - friction >= -1e-9 * scale)    # dashpots dissipate
+
+
+def test_fe_block_ledger_recomputed_from_csv(tmp_path):
+    """The flexible block's file: the work in (the drive's force over the driver's travel, a closed form
+    of time, and the press's force over the plate's height, by the trapezoid), the drive spring's energy
+    k s^2 / 2 and its dashpot's dissipation (the force less k s over s) recomputed from the columns; the
+    body's kinetic and strain energy and the contact's terms are columns, and the ledger is their sum."""
+    sets = dict(cells="2", t_end="0.4", t_press="0.1", travel="0.01", drive_ramp="0.05")
+    args = ["run", "fe_block", "--out", str(tmp_path), "--quiet"]
+    for kv in sets.items():
+        args += ["--set", "=".join(kv)]
+    assert cli.main(args) == 0
+    c = _read_csv(tmp_path / "trajectory.csv")
+    p = SCENES["fe_block"].params.from_strings(sets)
+    speed = p.travel / (p.t_end - p.t_press - 0.5 * p.drive_ramp)
+    tau = np.clip(c["t"] - p.t_press, 0.0, None)
+    travel = np.where(tau < p.drive_ramp, 0.5 * speed * tau ** 2 / p.drive_ramp, speed * (tau - 0.5 * p.drive_ramp))
+    work = _trapezoid(c["drive_force"], travel) + _trapezoid(c["force_z"], c["z_top"])
+    scale = np.max(np.abs(c["energy_work_in"]))
+    assert scale > 0.0
+    np.testing.assert_allclose(work, c["energy_work_in"], rtol=0, atol=1e-9 * scale)
+    k, s = p.drive_stiffness, c["drive_stretch"]
+    np.testing.assert_allclose(c["drive_spring_energy"], 0.5 * k * s ** 2, rtol=1e-12, atol=1e-15 * scale)
+    np.testing.assert_allclose(c["drive_dashpot_dissipated_energy"], _trapezoid(c["drive_force"] - k * s, s),
+                               rtol=0, atol=1e-9 * scale)
+    assert np.all(np.diff(c["rayleigh_dissipated_energy"]) >= -1e-12 * scale)
+    _ledger_sums(c, c["contact_stored_energy"] + c["strain_energy"] + c["drive_spring_energy"],
+                 c["contact_dissipated_energy"] + c["rayleigh_dissipated_energy"]
+                 + c["drive_dashpot_dissipated_energy"], scale)
+    assert np.all(c["energy_potential"] == 0.0) and c["strain_energy"][-1] > 0.0
+
+
+def test_fe_screw_ledger_recomputed_from_csv(tmp_path):
+    """The flexible screw's file: the work in (the drive's torque over the head's angle and the axial
+    load over z) recomputed; the shank's kinetic and strain energy, the Rayleigh damping's and the
+    contact's terms are columns, and the ledger is their sum."""
+    sets = dict(cells_theta="8", cells_z="1", t_end="0.05")
+    args = ["run", "fe_screw", "--out", str(tmp_path), "--quiet"]
+    for kv in sets.items():
+        args += ["--set", "=".join(kv)]
+    assert cli.main(args) == 0
+    c = _read_csv(tmp_path / "trajectory.csv")
+    work = _trapezoid(c["torque"], c["angle"]) + _trapezoid(c["axial_force"], c["z"])
+    scale = np.max(np.abs(c["energy_work_in"]))
+    assert scale > 0.0
+    np.testing.assert_allclose(work, c["energy_work_in"], rtol=0, atol=1e-9 * scale)
+    assert np.all(np.diff(c["rayleigh_dissipated_energy"]) >= -1e-12 * scale)
+    _ledger_sums(c, c["contact_stored_energy"] + c["strain_energy"],
+                 c["contact_dissipated_energy"] + c["rayleigh_dissipated_energy"], scale)
+
+
 # ----------------------------------------------------------------------------------------------
 # a step that collapses stops with a message instead of creeping on
 

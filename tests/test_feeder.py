@@ -260,3 +260,14 @@ def test_ledger_recomputed_from_csv(tmp_path, engine):
     np.testing.assert_allclose(residual, T["energy_residual"], rtol=0, atol=1e-12 * scale)
     dashpot = T["energy_dissipated"] - (T["dissipated_energy"] - T["dissipated_energy"][0])
     assert dashpot[-1] > 0.0 and dashpot.min() >= -1e-9 * scale
+
+
+def test_the_theory_reason_quotes_the_net_angle_as_given():
+    """The one-dimensional theory holds for a net along (0 deg) or across (90 deg) the track only; its
+    reason for 89.99999 deg once read "net at 90 deg" (the angle rounded to 6 digits)."""
+    from exu_aniso.scenes.feeder import theory_mu
+    p = FeederParams(net="orthotropic", mu_1=0.3, mu_2=0.6, net_angle=89.99999)
+    mu, why = theory_mu(p)
+    assert mu is None and "net at 89.99999 deg" in why
+    assert theory_mu(p.with_overrides(net_angle=90.0)) == (0.6, None)
+    assert theory_mu(p.with_overrides(net_angle=180.0)) == (0.3, None)

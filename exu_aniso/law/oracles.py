@@ -312,8 +312,10 @@ def thread_torque_per_force(d2, pitch, flank_angle, mu_thread):
     t = math.tan(lead)
     m = mu_thread / math.cos(normal_flank_angle(flank_angle, lead))
     if not m * t < 1.0:
-        raise ValueError(f"mu_thread: the thread is self-locking beyond its limit (mu tan phi / cos beta_n = {m * t:.3g} "
-                         f">= 1); got mu_thread={mu_thread!r}")
+        names = "d2, pitch" if t > 1.0 else "mu_thread"      # a lead angle past 45 deg is the geometry's fault
+        raise ValueError(f"{names}: the thread locks under any tightening torque: mu_thread tan(phi) / cos(beta_n) "
+                         f"= {m * t:.3g} must be < 1, with the lead angle phi = atan(pitch / (pi d2)) = "
+                         f"{math.degrees(lead):.6g} deg; got mu_thread={mu_thread!r}, d2={d2!r} m, pitch={pitch!r} m")
     return 0.5 * d2 * (t + m) / (1.0 - m * t)
 
 

@@ -89,8 +89,9 @@ def BuildFeBlock(p: FeBlockParams, jacobian="analytic", implementation="auto", n
 
 
 def FeBlockTrajectory(model):
-    """Trajectory dict (scenes.fe_block.COLUMNS without the ledger), the bottom nodes' X, V (n, K, 3),
-    the history H (n, K, 9) and the ledger's terms, from the stored sensors of a solved model."""
+    """Trajectory dict (scenes.fe_block.COLUMNS without the ledger and the contact's energy), the bottom
+    nodes' X, V (n, K, 3), the history H (n, K, 9) and the work in (n,) [J], from the stored sensors of
+    a solved model."""
     mbs, S, mesh, p, body = model["mbs"], model["sensors"], model["mesh"], model["params"], model["body"]
     R, Rt = mbs.GetSensorStoredData(S["sRigidCoordinates"]), mbs.GetSensorStoredData(S["sRigidCoordinates_t"])
     E, Et = mbs.GetSensorStoredData(S["sModalCoordinates"]), mbs.GetSensorStoredData(S["sModalCoordinates_t"])
@@ -111,16 +112,15 @@ def FeBlockTrajectory(model):
     traj = dict(t=t, x_top=q[:, 0], y_top=q[:, 1], yaw_top=np.arctan2(m.rotation[:, 1, 0], m.rotation[:, 0, 0]),
                 x_bottom=Xb[..., 0].mean(axis=1), y_bottom=Xb[..., 1].mean(axis=1), z_bottom=Xb[..., 2].mean(axis=1),
                 drive_force=Fd, force_x=Fd * d[0], force_y=Fd * d[1],
-                force_z=-lam, stick_fraction=stick, slip_fraction=slip, strain_energy=m.strain,
-                dissipated_energy=diss)
+                force_z=-lam, z_top=q[:, 2], drive_stretch=stretch, stick_fraction=stick, slip_fraction=slip,
+                strain_energy=m.strain, dissipated_energy=diss, kinetic_energy=m.kinetic,
+                drive_spring_energy=0.5 * p.drive_stiffness * stretch ** 2,
+                rayleigh_dissipated_energy=energy.work_trapezoid(p.stiffness_damping * eta_t @ m.modal_stiffness, eta),
+                drive_dashpot_dissipated_energy=energy.work_trapezoid(p.drive_damping * rate, stretch))
     # work in: the driver's (the drive's force along its travel) and the press's
     travel, _ = driver_travel(t, drive_speed(p), p.t_press, p.drive_ramp)
     work_in = energy.work_trapezoid(Fd, travel) - energy.work_trapezoid(lam, q[:, 2])
-    damping = (energy.work_trapezoid(p.stiffness_damping * eta_t @ m.modal_stiffness, eta)
-               + energy.work_trapezoid(p.drive_damping * rate, stretch))
-    terms = dict(kinetic=m.kinetic, strain=m.strain, springs=0.5 * p.drive_stiffness * stretch ** 2, damping=damping,
-                 work_in=work_in)
-    return traj, Xb, m.V[:, bottom], H, terms
+    return traj, Xb, m.V[:, bottom], H, work_in
 
 
 def RunFeBlock(p: FeBlockParams = None, progress=False, snapshot=None, solutionFile=None, **options):
@@ -135,10 +135,10 @@ def RunFeBlock(p: FeBlockParams = None, progress=False, snapshot=None, solutionF
         return traj, fe_block_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
 
     def complete(wall, steps, iters, info):
-        traj, Xb, Vb, H, terms = FeBlockTrajectory(model)
+        traj, Xb, Vb, H, work_in = FeBlockTrajectory(model)
         summary = fe_block_summary(traj, p, wall, steps, iters)
         summary.update(contact_compliance(p, model["mesh"], model["body"]["basis"]))
-        summary.update(fe_block_energy(p, traj, Xb, Vb, H, **terms))
+        summary.update(fe_block_energy(p, traj, Xb, Vb, H, work_in))
         info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
         return traj, summary
     return RunScene(model, p, "fe_block", [model["contact"]], partial, complete, progress, snapshot, solutionFile)

@@ -79,8 +79,8 @@ def BuildFeScrew(p: FeScrewParams, jacobian="analytic", implementation="auto", n
 
 def FeScrewTrajectory(model):
     """Trajectory dict (scenes.fe_screw.COLUMNS without the ledger, and twist_rings (n, rings)), the
-    thread nodes' X, V (n, K, 3), the history H (n, K, 9) and the ledger's kinetic energy and
-    Rayleigh damping's dissipation (n,) [J], from the stored sensors of a solved model."""
+    thread nodes' X, V (n, K, 3) and the history H (n, K, 9), from the stored sensors of a solved
+    model."""
     mbs, S, mesh, p, body = model["mbs"], model["sensors"], model["mesh"], model["params"], model["body"]
     R, Rt = mbs.GetSensorStoredData(S["sRigidCoordinates"]), mbs.GetSensorStoredData(S["sRigidCoordinates_t"])
     E, Et = mbs.GetSensorStoredData(S["sModalCoordinates"]), mbs.GetSensorStoredData(S["sModalCoordinates_t"])
@@ -93,11 +93,12 @@ def FeScrewTrajectory(model):
     diss, _, H = HistoryOutputs(mbs, model["contact"])
     traj = dict(t=t, angle=angle, z=q[:, 2], omega=m.omega[:, 2], vz=Rt[:, 3],
                 torque=p.drive_stiffness * (p.rotation_speed * t - angle), axial_force=np.full(len(t), p.axial_load),
-                twist_tip=twist[:, 0], twist_rings=twist, strain_energy=m.strain, dissipated_energy=diss)
+                twist_tip=twist[:, 0], twist_rings=twist, strain_energy=m.strain, dissipated_energy=diss,
+                kinetic_energy=m.kinetic,
+                rayleigh_dissipated_energy=energy.work_trapezoid(p.stiffness_damping * eta_t @ m.modal_stiffness, eta))
     fe_screw_columns(traj, H)
-    damping = energy.work_trapezoid(p.stiffness_damping * eta_t @ m.modal_stiffness, eta)
     thread = mesh.node_sets["thread"]
-    return traj, m.X[:, thread], m.V[:, thread], H, dict(kinetic=m.kinetic, damping=damping)
+    return traj, m.X[:, thread], m.V[:, thread], H
 
 
 def RunFeScrew(p: FeScrewParams = None, progress=False, snapshot=None, solutionFile=None, **options):
@@ -115,9 +116,9 @@ def RunFeScrew(p: FeScrewParams = None, progress=False, snapshot=None, solutionF
         return traj, summary
 
     def complete(wall, steps, iters, info):
-        traj, X, V, H, terms = FeScrewTrajectory(model)
+        traj, X, V, H = FeScrewTrajectory(model)
         summary = fe_screw_summary(p, traj, wall, steps, iters)
-        summary.update(fe_screw_energy(p, traj, X, V, H, **terms))
+        summary.update(fe_screw_energy(p, traj, X, V, H))
         summary.update(contact_compliance(p, model["mesh"], model["body"]["basis"]))      # warns below the floor
         info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
         return traj, summary

@@ -363,6 +363,11 @@ def summary_float(summary, key):
 
 
 ENERGY_COLUMNS = tuple("energy_" + k for k in energy.LEDGER_KEYS)
+LEDGER_TERM_COLUMNS = ("kinetic_energy", "contact_stored_energy", "contact_dissipated_energy")
+"""trajectory.csv columns [J] of a ledger's terms that the file's state alone cannot recompute (a
+flexible body's kinetic energy needs every coordinate, the contact's every point): the kinetic energy
+of the bodies, the contact's stored energy (penalty and adhesion) and its dissipated energy (friction
+and dashpots, cumulative). A scene that writes them writes every other term too (its COLUMNS)."""
 
 
 def solver_advice(p):

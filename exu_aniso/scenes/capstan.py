@@ -64,6 +64,7 @@ c |v|^2 over the steps). With the trapezoidal rule the residual is the contact l
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
@@ -72,7 +73,8 @@ from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cylinder
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
-from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters
+from exu_aniso.scenes.base import (ENERGY_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, energy_ledger, SceneParams,
+                                   scene_parameters)
 
 CAPSTAN_PARAMS = {
     "radius": (0.1, "m", "drum radius", "> 0"),
@@ -134,16 +136,18 @@ COLUMNS = {"t": "s", "force_in": "N", "force_out": "N", "tension_in": "N", "tens
            "x_in": "m", "y_in": "m", "vx_in": "m/s", "vy_in": "m/s",
            "x_out": "m", "y_out": "m", "vx_out": "m/s", "vy_out": "m/s",
            "slip_fraction": "-", "contact_fraction": "-", "dissipated_energy": "J",
+           **{k: "J" for k in LEDGER_TERM_COLUMNS}, "strain_energy": "J", "end_dissipated_energy": "J",
            **{k: "J" for k in ENERGY_COLUMNS}}
 """trajectory.csv: the applied end forces (force_in, force_out: along ``end_directions(p)``) and the
 tensions at the rope's ends (less the end dashpots), their ratio, the ends' travel along the forces
 (u_in towards the drum from t_load on, u_out away from it), the end nodes' positions (x, y) and
 velocities (vx, vy) in the plane, the sliding and loaded fractions of the contact points, the
-contact's history dissipation (friction; dissipated_energy) and the energy ledger. From these and
-the parameters one recomputes the ledger's work in (the end forces over the end positions) and the
-end dashpots' share of energy_dissipated (end_damping |v|^2 over the steps); the rope's kinetic and
-strain energy (every node's coordinates and slopes) and the contact's penalty energy and normal
-dashpot (every contact point) are not in the file."""
+contact's history dissipation (friction; dissipated_energy), every term of the energy ledger
+(capstan_energy: the rope's kinetic and strain energy, the contact's stored and dissipated energy,
+the end dashpots' dissipation) and the ledger. From these and the parameters one recomputes the
+ledger's work in (the end forces over the end positions) and the end dashpots' dissipation
+(end_damping |v|^2 over the steps); the rope's and the contact's terms need every node and every
+contact point, so they are written as they were summed."""
 
 # summary keys for the plot title
 TITLE_KEYS = ("tension_ratio", "tension_ratio_theory")
@@ -182,6 +186,10 @@ def quasi_static_number(p):
     return p.ramp_rate * L * math.sqrt(p.mass_per_length / p.axial_stiffness)
 
 
+EXPONENT_MAX = math.log(sys.float_info.max)
+"""The largest mu_1 phi whose exp(mu_1 phi) is a finite double (709.78)."""
+
+
 def capstan_theory(p):
     """(exp(mu_1 phi), None) where Euler-Eytelwein applies to the scene, else (None, reason naming the
     parameter that breaks it). Its assumptions and how the scene meets them:
@@ -207,7 +215,11 @@ def capstan_theory(p):
     if q > QUASI_STATIC_MAX:
         return None, (f"ramp_rate, mass_per_length: ramp_rate L sqrt(mass_per_length / axial_stiffness) = {q:.3g} > "
                       f"{QUASI_STATIC_MAX:g}: the loading is not quasi-static (the rope's inertia delays the slip)")
-    return math.exp(p.mu_1 * math.radians(p.wrap_angle)), None
+    exponent = p.mu_1 * math.radians(p.wrap_angle)
+    if exponent > EXPONENT_MAX:
+        return None, (f"mu_1, wrap_angle: exp(mu_1 phi) = exp({exponent:.6g}) overflows a double (mu_1 phi must be "
+                      f"<= {EXPONENT_MAX:.6g} for a finite theory)")
+    return math.exp(exponent), None
 
 
 def element_length(p):
@@ -300,14 +312,15 @@ def capstan_summary(traj, p, wall_s, steps, newton_iterations):
 
 
 def capstan_energy(traj, law, X, V, H, kinetic, potential, work_in, end_dissipation):
-    """Energy ledger of a capstan run: adds the ENERGY_COLUMNS to traj and returns the summary
-    entries (energy, energy_ok, energy_tolerance). X, V (n, K, 3): contact points; H (n, K, 9)
+    """Energy ledger of a capstan run: adds the ENERGY_COLUMNS and its terms' columns to traj and
+    returns the summary entries (energy, energy_ok, energy_tolerance). X, V (n, K, 3): contact points; H (n, K, 9)
     history; kinetic, potential: the cable's (Exudyn's KineticEnergy, PotentialEnergy summed over
     the elements) per sample; work_in: cumulative work of the end forces; end_dissipation:
     cumulative dissipation of the end dashpots."""
-    stored, diss = energy.contact_energy(law, X, V, H)
-    return energy_ledger(dict(work_in=work_in, kinetic=kinetic, potential=potential, stored=stored,
-                        dissipated=diss + end_dissipation), traj, "capstan run")
+    traj["contact_stored_energy"], traj["contact_dissipated_energy"] = energy.contact_energy(law, X, V, H)
+    traj.update(kinetic_energy=kinetic, strain_energy=potential, end_dissipated_energy=end_dissipation)
+    return energy_ledger(dict(work_in=work_in, kinetic=kinetic, potential=potential,
+                              stored=traj["contact_stored_energy"], dissipated=traj["contact_dissipated_energy"] + end_dissipation), traj, "capstan run")
 
 
 def PlotCapstan(traj, params, fig):

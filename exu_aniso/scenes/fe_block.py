@@ -57,8 +57,8 @@ from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.law.history import HISTORY_FIELDS, SLIP, STICK
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.block import BlockParams, simulate_block
-from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, SceneParams, basis_compliance, energy_ledger,
-                                   scene_parameters)
+from exu_aniso.scenes.base import (ENERGY_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, SceneParams, basis_compliance,
+                                   energy_ledger, scene_parameters)
 
 FE_BLOCK_PARAMS = {
     "model": ("reduced", "-", "the elastic body in its floating frame (the top face's motion): full (every coordinate "
@@ -225,11 +225,15 @@ def drive_stretch(p, t, x, y, vx, vy):
             s_t - d[0] * np.asarray(vx) - d[1] * np.asarray(vy))
 
 
-# trajectory columns (trajectory.csv) -> SI unit; x_top, y_top, yaw_top: the plate (the frame); force_x,
-# force_y, force_z: the forces applied at the frame (the drive's along d, the press's, negative down)
-COLUMNS = {"t": "s", "x_top": "m", "y_top": "m", "yaw_top": "rad", "x_bottom": "m", "y_bottom": "m", "z_bottom": "m",
-           "drive_force": "N", "force_x": "N", "force_y": "N", "force_z": "N", "stick_fraction": "-",
-           "slip_fraction": "-", "strain_energy": "J", "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
+# trajectory columns (trajectory.csv) -> SI unit; x_top, y_top, z_top, yaw_top: the plate (the frame);
+# force_x, force_y, force_z: the forces applied at the frame (the drive's along d, the press's, negative
+# down); drive_stretch: the drive spring's; dissipated_energy: the contact's friction alone; the energy
+# terms: every term of the ledger (fe_block_energy), so that the file recomputes it
+COLUMNS = {"t": "s", "x_top": "m", "y_top": "m", "z_top": "m", "yaw_top": "rad", "x_bottom": "m", "y_bottom": "m",
+           "z_bottom": "m", "drive_force": "N", "force_x": "N", "force_y": "N", "force_z": "N", "drive_stretch": "m",
+           "stick_fraction": "-", "slip_fraction": "-", "strain_energy": "J", "dissipated_energy": "J",
+           **{k: "J" for k in LEDGER_TERM_COLUMNS}, "drive_spring_energy": "J", "rayleigh_dissipated_energy": "J",
+           "drive_dashpot_dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
 TITLE_KEYS = ("steer_end", "force_ratio_end")
 
 _STATUS = HISTORY_FIELDS.index("status")
@@ -241,15 +245,19 @@ def contact_columns(H):
     return (S == STICK).mean(axis=1), (S == SLIP).mean(axis=1)
 
 
-def fe_block_energy(p, traj, Xb, Vb, H, kinetic, strain, springs, damping, work_in):
-    """The energy ledger (energy_ledger's summary entries; the ENERGY_COLUMNS added to traj): work of
-    the press and of the driver = kinetic (block and plate) + stored (strain, the bond's and the drive
-    spring's energy, the contact's penalty and adhesion) + dissipated (the contact's and the Rayleigh
-    damping's). Xb, Vb (n, K, 3): the bottom nodes; H (n, K, 9) their history; the other terms (n,)
-    [J] from the model."""
-    stored, dissipated = energy.contact_energy(fe_block_contact_law(p), Xb, Vb, H)
-    return energy_ledger(dict(work_in=work_in, kinetic=kinetic, potential=np.zeros(len(work_in)),
-                              stored=stored + strain + springs, dissipated=dissipated + damping), traj,
+def fe_block_energy(p, traj, Xb, Vb, H, work_in):
+    """The energy ledger (energy_ledger's summary entries; the ENERGY_COLUMNS and the contact's
+    energy columns added to traj): work of the press and of the driver (work_in (n,) [J]) = kinetic
+    (block and plate) + stored (strain, the drive spring's energy, the contact's penalty and adhesion)
+    + dissipated (the contact's, the Rayleigh damping's and the drive dashpot's). Every term is a
+    column of traj (COLUMNS). Xb, Vb (n, K, 3): the bottom nodes; H (n, K, 9) their history."""
+    traj["contact_stored_energy"], traj["contact_dissipated_energy"] = energy.contact_energy(
+        fe_block_contact_law(p), Xb, Vb, H)
+    stored = traj["contact_stored_energy"] + traj["strain_energy"] + traj["drive_spring_energy"]
+    dissipated = (traj["contact_dissipated_energy"] + traj["rayleigh_dissipated_energy"]
+                  + traj["drive_dashpot_dissipated_energy"])
+    return energy_ledger(dict(work_in=work_in, kinetic=traj["kinetic_energy"], potential=np.zeros(len(work_in)),
+                              stored=stored, dissipated=dissipated), traj,
                          "fe_block run", "reduce dt, or raise stiffness_damping (a quasi-static run)")
 
 

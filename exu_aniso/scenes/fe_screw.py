@@ -53,8 +53,8 @@ import numpy as np
 from exu_aniso.engines import energy
 from exu_aniso.fe import shank_mesh
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, SceneParams, basis_compliance, energy_ledger,
-                                   scene_parameters, solver_advice)
+from exu_aniso.scenes.base import (ENERGY_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, SceneParams, basis_compliance,
+                                   energy_ledger, scene_parameters, solver_advice)
 from exu_aniso.scenes.fe_block import contact_columns
 from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewParams, screw_contact_law, screw_summary
 
@@ -267,7 +267,8 @@ def static_twist(p, torque, mesh=None):
 
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m", "axial_force": "N",
            "twist_tip": "rad", "strain_energy": "J", "stick_fraction": "-", "slip_fraction": "-",
-           "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
+           "dissipated_energy": "J", **{k: "J" for k in LEDGER_TERM_COLUMNS}, "rayleigh_dissipated_energy": "J",
+           **{k: "J" for k in ENERGY_COLUMNS}}
 TITLE_KEYS = ("advance_per_rev", "twist_tip")
 
 
@@ -295,15 +296,18 @@ def fe_screw_summary(p, traj, wall_s, steps, newton_iterations):
     return s
 
 
-def fe_screw_energy(p, traj, X, V, H, kinetic, damping):
-    """The energy ledger: the drive's torque over the head's angle and the axial load over z = the
-    shank's kinetic energy + stored (strain, the contact's penalty and adhesion) + dissipated (the
-    contact's and the Rayleigh damping's). X, V (n, K, 3): the thread nodes; H (n, K, 9) their
-    history; kinetic, damping (n,) [J] from the model."""
-    stored, dissipated = energy.contact_energy(fe_screw_contact_law(p), X, V, H)
+def fe_screw_energy(p, traj, X, V, H):
+    """The energy ledger (the ENERGY_COLUMNS and the contact's energy columns added to traj): the
+    drive's torque over the head's angle and the axial load over z = the shank's kinetic energy +
+    stored (strain, the contact's penalty and adhesion) + dissipated (the contact's and the Rayleigh
+    damping's); every term is a column of traj (COLUMNS). X, V (n, K, 3): the thread nodes; H
+    (n, K, 9) their history."""
+    traj["contact_stored_energy"], traj["contact_dissipated_energy"] = energy.contact_energy(
+        fe_screw_contact_law(p), X, V, H)
     work = energy.work_trapezoid(traj["torque"], traj["angle"]) + energy.work_trapezoid(traj["axial_force"], traj["z"])
-    return energy_ledger(dict(work_in=work, kinetic=kinetic, potential=np.zeros(len(work)),
-                              stored=stored + traj["strain_energy"], dissipated=dissipated + damping), traj,
+    return energy_ledger(dict(work_in=work, kinetic=traj["kinetic_energy"], potential=np.zeros(len(work)),
+                              stored=traj["contact_stored_energy"] + traj["strain_energy"],
+                              dissipated=traj["contact_dissipated_energy"] + traj["rayleigh_dissipated_energy"]), traj,
                          "fe_screw run", solver_advice(p))
 
 

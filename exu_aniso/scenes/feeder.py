@@ -189,7 +189,7 @@ def theory_mu(p):
         return p.mu_1, None
     if p.net_angle % 180.0 == 90.0:
         return p.mu_2, None
-    return None, (f"net_angle: an orthotropic net at {p.net_angle:g} deg (not along or across the track) pushes "
+    return None, (f"net_angle: an orthotropic net at {p.net_angle!r} deg (not along or across the track) pushes "
                   "the parts across the track, the one-dimensional theory does not apply")
 
 
