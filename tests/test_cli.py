@@ -61,6 +61,16 @@ def test_params_lists_every_name_with_unit(capsys):
     for name in ("radius", "helix_angle", "rings", "points_per_ring", "drive_stiffness"):
         assert name in text
     assert "deg" in text
+    assert "Bounds on a run's cost" in text and "1,000,000 steps" in text
+
+
+def test_params_of_a_flexible_scene_print_its_cost_bounds(capsys):
+    """The elastic body's bounds (exu_aniso.fe.cost) are printed with the parameters, as checked."""
+    from exu_aniso.fe import cost
+    assert run(["params", "fe_block"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"at most {cost.MAX_MODES} modes" in text and f"at most {cost.REFRESH_SECONDS_MAX:g} s per step" in text
+    assert "cells <= 12" in text
 
 
 def test_console_script_entry_point():

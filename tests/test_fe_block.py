@@ -117,7 +117,9 @@ def test_a_basis_says_how_much_of_the_contact_it_feels():
     (dict(return_map="seed"), "return_map=seed is refused here"),
     (dict(model="reduced", basis="eigenmodes", modes=0), "modes must be >= 1"),
     (dict(model="reduced", cells=3, modes=100), "modes must be <= 96"),
-    (dict(model="full", cells=8), "model=full holds every coordinate"),
+    (dict(model="full", cells=8), r"would have 1944 modes \(cells=8, model=full\)"),
+    (dict(cells=12), "about 95 s per step that refreshes its Jacobian"),     # did not finish 3 steps in 400 s
+    (dict(model="full", cells=5), "about 32.5 s per step"),                  # measured: 30.6 s, studies/fe_cost.py
     (dict(cells=13), "cells must be <= 12"),
     (dict(E=-1.0), "E must be > 0"),
     (dict(modes=-1), "modes must be an integer >= 0"),
@@ -157,3 +159,15 @@ def test_the_rigid_block_under_the_same_drive_on_both_engines():
     F = np.asarray(tr["drive_force"])
     assert np.abs(np.asarray(ta["drive_force"]) - F).max() < 1e-6 * np.abs(F).max()
     assert a.summary["energy"]["residual"] < 1e-6 and r.summary["energy"]["residual"] < 1e-6
+
+
+def test_fe_cost_study_quick(tmp_path, quick_study):
+    """studies/fe_cost.py --quick: the cost of a step after an abrupt press on 3 and 4 cells beside
+    the estimate the scene checks (exu_aniso.fe.cost); the nodes and modes are the mesh's and the
+    basis's. (A timing study: the figures are printed, not checked.)"""
+    from exu_aniso.util.output import read_table
+    quick_study("fe_cost", tmp_path)
+    T = read_table(tmp_path / "fe_cost.csv")
+    assert list(T["case [-]"]) == ["cells=3", "cells=4"]
+    assert T["nodes [-]"] == [64, 125] and T["modes [-]"] == [48, 75]
+    assert min(T["per_step [s]"]) > 0.0 and min(T["estimate [s]"]) > 0.0

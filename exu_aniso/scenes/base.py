@@ -269,6 +269,14 @@ class SceneParams:
                              f"{have / 2**30:.3g} GiB this machine has available: raise dt, shorten t_end or use "
                              "fewer points")
 
+    @classmethod
+    def cost_rules(cls):
+        """The bounds check_cost applies, as lines of text (``exu-aniso params``); a scene with more
+        bounds adds its own."""
+        return [f"t_end / dt <= {MAX_STEPS:,} steps; contact points <= {MAX_CONTACT_POINTS:,}; contact points x "
+                f"steps <= {MAX_POINT_STEPS:.0e}; the results' estimated memory <= {MEMORY_SHARE:.0%} of the "
+                "memory available"]
+
     def _layout_text(self):
         """The parameters that set contact_points(), as 'name=value' text (scene-specific)."""
         return "the scene's layout"
@@ -327,6 +335,9 @@ class SceneParams:
             wrapped = textwrap.wrap(r[4], max(width - indent, 40)) or [""]
             lines.append(first + wrapped[0])
             lines += [" " * indent + more for more in wrapped[1:]]
+        lines += ["", "Bounds on a run's cost, checked before anything is built:"]
+        for rule in cls.cost_rules():
+            lines += textwrap.wrap(rule, max(width, 40), initial_indent="  ", subsequent_indent="    ")
         return "\n".join(lines)
 
 

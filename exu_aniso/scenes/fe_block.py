@@ -50,6 +50,7 @@ import numpy as np
 
 from exu_aniso.engines import energy
 from exu_aniso.engines.timing import driver_travel
+from exu_aniso.fe import cost as fe_cost
 from exu_aniso.fe import block_mesh
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
@@ -104,8 +105,6 @@ FE_BLOCK_PARAMS = {
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
 }
 
-FULL_MODES_MAX = 1500
-"""model=full: at most this many coordinates (Exudyn's floating-frame body is dense in its modes)."""
 
 
 
@@ -135,10 +134,6 @@ class FeBlockParams(SceneParams):
             raise ValueError(f"cells must be <= 12 (the mesh's coordinates grow like cells^3: "
                              f"{3 * (self.cells + 1) ** 3} here); got {self.cells}")
         free = 3 * self.cells * (self.cells + 1) ** 2          # the coordinates off the top face
-        if self.model == "full" and free > FULL_MODES_MAX:
-            raise ValueError(f"model=full holds every coordinate off the top face as a mode of Exudyn's dense "
-                             f"floating-frame body: {free} here with cells={self.cells}, at most {FULL_MODES_MAX} "
-                             f"allowed; use model=reduced")
         if self.model == "reduced":
             room = free if self.basis == "eigenmodes" else free - 3 * (self.cells + 1) ** 2
             if self.basis == "eigenmodes" and self.modes < 1:
@@ -148,6 +143,21 @@ class FeBlockParams(SceneParams):
                 raise ValueError(f"modes must be <= {room} with basis={self.basis} and cells={self.cells} (the "
                                  f"{'free' if self.basis == 'eigenmodes' else 'interior'} coordinates); got "
                                  f"{self.modes}")
+        # the elastic body's cost, once its modes are known to exist
+        layout = f"cells={self.cells}, model={self.model}" + (f", basis={self.basis}, modes={self.modes}"
+                                                               if self.model == "reduced" else "")
+        fe_cost.check_cost((self.cells + 1) ** 3, self.body_modes(), layout)
+
+    def body_modes(self):
+        """The elastic body's modes: every coordinate off the top face (full), the bottom nodes' static
+        modes plus ``modes`` (craig_bampton) or ``modes`` (eigenmodes)."""
+        if self.model == "full":
+            return 3 * self.cells * (self.cells + 1) ** 2
+        return self.modes + (3 * (self.cells + 1) ** 2 if self.basis == "craig_bampton" else 0)
+
+    @classmethod
+    def cost_rules(cls):
+        return super().cost_rules() + ["cells <= 12 (the mesh's assembly and eigenmodes)"] + fe_cost.cost_rules()
 
     def contact_points(self):
         return (self.cells + 1) ** 2

@@ -51,6 +51,7 @@ import math
 import numpy as np
 
 from exu_aniso.engines import energy
+from exu_aniso.fe import cost as fe_cost
 from exu_aniso.fe import shank_mesh
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.base import (ENERGY_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, SceneParams, basis_compliance,
@@ -99,9 +100,6 @@ FE_SCREW_PARAMS = {
 }
 
 
-MAX_MODES = 1500
-"""The most modes of Exudyn's dense floating-frame body the scene builds (its evaluation grows
-faster than the square of the modes)."""
 
 
 
@@ -128,13 +126,22 @@ class FeScrewParams(SceneParams):
             if self.basis == "craig_bampton" and self.modes > free - static:
                 raise ValueError(f"modes must be <= {free - static} with basis=craig_bampton (the coordinates off "
                                  f"the head and the thread: the fixed-interface eigenmodes); got {self.modes}")
-            if self.basis == "craig_bampton" and static + self.modes > MAX_MODES:
-                raise ValueError(f"basis=craig_bampton holds {static} static modes (3 cells_theta cells_z) + modes "
-                                 f"= {static + self.modes} modes of Exudyn's dense floating-frame body here, at "
-                                 f"most {MAX_MODES} allowed; use fewer cells_theta or cells_z")
-        if self.model == "full" and free > MAX_MODES:
-            raise ValueError(f"model=full holds every coordinate off the head as a mode of Exudyn's dense "
-                             f"floating-frame body: {free} here, at most {MAX_MODES} allowed; use model=reduced")
+        # the elastic body's cost, once its modes are known to exist
+        layout = (f"cells_r={self.cells_r}, cells_theta={self.cells_theta}, cells_z={self.cells_z}, model={self.model}"
+                  + (f", basis={self.basis}, modes={self.modes}" if self.model == "reduced" else ""))
+        nodes = (self.cells_r + 1) * self.cells_theta * (self.cells_z + 1)
+        fe_cost.check_cost(nodes, self.body_modes(), layout)
+
+    def body_modes(self):
+        """The shank's modes: every coordinate off the head (full), the thread's static modes (3
+        cells_theta cells_z) plus ``modes`` (craig_bampton) or ``modes`` (eigenmodes)."""
+        if self.model == "full":
+            return 3 * (self.cells_r + 1) * self.cells_theta * self.cells_z
+        return self.modes + (3 * self.cells_theta * self.cells_z if self.basis == "craig_bampton" else 0)
+
+    @classmethod
+    def cost_rules(cls):
+        return super().cost_rules() + fe_cost.cost_rules()
 
     def contact_points(self):
         return (self.cells_z + 1) * self.cells_theta
