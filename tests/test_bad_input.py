@@ -412,6 +412,13 @@ def test_duplicate_points_on_a_rigid_body_are_refused():
     with pytest.raises(ValueError, match=r"localPoints lists a point more than once \(rows \[0, 2\]"):
         mbs.CreateAnisotropicContact(bodyNumber=o, localPoints=[[0, 0, -0.05], [0.05, 0, -0.05], [0, 0, -0.05]],
                                      contactLaw=law)
+    # a group of rigid bodies and a mass point: the same rule
+    o2 = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1] * 3), referencePosition=[0.3, 0.0, 0.05])
+    with pytest.raises(ValueError, match=r"localPoints lists a point more than once \(rows \[0, 1\]"):
+        mbs.CreateAnisotropicContact(bodyNumber=[o, o2], localPoints=[[0, 0, -0.05]] * 2, contactLaw=law)
+    m = mbs.CreateMassPoint(mass=1.0, referencePosition=[0.0, 0.5, 0.0])
+    with pytest.raises(ValueError, match=r"localPoints lists a point more than once \(rows \[0, 1\]"):
+        mbs.CreateAnisotropicContact(bodyNumber=m, localPoints=[[0, 0, 0]] * 2, contactLaw=law)
 
 
 @pytest.mark.parametrize("text,message", [
