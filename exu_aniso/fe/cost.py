@@ -7,8 +7,8 @@ velocity terms as sums over every node of the mesh and differentiates them numer
 coordinates, column by column, whenever Newton refreshes the Jacobian (the first steps of a run, and
 every step where Newton struggles): such a step costs about ``NODE_MODE2_S N m^2 + MODE3_S m^3``
 seconds (the node sums per Jacobian column, and the dense terms between the modes). The two
-coefficients are a fit to the first steps of short elastic-block runs, reduced and full, from 48 to
-540 modes (docs/guide/speed.md, "The cost of a finite-element body"). The other steps reuse the
+coefficients are a fit to the first steps of short elastic-block runs, reduced and full, from 30 to
+540 modes (``python studies/fe_cost.py``; docs/guide/speed.md, "The cost of a finite-element body"). The other steps reuse the
 Jacobian and cost far less, so a whole run usually costs much less per step than this estimate; a body
 whose refresh alone takes minutes never gets through its first steps. The estimate is for a 2-core
 machine of 2026, used to refuse a body that cannot run, not a promise of speed."""
