@@ -1,9 +1,9 @@
 """exu_aniso: anisotropic frictional contact (Konyukhov & Schweizerhof) for Exudyn.
 
-The kernels (geometry, nets, fields, law, kernel, contact, reference) never import exudyn; the glue
-modules ``exu_aniso.engines.exudyn_adapter.glue`` (the contact set), ``exu_aniso.engines.exudyn_adapter.mainsystem`` (the method
-``mbs.CreateAnisotropicContact``, bound to ``exudyn.MainSystem`` when this package is imported)
-and ``exu_aniso.engines.exudyn_adapter.graphics`` are the places that talk to Exudyn. Without Exudyn installed the
+The kernels (geometry, nets, fields, law, kernel, contact, reference) never import exudyn; the
+adapter ``exu_aniso.engines.exudyn_adapter`` talks to Exudyn: ``create_contact`` (the constructor of
+a contact set), ``mainsystem`` (the method ``mbs.CreateAnisotropicContact``, bound to
+``exudyn.MainSystem`` when this package is imported), ``graphics`` and the scenes' ``runner``. Without Exudyn installed the
 package still imports, and the reference engine runs.
 """
 from exu_aniso.util.numba_cache import CACHE_DIR as NUMBA_CACHE_DIR   # first: before any compiled kernel is defined

@@ -201,7 +201,7 @@ def run_master(t_end, dt):
     import exudyn as exu
     from exudyn.utilities import InertiaCuboid
     from exu_aniso import Adhesion, Friction, Plane
-    from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact
+    from exu_aniso.engines.exudyn_adapter.create_contact import CreateAnisotropicContact
     from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, SolveTimed
 
     SC = exu.SystemContainer()

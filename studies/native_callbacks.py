@@ -35,21 +35,21 @@ COLUMNS = ["scene [-]", "layout [-]", "python_per_step [s]", "python_min [s]", "
 
 def _build(scene, p, native):
     """The scene's model with every contact set on the chosen callbacks."""
-    from exu_aniso.engines.exudyn_adapter import glue
+    from exu_aniso.engines.exudyn_adapter import create_contact
     builders = {"block": "exu_aniso.models.block:BuildBlock", "screw": "exu_aniso.models.screw:BuildScrew",
                 "particle": "exu_aniso.models.particle:BuildParticle"}
     module, name = builders[scene].split(":")
     build = getattr(__import__(module, fromlist=[name]), name)
-    create = glue.CreateAnisotropicContact
+    create = create_contact.CreateAnisotropicContact
 
     def chosen(*args, **kwargs):
         kwargs["nativeCallbacks"] = native
         return create(*args, **kwargs)
-    glue.CreateAnisotropicContact = chosen
+    create_contact.CreateAnisotropicContact = chosen
     try:
         return build(p)
     finally:
-        glue.CreateAnisotropicContact = create
+        create_contact.CreateAnisotropicContact = create
 
 
 def _sensors(model):

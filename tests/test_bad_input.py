@@ -17,7 +17,7 @@ from exudyn.utilities import InertiaCuboid
 from exu_aniso import Adhesion, ContactLaw, Friction, return_map_batch, return_map_point
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.cli import main
-from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact
+from exu_aniso.engines.exudyn_adapter.create_contact import CreateAnisotropicContact
 from exu_aniso.models.block import BuildBlock, RunBlock
 from exu_aniso.models.screw import BuildScrew, RunScrew
 from exu_aniso.scenes.block import simulate_block

@@ -27,7 +27,7 @@ from exudyn.itemInterface import (NodePoint2DSlope1, NodePointSlope1, ObjectANCF
 
 import exu_aniso  # noqa: E402,F401
 from exu_aniso import Adhesion, Friction  # noqa: E402
-from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.engines.exudyn_adapter import contact_set, create_contact, slaves  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 from exu_aniso.geometry import Plane  # noqa: E402
 
@@ -86,7 +86,7 @@ def test_points_equal_exudyn_output(dim):
         elements.append(mbs.AddObject(Obj(nodeNumbers=[nodes[i], nodes[i + 1]], length=L, massPerLength=1.0,
                                           axialStiffness=100.0, bendingStiffness=1.0)))
     mbs.Assemble()
-    slave = glue._LinearSlave(mbs, elements)
+    slave = slaves.LinearSlave(mbs, elements)
     assert slave.n == 3 * 2 * dim
     b = np.array([[x, 0.0, 0.0] for x in (0.0, 0.13, L / 2, 0.61, L)])
     x, v, Jp, _ = slave.points(slave.q0, slave.v0, b)
@@ -128,7 +128,7 @@ def _scene(dim, implementation, return_map, d_N, seed=5):
     law = ContactLaw(surface, Adhesion.orthotropic(2e4, 5e3, angle=0.4), Friction.orthotropic(0.2, 0.5, angle=0.4),
                      1e5, d_N, return_map)
     points = [[x, 0.0, 0.0] for x in (0.04, 0.15, 0.26)]
-    c = glue.CreateAnisotropicContact(mbs, elements, points, contactLaw=law, implementation=implementation,
+    c = create_contact.CreateAnisotropicContact(mbs, elements, points, contactLaw=law, implementation=implementation,
                                       storeSensors=False)
     assert c["implementation"] == implementation
     cs = mbs.variables["exu_aniso_contact_sets"][-1]
@@ -154,7 +154,7 @@ def _scene(dim, implementation, return_map, d_N, seed=5):
     d /= np.linalg.norm(d, axis=1)[:, None]
     H[:, 0:2] = np.where(np.arange(K) % 2 == 0, 0.02, 3.0)[:, None] * N[:, None] * d
     H[:, 2:4] += rng.normal(scale=1e-7, size=(K, 2))
-    status = glue._ContactSet.state(cs, mbs, q, qt, H, tangent=False)[0].status
+    status = contact_set.ContactSet.state(cs, mbs, q, qt, H, tangent=False)[0].status
     assert set(status) == {1, 2}, status
     data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=SOS), dtype=float)
     data[np.asarray(mbs.systemData.GetNodeLTGData(cs.nData), dtype=int)] = H.ravel()
@@ -165,14 +165,14 @@ def _scene(dim, implementation, return_map, d_N, seed=5):
 def _fd(cs, mbs, q, qt, H):
     def Q(qq, vv):
         return np.array(cs.force(mbs, 0.0, 0, qq, vv), dtype=float)
-    status0 = glue._ContactSet.state(cs, mbs, q, qt, H, tangent=False)[0].status
+    status0 = contact_set.ContactSet.state(cs, mbs, q, qt, H, tangent=False)[0].status
     n = len(q)
     Jq, Jv = np.zeros((n, n)), np.zeros((n, n))
     for c in range(n):
         e = np.zeros(n)
         e[c] = H_LENGTH
         for qq in (q + e, q - e):
-            np.testing.assert_array_equal(glue._ContactSet.state(cs, mbs, qq, qt, H, tangent=False)[0].status, status0)
+            np.testing.assert_array_equal(contact_set.ContactSet.state(cs, mbs, qq, qt, H, tangent=False)[0].status, status0)
         Jq[:, c] = -(Q(q + e, qt) - Q(q - e, qt)) / (2 * H_LENGTH)
         ev = e * (H_VELOCITY / H_LENGTH)
         Jv[:, c] = -(Q(q, qt + ev) - Q(q, qt - ev)) / (2 * H_VELOCITY)
@@ -233,7 +233,7 @@ def _rope_on_incline(angle, mu, t_end, dt=2e-4, implementation="auto", jacobian=
     for o in elements:
         mbs.AddLoad(exu.itemInterface.LoadMassProportional(
             markerNumber=mbs.AddMarker(exu.itemInterface.MarkerBodyMass(bodyNumber=o)), loadVector=[0, -g, 0]))
-    c = glue.CreateAnisotropicContact(mbs, elements, [[(i + 0.5) * Lel / n_points, 0, 0] for i in range(n_points)],
+    c = create_contact.CreateAnisotropicContact(mbs, elements, [[(i + 0.5) * Lel / n_points, 0, 0] for i in range(n_points)],
                                       surface=tilted_plane(angle), adhesion=Adhesion.isotropic(1e4),
                                       friction=Friction.isotropic(mu), normalStiffness=eps_N,
                                       normalDamping=normalDamping,

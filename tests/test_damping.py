@@ -9,7 +9,7 @@ import pytest
 
 exu = pytest.importorskip("exudyn")
 from exu_aniso import Adhesion, Friction, Plane  # noqa: E402
-from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.create_contact import CreateAnisotropicContact  # noqa: E402
 from exu_aniso.models.block import RunBlock  # noqa: E402
 from exu_aniso.models.screw import RunScrew  # noqa: E402
 from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, ScrewParams, screw_contact_law

@@ -8,7 +8,7 @@ from exudyn.utilities import InertiaCuboid  # noqa: E402
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.geometry import Plane
 from exu_aniso.law.history import HISTORY_FIELDS  # noqa: E402
-from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact, HistoryComponent  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.create_contact import CreateAnisotropicContact, HistoryComponent  # noqa: E402
 
 
 def two_body_system(return_map="exact"):

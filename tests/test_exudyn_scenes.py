@@ -206,7 +206,7 @@ def test_history_unchanged_by_forced_step_rejections():
     discontinuous error and recommends h, EXUDYN_NOTES 2.4) after the glue has written its history
     candidate, so all accepted steps have size h, as in the plain run at h. The history (read at
     StartOfStep, candidate in Current, committed on acceptance) must make both runs agree."""
-    from exu_aniso.engines.exudyn_adapter.glue import _post_newton
+    from exu_aniso.engines.exudyn_adapter.commit import post_newton
     from exu_aniso.models.block import BlockTrajectory
     from exu_aniso.engines.result import Result
     h = 1e-3
@@ -218,7 +218,7 @@ def test_history_unchanged_by_forced_step_rejections():
     attempts = [0]
 
     def post_newton_rejecting(mbs, t):
-        _post_newton(mbs, t)                   # the glue's commit of the history candidate
+        post_newton(mbs, t)                   # the glue's commit of the history candidate
         if t - mbs.systemData.GetTime(exudyn.ConfigurationType.StartOfStep) > 1.5 * h:
             return [1e10, h]
         return [0.0, -1.0]

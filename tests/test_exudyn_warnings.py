@@ -34,7 +34,7 @@ import exudyn.solver
 from exudyn.itemInterface import MassPoint, NodePoint, ObjectGenericODE2
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-import exu_aniso.engines.exudyn_adapter.glue as glue
+from exu_aniso.engines.exudyn_adapter import contact_set, create_contact
 from exu_aniso.engines.exudyn_adapter import runner
 from exu_aniso import Adhesion, Friction, Plane
 from exu_aniso.models.block import RunBlock
@@ -83,15 +83,15 @@ def solves(monkeypatch):
             kw["forceUserFunction"] = force
         return ObjectGenericODE2(*args, **kw)
 
-    use_native = glue._CompiledSet.use_native
+    use_native = contact_set.CompiledSet.use_native
 
     def recording(cs, mbs):
         record["native_sets"].append(cs)
         return use_native(cs, mbs)
 
     monkeypatch.setattr(exudyn.solver, "CheckSolverInfoStatistics", recorder)
-    monkeypatch.setattr(glue._CompiledSet, "use_native", recording)
-    for module in (glue, runner):
+    monkeypatch.setattr(contact_set.CompiledSet, "use_native", recording)
+    for module in (create_contact, runner):
         monkeypatch.setattr(module, "ObjectGenericODE2", counting)
     return record
 

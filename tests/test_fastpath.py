@@ -140,7 +140,7 @@ KIND_CASES = [
 def test_set_kernel_equals_numpy_glue(node_kind, lawname, q0, v0):
     """Generalized force, Jacobian (with its geometric term) and history candidate of the
     compiled set equal the numpy set, at perturbed states with an active history."""
-    from exu_aniso.engines.exudyn_adapter import glue
+    from exu_aniso.engines.exudyn_adapter import create_contact
     law = dict(LAWS)[lawname]
     rng = np.random.default_rng(7)
     if node_kind == "GenericODE2":
@@ -154,7 +154,7 @@ def test_set_kernel_equals_numpy_glue(node_kind, lawname, q0, v0):
     mbs, o = _mbs_with(node_kind, law, points, q0, v0)
     sets = {}
     for impl in ("numpy", "compiled"):
-        c = glue.CreateAnisotropicContact(mbs, o, points, contactLaw=law, implementation=impl, storeSensors=False)
+        c = create_contact.CreateAnisotropicContact(mbs, o, points, contactLaw=law, implementation=impl, storeSensors=False)
         assert c["implementation"] == impl
         sets[impl] = mbs.variables["exu_aniso_contact_sets"][-1]
     plain, comp = sets["numpy"], sets["compiled"]
@@ -199,19 +199,19 @@ PLANE_HEIGHT = _Height()
 
 def test_compiled_requires_a_compiled_surface():
     """(A moving master is compiled too: tests/test_moving_master_compiled.py.)"""
-    from exu_aniso.engines.exudyn_adapter import glue
+    from exu_aniso.engines.exudyn_adapter import create_contact
     from exu_aniso.geometry import ParametricSurface
     surface = ParametricSurface(_python_only_plane, bounds=((-1.0, 1.0), (-1.0, 1.0)))
     assert not surface.compiled
     law = ContactLaw(surface, Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)
     mbs, o = _mbs_with("RigidBody2D", law, None, [0, 0, 0], [0, 0, 0])
     with pytest.raises(ValueError, match="implementation='compiled' needs"):
-        glue.CreateAnisotropicContact(mbs, o, [[0, 0, -1e-5]], contactLaw=law, implementation="compiled")
-    c = glue.CreateAnisotropicContact(mbs, o, [[0, 0, -1e-5]], contactLaw=law, implementation="auto",
+        create_contact.CreateAnisotropicContact(mbs, o, [[0, 0, -1e-5]], contactLaw=law, implementation="compiled")
+    c = create_contact.CreateAnisotropicContact(mbs, o, [[0, 0, -1e-5]], contactLaw=law, implementation="auto",
                                       storeSensors=False)
     assert c["implementation"] == "numpy"
     with pytest.raises(ValueError, match="implementation must be"):
-        glue.CreateAnisotropicContact(mbs, o, [[0, 0, -1e-5]], contactLaw=law, implementation="fast")
+        create_contact.CreateAnisotropicContact(mbs, o, [[0, 0, -1e-5]], contactLaw=law, implementation="fast")
 
 
 # --- whole runs ---------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ from exudyn.utilities import InertiaCuboid, LoadSolutionFile, RigidBodyInertia, 
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, OPEN, SLIP, STICK  # noqa: E402
-from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.create_contact import CreateAnisotropicContact  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.graphics import NET_COLORS, STATUS_COLORS, AddContactGraphics  # noqa: E402
 from _suite import HANG_S
 

@@ -14,7 +14,7 @@ from exudyn.itemInterface import LoadCoordinate, MarkerNodeCoordinate, NodeRigid
 from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.exudyn_adapter.glue import _SETS_KEY
+from exu_aniso.engines.exudyn_adapter.commit import SETS_KEY
 from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.scenes.block import BlockParams, block_contact_law, block_points
 
@@ -90,7 +90,7 @@ def test_group_is_the_separate_sets(node):
     assert np.abs(H2 - H1).max() <= 1e-9 * max(1.0, np.abs(H1).max())
     assert it2 == it1                        # full Newton: the group's Jacobian is as good
     assert H2[:, 7].max() == 2.0             # the test slides (status 2 somewhere)
-    cs = mbs.variables[_SETS_KEY]
+    cs = mbs.variables[SETS_KEY]
     assert len(cs) == 1 and cs[0].K == 12 and contacts[0]["implementation"] == "compiled"
 
 
@@ -114,14 +114,14 @@ def test_group_sparse_jacobian_is_the_separate_sets_blocks(node):
     diagonal block and nothing else; and the group's force has no coupling between bodies
     (central differences across blocks vanish)."""
     mbs, _, _, _, _ = _run(3, True, node, t_end=0.02)
-    grp = mbs.variables[_SETS_KEY][0]
+    grp = mbs.variables[SETS_KEY][0]
     q = np.asarray(mbs.systemData.GetODE2Coordinates())[grp.ltgODE2]
     q_t = np.asarray(mbs.systemData.GetODE2Coordinates_t())[grp.ltgODE2]
     t = mbs.systemData.GetTime() + 1e-3
     J = grp.jacobian(mbs, t, 0, q, q_t, 0.7, 0.3).toarray()
     Q = np.array(grp.force(mbs, t, 0, q, q_t))
     mbs1, _, _, _, _ = _run(3, False, node, t_end=0.02)
-    sets = mbs1.variables[_SETS_KEY]
+    sets = mbs1.variables[SETS_KEY]
     n = q.shape[0]
     nq = n // 3
     blocks = np.zeros((n, n))

@@ -1,4 +1,4 @@
-"""The contact history in place, on Exudyn's own memory (exudyn_adapter.glue._SystemViews).
+"""The contact history in place, on Exudyn's own memory (exudyn_adapter.contact_set.SystemViews).
 
 The compiled sets read the last accepted history from a view of the StartOfStep data coordinates,
 write the candidate into a view of the Current ones, and read q, q_t from views of the Current
@@ -28,7 +28,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso import Adhesion, Friction, Plane
-from exu_aniso.engines.exudyn_adapter.glue import _SETS_KEY
+from exu_aniso.engines.exudyn_adapter.commit import SETS_KEY
 from exu_aniso.models.block import BuildBlock
 from exu_aniso.scenes.block import BlockParams, block_contact_law
 
@@ -123,7 +123,7 @@ def test_views_are_exudyns_vectors():
     m["simulationSettings"].timeIntegration.endTime = 0.01
     m["simulationSettings"].timeIntegration.numberOfSteps = 10
     mbs.SolveDynamic(m["simulationSettings"], solverType=m["solverType"])
-    cs = mbs.variables[_SETS_KEY][0]
+    cs = mbs.variables[SETS_KEY][0]
     sd, CUR, SOS = mbs.systemData, exu.ConfigurationType.Current, exu.ConfigurationType.StartOfStep
     assert not cs._gathered                                   # one body: its coordinates are one range
     assert _shares(cs._q, sd.GetODE2Coordinates(configuration=CUR, copy=False))
@@ -138,7 +138,7 @@ def test_lists_exudyn_passes_are_the_views(jacobian):
     """Every force call sees q, q_t lists equal to the views the compiled set reads (Exudyn's
     numerical Jacobian included: it perturbs the system's Current coordinates)."""
     m, mbs = _block(jacobian=jacobian)
-    cs = mbs.variables[_SETS_KEY][0]
+    cs = mbs.variables[SETS_KEY][0]
     calls = [0]
 
     def force(mbs, t, itemNumber, q, q_t):
@@ -172,7 +172,7 @@ def test_grown_and_reassembled_system_gets_fresh_views():
     ss.timeIntegration.endTime = 0.02
     ss.timeIntegration.numberOfSteps = 20
     mbs.SolveDynamic(ss, solverType=m["solverType"])
-    cs = mbs.variables[_SETS_KEY][0]
+    cs = mbs.variables[SETS_KEY][0]
     before = cs._V
     _with_extra_items(mbs)
     mbs.Assemble()
@@ -240,7 +240,7 @@ def _point_on_plate(jacobian="analytic"):
 def _checking(mbs, contact):
     """Replace the set's force and (analytic) Jacobian functions by ones that call them and assert
     that the coordinates they read (gathered from the views) equal the lists Exudyn passes."""
-    cs = mbs.variables[_SETS_KEY][0]
+    cs = mbs.variables[SETS_KEY][0]
     calls = [0, 0]
 
     def check(q, q_t):
@@ -290,7 +290,7 @@ def test_moving_master_gathered_equals_lists():
     for direct in (False, True):
         m, mbs = _moving_master()
         if direct:
-            cs = mbs.variables[_SETS_KEY][0]
+            cs = mbs.variables[SETS_KEY][0]
             mbs.SetObjectParameter(m["contact"]["oContact"], "forceUserFunction", cs.force)
             mbs.SetObjectParameter(m["contact"]["oContact"], "jacobianUserFunction", cs.jacobian)
             mbs.Assemble()

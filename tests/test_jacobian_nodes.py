@@ -24,7 +24,7 @@ from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane
-from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.engines.exudyn_adapter import contact_set, create_contact, slaves  # noqa: E402
 from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 from _suite import covering  # noqa: E402
@@ -99,7 +99,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
         o = ObjectFFRFreducedOrderInterface(fem).AddObjectFFRFreducedOrder(mbs, positionRef=[0.3, 0.1, 0.0])[
             "oFFRFreducedOrder"]
         points = mesh.node_sets["bottom"]
-        kin = glue._BodyKinematics(mbs, mbs.GetObject(o)["nodeNumbers"][0])
+        kin = slaves.node_kinematics(mbs, mbs.GetObject(o)["nodeNumbers"][0])
         q = np.zeros(kin.n + 4)
         q[0:2] = rng.normal(scale=1e-3, size=2)
         q[2] = -2e-5
@@ -125,7 +125,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
         R0 = rotation_matrix(rng.normal(scale=0.8, size=3))      # a general orientation
         o = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.1] * 3), referencePosition=[0.3, 0.1, 0.05],
                                 referenceRotationMatrix=R0, nodeType=nt)
-        kin = glue._BodyKinematics(mbs, mbs.GetObject(o)["nodeNumber"])
+        kin = slaves.node_kinematics(mbs, mbs.GetObject(o)["nodeNumber"])
         q = np.zeros(kin.n)
         q[0:3] = rng.normal(scale=1e-3, size=3)
         qt = rng.normal(scale=0.3, size=kin.n)
@@ -139,7 +139,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
         p = kin.ref[0:3] + q[0:3]
         x = np.array([[p[0] + sx * ARM, p[1] + sy * ARM, -rng.uniform(1e-5, 3e-5)] for sx in (-1, 1) for sy in (-1, 1)])
         points = (x - p) @ A                                           # body-local points at those positions
-    c = glue.CreateAnisotropicContact(mbs, o, points, contactLaw=law, implementation=implementation,
+    c = create_contact.CreateAnisotropicContact(mbs, o, points, contactLaw=law, implementation=implementation,
                                       storeSensors=False)
     assert c["implementation"] == implementation
     cs = mbs.variables["exu_aniso_contact_sets"][-1]
@@ -166,7 +166,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
 
 
 def _glue_state(cs, mbs, q, qt, H):
-    return glue._ContactSet.state(cs, mbs, q, qt, H, tangent=False)[0]
+    return contact_set.ContactSet.state(cs, mbs, q, qt, H, tangent=False)[0]
 
 
 def _perturbed(cs, q, c, h):
@@ -272,7 +272,7 @@ def test_compiled_jacobian_equals_numpy_glue(node_kind, d_N):
 
 
 def test_the_floating_frames_tangent_terms_are_its_point_derivatives_contracted():
-    """_FloatingFrame.tangent_terms (what the Jacobian uses: no (K, 3, n, n) array) equals the
+    """FloatingFrame.tangent_terms (what the Jacobian uses: no (K, 3, n, n) array) equals the
     contractions of point_derivatives: the geometric term sum_k F_k . dJp_k/dq and dv/dq = dJp/dq q_t,
     at a general state with random forces."""
     mbs, cs, q, qt, H = _scene("FFRF", "numpy", "exact", 40.0)

@@ -11,7 +11,7 @@ exu = pytest.importorskip("exudyn")
 
 import exu_aniso  # noqa: E402,F401  (binds the method)
 from exu_aniso import Adhesion, ContactLaw, Friction, Plane  # noqa: E402
-from exu_aniso.engines.exudyn_adapter.glue import CreateAnisotropicContact  # noqa: E402
+from exu_aniso.engines.exudyn_adapter.create_contact import CreateAnisotropicContact  # noqa: E402
 
 POINTS = [[sx * 0.05, sy * 0.05, -0.05] for sx in (-1, 1) for sy in (-1, 1)]
 LAW = dict(surface=Plane(coordinates="polar"),

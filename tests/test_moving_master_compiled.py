@@ -1,8 +1,8 @@
 """The compiled route of a moving master (kernel.sets.evaluate_pair: the surface carried by a 3D rigid
 body) against independent oracles.
 
-1. Generalized force (mode 0) and history candidate (mode 2): the numpy route (exudyn_adapter.glue
-   _ContactSet.force / .state, ContactLaw.evaluate at the relative kinematics, the reaction on the
+1. Generalized force (mode 0) and history candidate (mode 2): the numpy route (exudyn_adapter.contact_set
+   ContactSet.force / .state, ContactLaw.evaluate at the relative kinematics, the reaction on the
    master through its point Jacobian), for slaves with NodeRigidBodyRotVecLG, NodeRigidBodyEP, a
    mass point and a 3D ANCF cable against masters with NodeRigidBodyRotVecLG and NodeRigidBodyEP, at general
    orientations of both, with points sticking and sliding, with and without normal and tangential
@@ -24,7 +24,7 @@ exu = pytest.importorskip("exudyn")
 from exudyn.utilities import InertiaCuboid  # noqa: E402
 
 from exu_aniso import Adhesion, Friction  # noqa: E402
-from exu_aniso.engines.exudyn_adapter import glue  # noqa: E402
+from exu_aniso.engines.exudyn_adapter import contact_set, create_contact, slaves  # noqa: E402
 from exu_aniso.util.rotations import rotation_matrix  # noqa: E402
 from exu_aniso.kernel.contact_law import ContactLaw  # noqa: E402
 from exu_aniso.geometry import Cylinder, Plane  # noqa: E402
@@ -126,7 +126,7 @@ def _scene(slave_kind, master_kind, lawname, seed=5):
     oM = mbs.CreateRigidBody(inertia=InertiaCuboid(1000.0, [0.5, 0.5, 0.05]), referencePosition=[0.1, -0.2, 0.3],
                              referenceRotationMatrix=rotation_matrix(rng.normal(scale=0.8, size=3)),
                              nodeType=NODE_TYPES[master_kind])
-    master = glue._BodyKinematics(mbs, mbs.GetObject(oM)["nodeNumber"])
+    master = slaves.node_kinematics(mbs, mbs.GetObject(oM)["nodeNumber"])
     if slave_kind == "Point":
         oS = mbs.CreateMassPoint(referencePosition=[0.12, -0.18, 0.35], mass=1.0)
     elif slave_kind == "Cable":
@@ -138,11 +138,11 @@ def _scene(slave_kind, master_kind, lawname, seed=5):
     if slave_kind == "Cable":
         qm, vm = _random_coordinates(master, rng, 0.05)
         oS = _cable_in_plane(mbs, master, qm, vm, rng)
-        slave = glue._slave_kinematics(mbs, oS, mbs.systemData.NumberOfObjects())
+        slave = slaves.slave_kinematics(mbs, oS, mbs.systemData.NumberOfObjects())
         qs, vs = rng.normal(scale=1e-6, size=slave.n), rng.normal(scale=0.03, size=slave.n)
         points = [[x, 0.0, 0.0] for x in (0.04, 0.15, 0.26)]
     else:
-        slave = glue._slave_kinematics(mbs, oS, mbs.systemData.NumberOfObjects())
+        slave = slaves.slave_kinematics(mbs, oS, mbs.systemData.NumberOfObjects())
         qs, vs = _random_coordinates(slave, rng, 0.05)
         qm, vm = _random_coordinates(master, rng, 0.05)
         # body-local points at the chosen state: x = p + A x_rel (master), b from the slave's pose
@@ -155,13 +155,13 @@ def _scene(slave_kind, master_kind, lawname, seed=5):
             points = (x - (slave.ref[0:3] + qs[0:3])) @ As
     sets = []
     for impl in ("numpy", "compiled"):
-        c = glue.CreateAnisotropicContact(mbs, oS, points, contactLaw=law, masterBodyNumber=oM, implementation=impl,
+        c = create_contact.CreateAnisotropicContact(mbs, oS, points, contactLaw=law, masterBodyNumber=oM, implementation=impl,
                                           storeSensors=False)
         assert c["implementation"] == impl
         sets.append(mbs.variables["exu_aniso_contact_sets"][-1])
     mbs.Assemble()
     P, C = sets
-    assert type(C) is glue._CompiledPairSet
+    assert type(C) is contact_set.CompiledPairSet
     q, qt = np.concatenate([qs, qm]), np.concatenate([vs, vm])
     # history: anchors at the current points moved a little; old traction well inside the cone
     # (stick) or three times out of it (slide)
@@ -184,7 +184,7 @@ def _scene(slave_kind, master_kind, lawname, seed=5):
 
 
 def _status(P, mbs, q, qt, H, dt=None):
-    return glue._ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=dt)[0].status
+    return contact_set.ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=dt)[0].status
 
 
 # and an ANCF cable (a linear slave of 3 nodes, 6 points) on the master's plane
@@ -198,7 +198,7 @@ COVERING = covering(CASES, [0, 1, 2], ids=IDS, prefer=lambda case: case[:2] in D
 
 @pytest.mark.parametrize("slave_kind,master_kind,lawname", COVERING)
 def test_force_and_history_equal_the_numpy_route(slave_kind, master_kind, lawname):
-    """Mode 0 against _ContactSet.force (read from the mbs's converged history), mode 2 against the
+    """Mode 0 against ContactSet.force (read from the mbs's converged history), mode 2 against the
     numpy state's history candidate, at three perturbed states and with the branch prediction on
     (dt = 1e-3 s) and off; and the compiled glue's callbacks give the packed kernel's numbers."""
     mbs, P, C, q0, qt0, H = _scene(slave_kind, master_kind, lawname)
@@ -209,12 +209,12 @@ def test_force_and_history_equal_the_numpy_route(slave_kind, master_kind, lawnam
         if trial:                                  # a nearby state (slave and master moved by ~1 um)
             q += rng.normal(scale=1e-6, size=n)
             qt += rng.normal(scale=1e-3, size=n)
-        Q_numpy = np.array(glue._ContactSet.force(P, mbs, dt, 0, q, qt), dtype=float)
+        Q_numpy = np.array(contact_set.ContactSet.force(P, mbs, dt, 0, q, qt), dtype=float)
         assert C.pk.evaluate(0, q, qt, 0.0, 0.0, dt) == len(H)
         scale = np.abs(Q_numpy).max()
         assert scale > 1.0
         np.testing.assert_allclose(C.pk.Q, Q_numpy, rtol=0, atol=1e-10 * scale)
-        ref = glue._ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=dt)[0]
+        ref = contact_set.ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=dt)[0]
         np.testing.assert_allclose(C.pk.Hn, ref.history, rtol=1e-9, atol=1e-12)    # a residual leaves it too
         np.testing.assert_array_equal(C.pk.X, [q, qt])                               # ... and its state
         C.pk.Hn[:] = 0.0
@@ -222,7 +222,7 @@ def test_force_and_history_equal_the_numpy_route(slave_kind, master_kind, lawnam
         np.testing.assert_allclose(C.pk.Hn, ref.history, rtol=1e-9, atol=1e-12)
         assert set(ref.status) == {1, 2}
     if lawname.startswith("shaft"):       # a step of 10 s: the prediction of the turn cannot resolve it
-        ref = glue._ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=10.0)[0]
+        ref = contact_set.ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=10.0)[0]
         assert 3 in set(ref.status)
         assert C.pk.evaluate(0, q, qt, 0.0, 0.0, 10.0) == -1
         np.testing.assert_array_equal(C.pk.Hn[:, 7], ref.status)
@@ -322,7 +322,7 @@ def test_open_points_give_nothing():
     C.pk.evaluate(1, q, qt, 1.0, 1.0, 1e-3)
     assert np.all(C.pk.J == 0.0)
     C.pk.evaluate(2, q, qt, 0.0, 0.0, 1e-3)
-    ref = glue._ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=1e-3)[0]
+    ref = contact_set.ContactSet.state(P, mbs, q, qt, H, tangent=False, dt=1e-3)[0]
     assert np.all(ref.status == 0)
     np.testing.assert_allclose(C.pk.Hn, ref.history, rtol=1e-12, atol=1e-15)
 
@@ -336,10 +336,10 @@ def test_auto_and_analytic_jacobian_for_moving_masters():
                              nodeType=exu.NodeType.RotationRotationVector)
     oS = mbs.CreateMassPoint(referencePosition=[0.0, 0.0, 0.0], mass=1.0)
     law = LAWS["plane-seed"]
-    for impl, jac, cls, has_jac in (("auto", "analytic", glue._CompiledPairSet, True),
-                                    ("compiled", "numerical", glue._CompiledPairSet, False),
-                                    ("numpy", "analytic", glue._ContactSet, False)):
-        c = glue.CreateAnisotropicContact(mbs, oS, [[0.0, 0.0, 0.0]], contactLaw=law, masterBodyNumber=oM,
+    for impl, jac, cls, has_jac in (("auto", "analytic", contact_set.CompiledPairSet, True),
+                                    ("compiled", "numerical", contact_set.CompiledPairSet, False),
+                                    ("numpy", "analytic", contact_set.ContactSet, False)):
+        c = create_contact.CreateAnisotropicContact(mbs, oS, [[0.0, 0.0, 0.0]], contactLaw=law, masterBodyNumber=oM,
                                           implementation=impl, jacobian=jac, storeSensors=False)
         cs = mbs.variables["exu_aniso_contact_sets"][-1]
         assert type(cs) is cls and c["implementation"] == ("numpy" if impl == "numpy" else "compiled")
@@ -411,7 +411,7 @@ def _block_on_plate(node_type, implementation, jacobian):
     def builder(mbs, oBlock, localPoints):
         oPlate = mbs.CreateRigidBody(inertia=InertiaCuboid(1e9 / 0.02, [1.0, 1.0, 0.02]), nodeType=NODE_TYPES[
             "RigidBodyEP" if node_type == "EP" else "RigidBodyRotVecLG"], gravity=[0.0, 0.0, 0.0])
-        return glue.CreateAnisotropicContact(mbs, oBlock, localPoints, contactLaw=block_contact_law(p),
+        return create_contact.CreateAnisotropicContact(mbs, oBlock, localPoints, contactLaw=block_contact_law(p),
                                              masterBodyNumber=oPlate, implementation=implementation,
                                              jacobian=jacobian)
 

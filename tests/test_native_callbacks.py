@@ -16,7 +16,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso import Adhesion, ContactLaw, Cylinder, Friction, Plane
-from exu_aniso.engines.exudyn_adapter import glue
+from exu_aniso.engines.exudyn_adapter import commit, create_contact, native_callbacks
 from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.kernel.native import KERNEL_ERROR
 from exu_aniso.models.block import BuildBlock
@@ -28,25 +28,25 @@ from exu_aniso.scenes.screw import ScrewParams
 
 
 def test_the_native_extension_is_built():
-    assert glue._native is not None, ("exu_aniso.engines.exudyn_adapter._native is missing: `pip install .` builds it "
+    assert native_callbacks.extension is not None, ("exu_aniso.engines.exudyn_adapter._native is missing: `pip install .` builds it "
                                       "(setup.py, a C++ compiler and pybind11)")
 
 
 @pytest.fixture
 def callbacks(monkeypatch):
     """callbacks(native): every CreateAnisotropicContact of the block after it uses that callback."""
-    original = glue.CreateAnisotropicContact
+    original = create_contact.CreateAnisotropicContact
 
     def choose(native):
         def create(*args, **kwargs):
             kwargs["nativeCallbacks"] = native
             return original(*args, **kwargs)
-        monkeypatch.setattr(glue, "CreateAnisotropicContact", create)
+        monkeypatch.setattr(create_contact, "CreateAnisotropicContact", create)
     return choose
 
 
 def _sets(model):
-    return model["mbs"].variables[glue._SETS_KEY]
+    return model["mbs"].variables[commit.SETS_KEY]
 
 
 def _sensors(model):
@@ -85,9 +85,9 @@ def test_native_and_python_callbacks_give_the_same_numbers(callbacks, build):
     n_native, n_delegated = cs.native_calls()
     assert n_delegated == 1 and n_native > 0          # the initial accelerations in Python, every Newton call native
     assert cs.native_jacobians()[0] > 0 and cs.native_jacobians()[1] == 0        # every Jacobian native
-    committed_natively, in_python = glue.post_newton_calls(res[True][1]["mbs"])
+    committed_natively, in_python = commit.post_newton_calls(res[True][1]["mbs"])
     assert committed_natively > 0 and in_python <= committed_natively // 10   # the commit too (Python: unresolved steps)
-    assert res[True][1]["mbs"].GetPostNewtonUserFunction()["function"] is glue._native.post_newton
+    assert res[True][1]["mbs"].GetPostNewtonUserFunction()["function"] is native_callbacks.extension.post_newton
 
 
 def test_a_law_that_cannot_be_cached_compiles_the_same_call_in_the_process(callbacks, monkeypatch):
@@ -135,7 +135,7 @@ def test_a_system_with_a_python_set_commits_in_python():
         contacts = [_cube_on_plane(mbs, x0, native) for x0, native in zip((0.0, 1.0), natives)]
         mbs.Assemble()
         _solve(mbs, 0.05)
-        assert mbs.GetPostNewtonUserFunction()["function"] is glue._post_newton
+        assert mbs.GetPostNewtonUserFunction()["function"] is commit.post_newton
         histories[natives] = [np.array(mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates))
                               for c in contacts]
         assert [c["nativeCallbacks"] for c in contacts] == list(natives)
@@ -169,12 +169,12 @@ def test_a_call_more_than_two_steps_after_the_armed_step_goes_to_python():
     cs = _sets(model)[0]
     dt = 0.02 / model["simulationSettings"].timeIntegration.numberOfSteps
     q, q_t = list(cs._q), list(cs._q_t)
-    assert cs._native.clock[glue._native.CLOCK_STEP] == pytest.approx(2 * dt)
+    assert cs._native.clock[native_callbacks.extension.CLOCK_STEP] == pytest.approx(2 * dt)
     for later, native in ((1.5, True), (2.5, False)):
         cs._native.clock[:2] = (0.02, 1.0)                 # armed at the last step's end, as if not disarmed
         calls, jacobians = cs.native_calls(), cs.native_jacobians()
-        glue._native.call_force(mbs, cs.oContact, 0.02 + later * dt, q, q_t, 1)
-        glue._native.call_jacobian(mbs, cs.oContact, 0.02 + later * dt, q, q_t, 1.0, 0.0)
+        native_callbacks.extension.call_force(mbs, cs.oContact, 0.02 + later * dt, q, q_t, 1)
+        native_callbacks.extension.call_jacobian(mbs, cs.oContact, 0.02 + later * dt, q, q_t, 1.0, 0.0)
         went = 0 if native else 1
         assert cs.native_calls()[went] == calls[went] + 1
         assert cs.native_jacobians()[went] == jacobians[went] + 1
@@ -215,7 +215,7 @@ def test_a_grown_and_reassembled_system_is_read_from_its_new_vectors():
         histories[native] = [np.array(mbs.GetNodeOutput(c["nData"], exu.OutputVariableType.Coordinates))
                              for c in (c1, c2)]
         if native:
-            assert [cs.native_calls()[0] > 0 for cs in mbs.variables[glue._SETS_KEY]] == [True, True]
+            assert [cs.native_calls()[0] > 0 for cs in mbs.variables[commit.SETS_KEY]] == [True, True]
     for h0, h1 in zip(histories[False], histories[True]):
         assert np.array_equal(h0, h1)
         assert np.any(h0 != 0.0)
@@ -244,7 +244,7 @@ def test_an_error_in_the_kernel_reaches_the_user_with_its_message():
 
     SC, mbs = _mass_point_in_cylinder([0.3, 0.0, 0.0])
     _solve(mbs, 0.002)
-    cs = mbs.variables[glue._SETS_KEY][0]
+    cs = mbs.variables[commit.SETS_KEY][0]
     assert cs._native.clock[1] == 0.0                  # the end of the solve disarmed it
     cs._native.H[:] = 0.0                              # a new contact (on an active one the step is unresolved)
     status = []
@@ -257,13 +257,13 @@ def test_an_error_in_the_kernel_reaches_the_user_with_its_message():
 
 
 def test_the_registry_forgets_the_sets_of_deleted_systems():
-    before = glue._native.registered()
+    before = native_callbacks.extension.registered()
     for _ in range(3):
         SC = exu.SystemContainer()
         mbs = SC.AddSystem()
         _cube_on_plane(mbs, 0.0, True)
         mbs.Assemble()
-        assert glue._native.registered() == before + 1
+        assert native_callbacks.extension.registered() == before + 1
         del SC, mbs
         gc.collect()
-    assert glue._native.registered() == before
+    assert native_callbacks.extension.registered() == before

@@ -25,12 +25,12 @@ def test_one_default_return_map():
     two that choose "radial" and say why in their table (the papers' adhesion-steered sliding)."""
     import inspect
 
-    from exu_aniso.engines.exudyn_adapter import glue, mainsystem
+    from exu_aniso.engines.exudyn_adapter import create_contact, mainsystem
     from exu_aniso.kernel.contact_law import ContactLaw
     from exu_aniso.law import return_maps
     from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP
     assert DEFAULT_RETURN_MAP == "exact"
-    for f, name in ((ContactLaw.__init__, "return_map"), (glue.CreateAnisotropicContact, "returnMap"),
+    for f, name in ((ContactLaw.__init__, "return_map"), (create_contact.CreateAnisotropicContact, "returnMap"),
                     (mainsystem.MainSystemCreateAnisotropicContact, "returnMap"),
                     (return_maps.return_map_point, "method"), (return_maps.return_map_batch, "method")):
         assert inspect.signature(f).parameters[name].default == DEFAULT_RETURN_MAP, f

@@ -7,7 +7,7 @@ point Jacobians of the body-fixed points, the contact law at every point (``poin
 covariant kernel of ``exu_aniso.kernel.point``, called through the address of its compiled code, so a
 set's kernel is compiled once per node kind, whatever the law) and the generalized quantities of the
 node. ``tests/test_fastpath.py`` holds this route equal to the
-numpy glue (``exudyn_adapter.glue._ContactSet``).
+numpy glue (``exudyn_adapter.contact_set.ContactSet``).
 
 Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): types of
 ``exu_aniso.kernel.nodes`` (``RigidBody2D()``, ``ScrewJoint()`` for a ``NodeGenericODE2`` with (psi,
@@ -127,8 +127,8 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), complete
             for every node kind: with v = Jp q_t,
             dQ/dq = sum Jp^T Kx Jp + sum f . dJp/dq + sum Jp^T Dv (dJp/dq q_t), dQ/dq_t = sum Jp^T Dv Jp
-            (lever arms and point velocities turning with the body; see exudyn_adapter.glue
-            _BodyKinematics.point_derivatives; rotation-vector nodes by the local increment);
+            (lever arms and point velocities turning with the body; see exudyn_adapter.slaves.rigid
+            RigidNode.point_derivatives; rotation-vector nodes by the local increment);
     mode 2: Hn (K, 9) = history candidate (mode 0 writes it too: the post-Newton commit takes it
             from the last residual, evaluated at the converged state). Returns the number of points
             in contact, or -1 when a point's motion in the step is unresolved (status 3)."""
@@ -150,7 +150,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     # EP derivatives (mode 1): dA/de_m and G(e_t)
     dA, Gt = S[S_DA, 3:7, :9], S[S_G, 3:6, :4]
     node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt)
-    # dx/dq: Jp except for Euler parameters (see exudyn_adapter.glue._PointTangent)
+    # dx/dq: Jp except for Euler parameters (see exudyn_adapter.contact_set.PointTangent)
     Jx = node_position_jacobian(kind, S[S_VEC, 6:9, :nq], Jp)
     c0, nc = node_rotation_columns(kind, nq)
     ncontact = 0
@@ -410,7 +410,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     T (PAIR_SLOTS, w, w) with w >= max(9, m + nm) (m: slave columns of a point, ns rigid, idx.shape[1]
     linear), cols (m + nm,) int64.
 
-    Kinematics (exudyn_adapter.glue._ContactSet.state): master position p, rotation A, global angular
+    Kinematics (exudyn_adapter.contact_set.ContactSet.state): master position p, rotation A, global angular
     velocity w, velocity vp; d = x - p; the law at x_rel = A^T d, v_rel = A^T (v - vp - w x d) (master
     frame) gives f; F = A f. Q_slave = Jp^T F; the master gets the reaction at its material point
     b = x_rel: Q_master = -Jm^T F with Jm = [I, -A [b]x G], i.e. -F and -G^T (b x A^T F).

@@ -33,7 +33,7 @@ from exudyn.itemInterface import (LoadForceVector, MarkerBodyPosition, MarkerNod
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.law.history import HISTORY_FIELDS
 from exu_aniso.engines.energy import work_trapezoid
-from exu_aniso.engines.exudyn_adapter.glue import hermite_shape_functions
+from exu_aniso.engines.exudyn_adapter.slaves import hermite_shape_functions
 from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor,
                                                      SceneView)
 from exu_aniso.scenes.capstan import (CapstanParams, capstan_contact_law, capstan_energy, capstan_summary,

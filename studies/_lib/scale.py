@@ -136,9 +136,9 @@ def count_callbacks(M, contact, t_end, dt):
     user functions the contact classes give Exudyn (numpy route: jacobian; compiled:
     jacobian_in_place) wrapped with counters while the model is built, plus the native ones
     (``native_jacobians``: Exudyn calls the kernel without Python)."""
-    from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
+    from exu_aniso.engines.exudyn_adapter import commit, contact_set
     counts = [0]
-    names = {exudyn_glue._ContactSet: "jacobian", exudyn_glue._CompiledSet: "jacobian_in_place"}
+    names = {contact_set.ContactSet: "jacobian", contact_set.CompiledSet: "jacobian_in_place"}
     saved = {cls: cls.__dict__[name] for cls, name in names.items()}
 
     def counted(f):
@@ -154,9 +154,9 @@ def count_callbacks(M, contact, t_end, dt):
     finally:
         for cls, f in saved.items():
             setattr(cls, names[cls], f)
-    native = sum(cs.native_jacobians()[0] for cs in model["mbs"].variables.get(exudyn_glue._SETS_KEY, ())
-                 if isinstance(cs, exudyn_glue._CompiledSet))
-    return exudyn_glue.contact_force_calls(model["mbs"]), counts[0] + native, iters, steps
+    native = sum(cs.native_jacobians()[0] for cs in model["mbs"].variables.get(commit.SETS_KEY, ())
+                 if isinstance(cs, contact_set.CompiledSet))
+    return commit.contact_force_calls(model["mbs"]), counts[0] + native, iters, steps
 
 
 def scale_rows(quick=False, repeats=5):

@@ -35,7 +35,7 @@ The targets (``TARGETS``: label, ours, yardstick, target; the ratio is ours / ya
   on its 4 bottom corners sliding under gravity inside a spherical bowl and down a conical trough,
   against a cube on 4 springs: 4x or less;
 * the compiled call on the plane: one force evaluation of the full block's contact set (the
-  ``_CompiledSet`` entry with mode 0: unboxing its packed arguments and the kernel, no Exudyn) on
+  ``CompiledSet`` entry with mode 0: unboxing its packed arguments and the kernel, no Exudyn) on
   K = 1, 4, 16, 64, 256 points, fitted as fixed + per-point cost: 0.5 us and 0.05 us or less. Each
   layout's call is timed over a batch of CALLS calls (CALLS_QUICK with --quick) in every repeat and
   the line fitted per repeat (median [min-max] of the repeats' fits).
@@ -409,16 +409,16 @@ class CallBench:
     batch of ``calls`` calls; NaN for the native call where the extension is not built."""
 
     def __init__(self, calls, layouts=CALL_LAYOUTS):
-        from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
+        from exu_aniso.engines.exudyn_adapter import commit, contact_set
         self.calls, self.items = calls, []
         for points in layouts:
             model = BuildBlock(BlockParams(model="full", points=points, t_end=0.02))
             _solve(model)
             mbs = model["mbs"]
-            cs = mbs.variables[exudyn_glue._SETS_KEY][0]
-            if not isinstance(cs, exudyn_glue._CompiledSet) or getattr(cs, "_force_args", None) is None:
+            cs = mbs.variables[commit.SETS_KEY][0]
+            if not isinstance(cs, contact_set.CompiledSet) or getattr(cs, "_force_args", None) is None:
                 raise RuntimeError(f"CallBench: the block's contact set on {points!r} is not a compiled set "
-                                   "with packed force arguments (exudyn_glue._CompiledSet._force_args)")
+                                   "with packed force arguments (contact_set.CompiledSet._force_args)")
             # the state of the last residual: the solve's end (Exudyn's Current coordinates); the native
             # callbacks leave the set's Python clock (cs._t) at the solve's first call
             ti = model["simulationSettings"].timeIntegration

@@ -24,7 +24,7 @@
 // start of step on; anything else (a set not armed, a candidate not at the converged state, an
 // unresolved step) goes to the system's Python post-Newton function, which does it all.
 //
-// What Python still does (exu_aniso.engines.exudyn_adapter.glue): a call that is not inside a
+// What Python still does (exu_aniso.engines.exudyn_adapter.contact_set and .commit): a call that is not inside a
 // time step that Python has checked goes to the set's Python ``delegate`` instead (the first call
 // of every solve: Exudyn's initial accelerations; a call at or before the start of the step, as
 // after a restart or a rejected step; a call after a disarm). The delegate checks the views of
@@ -87,7 +87,7 @@ using Key = std::pair<uintptr_t, int>;
 static std::map<Key, Entry>& registry = *new std::map<Key, Entry>();
 
 struct System {
-    py::object fallback;             // Python: fallback(t) -> [discontinuous error, step size], glue._post_newton
+    py::object fallback;             // Python: fallback(t) -> [discontinuous error, step size], commit.post_newton
     long native_calls = 0;
     long python_calls = 0;
 };

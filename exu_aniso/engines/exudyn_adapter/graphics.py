@@ -497,7 +497,7 @@ def AddContactGraphics(mbs, contact, show=True, color=None, showNet=True, showPo
 
     Args:
         mbs: the MainSystem holding the contact
-        contact: the dict returned by exu_aniso.engines.exudyn_adapter.glue.CreateAnisotropicContact
+        contact: the dict returned by exu_aniso.engines.exudyn_adapter.create_contact.CreateAnisotropicContact
         show: draw the contact (Vshow of the object); False keeps the function but hides it
         color: RGBA or RGB colour of the surface face (4 or 3 numbers in [0, 1]; RGB gets the alpha
             0.35 of SURFACE_COLOR); None: SURFACE_COLOR; the net lines get darker shades of it

@@ -4,7 +4,7 @@
 The method is bound to ``exudyn.MainSystem`` through Exudyn's extension registry
 (``exudyn.misc.extensionRegistry``: ``@extends(MainSystem)`` marks it, ``install()`` binds it) when
 ``exu_aniso`` is imported. It builds the contact with the free function
-``exu_aniso.engines.exudyn_adapter.glue.CreateAnisotropicContact`` (which stays, and gives the same result), then
+``exu_aniso.engines.exudyn_adapter.create_contact.CreateAnisotropicContact`` (which stays, and gives the same result), then
 adds what an Exudyn item has besides its physics: a name and renderer graphics.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ import exudyn as exu
 import numpy as np
 from exudyn.misc.extensionRegistry import extends, install
 
-from exu_aniso.engines.exudyn_adapter import glue as exudyn_glue
+from exu_aniso.engines.exudyn_adapter import create_contact
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP
 
 _WHERE = "CreateAnisotropicContact"
@@ -93,7 +93,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
         total dissipated energy [J]), 'sHistory' (SensorIndex, with storeHistory) and 'sDissipation'
         (SensorIndex of that total, with storeSensors), 'law' (the ContactLaw), 'points' (K x 3),
         'implementation', 'jacobian', 'nativeCallbacks', and the functions of the free function
-        CreateAnisotropicContact (exu_aniso.engines.exudyn_adapter.glue): 'pointsAndMasterPose',
+        CreateAnisotropicContact (exu_aniso.engines.exudyn_adapter.create_contact): 'pointsAndMasterPose',
         'historyAt', 'bodyPosition', 'generalizedForce'
 
     Example:
@@ -140,7 +140,7 @@ def MainSystemCreateAnisotropicContact(mbs, name: str = "", bodyNumber=None, loc
             raise ValueError(f"{_WHERE}: contactLaw replaces {', '.join(given)}; give one or the other")
         lawArgs = dict(contactLaw=contactLaw)
     try:
-        contact = exudyn_glue.CreateAnisotropicContact(
+        contact = create_contact.CreateAnisotropicContact(
             mbs, bodyNumber, localPoints, masterBodyNumber=masterBodyNumber, jacobian=jacobian,
             initializeHistory=initializeHistory, storeSensors=storeSensors, storeHistory=storeHistory,
             implementation=implementation, nativeCallbacks=nativeCallbacks, **lawArgs)

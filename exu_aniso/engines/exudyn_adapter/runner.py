@@ -26,7 +26,7 @@ from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2R
                                        RotationMatrixZ)
 
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY
-from exu_aniso.engines.exudyn_adapter.glue import contact_force_calls, disarm_native
+from exu_aniso.engines.exudyn_adapter.commit import contact_force_calls, disarm_native
 from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.engines.result import Result
 from exu_aniso.util.output import atomic_write
@@ -312,7 +312,7 @@ def CheckAllocations(before, contact_calls, newton_iterations, threshold):
     test_exudyn_warnings.py), which are no sign of a slow model and about which a user can do
     nothing. Anything else that allocates every iteration (a sensor, a user function of the
     model) still gives the warning. before: ``exu.special.InfoStat(False)`` at the solve's start;
-    contact_calls: the force calls in the solve (glue.contact_force_calls). Returns the
+    contact_calls: the force calls in the solve (commit.contact_force_calls). Returns the
     count checked."""
     new = np.array(exu.special.InfoStat(False)) - np.array(before)
     count = max(new[0], new[2] - 2 * contact_calls, new[4])
