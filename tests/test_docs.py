@@ -60,10 +60,11 @@ def test_the_readme_model_runs(tmp_path):
 # the pages' whole scripts (a block that starts with its imports), run as a reader copies them; the
 # lines that open a window are left out (ViewSolution: a display)
 _SCRIPT_PAGES = ["docs/guide/command_line.md", "docs/guide/contact_api.md", "docs/guide/reference_engine.md",
-                 "docs/guide/surfaces_and_fields.md", "docs/guide/calibration.md", "docs/adding_a_surface.md"]
+                 "docs/guide/surfaces_and_fields.md", "docs/guide/calibration.md", "docs/adding_a_surface.md",
+                 "docs/adding_a_slave.md"]
 
 
-_QUICK_PAGES = ("docs/guide/surfaces_and_fields.md",)     # 1 s; the others 5 to 19 s each: -m slow
+_QUICK_PAGES = ("docs/guide/surfaces_and_fields.md", "docs/adding_a_slave.md")   # 1 s; the others 5 to 19 s: -m slow
 
 
 def _scripts():

@@ -184,16 +184,22 @@ class ElasticMesh:
         return P
 
     def node_at(self, point, tolerance=None):
-        """Index of the node at the reference position point (3,) [m], within tolerance (default
-        1e-9 of the mesh's size); a ValueError naming the point and the closest node otherwise."""
-        p = check_vector("point", point, 3)
-        d = np.linalg.norm(self.nodes - p, axis=1)
-        k = int(np.argmin(d))
-        tol = 1e-9 * float(np.ptp(self.nodes, axis=0).max()) if tolerance is None else tolerance
-        if d[k] > tol:
-            raise ValueError(f"no mesh node at {p.tolist()} (the closest, node {k} at {self.nodes[k].tolist()}, is "
-                             f"{d[k]:.3g} m away; tolerance {tol:.3g} m)")
-        return k
+        """Index of the node at the reference position point (3,) [m] (``node_index``)."""
+        return node_index(self.nodes, point, tolerance)
+
+
+def node_index(positions, point, tolerance=None):
+    """Index of the node at point (3,) [m] among the nodes at positions (N, 3) [m], within tolerance
+    (default 1e-9 of the nodes' extent); a ValueError naming the point and the closest node otherwise."""
+    p = check_vector("point", point, 3)
+    positions = np.asarray(positions, dtype=float)
+    d = np.linalg.norm(positions - p, axis=1)
+    k = int(np.argmin(d))
+    tol = 1e-9 * float(np.ptp(positions, axis=0).max()) if tolerance is None else tolerance
+    if d[k] > tol:
+        raise ValueError(f"no mesh node at {p.tolist()} (the closest, node {k} at {positions[k].tolist()}, is "
+                         f"{d[k]:.3g} m away; tolerance {tol:.3g} m)")
+    return k
 
 
 def block_mesh(size=(0.1, 0.1, 0.1), cells=(4, 4, 4), E=1e7, nu=0.3, rho=1000.0):

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from exu_aniso.engines.exudyn_adapter.slaves.base import Slave
+from exu_aniso.fe.mesh import node_index
 from exu_aniso.util.validation import check_points
 
 
@@ -101,7 +102,7 @@ class LinearSlave(Slave):
         """As Slave.check_points; on cables also: [x, 0, 0] with 0 <= x <= the length of every listed
         element."""
         super().check_points(points)
-        if self.kind in ("Point", "Point2D"):
+        if self.kind not in CABLES:
             return
         Lmin = min(self.lengths)
         for k, b in enumerate(points):
@@ -204,16 +205,13 @@ def resolve_points(R, localPoints, positions):
                                  f"finite-element body (0 ... {len(R) - 1})")
     else:
         X = check_points("localPoints", localPoints)
-        tol = 1e-9 * float(np.ptp(R, axis=0).max())
         ids = []
         for k, x in enumerate(X):
-            d = np.linalg.norm(R - x, axis=1)
-            j = int(np.argmin(d))
-            if d[j] > tol:
+            try:
+                ids.append(node_index(R, x))
+            except ValueError as e:
                 raise ValueError(f"CreateAnisotropicContact: localPoints[{k}] = {x.tolist()} is not a node of the "
-                                 f"finite-element body (the closest, mesh node {j} at {R[j].tolist()}, is "
-                                 f"{d[j]:.3g} m away): give mesh node indices or {positions}")
-            ids.append(j)
+                                 f"finite-element body ({e}): give mesh node indices or {positions}") from None
     if len(set(ids)) < len(ids):
         raise ValueError(f"CreateAnisotropicContact: localPoints lists a mesh node more than once; got {ids}")
     return ids

@@ -176,7 +176,8 @@ class RotationVector(Rigid3D):
 
     kind, n = "RigidBodyRotVecLG", 6
 
-    def rotation(self, q_total):
+    @staticmethod
+    def rotation(q_total):
         """Rotation matrix A and G = I (omega_local = the rotation vector's rate, linearised)."""
         return rotation_matrix(q_total[3:6]), np.eye(3)
 
@@ -197,7 +198,9 @@ class EulerParameters(Rigid3D):
 
     kind, n = "RigidBodyEP", 7
 
-    def rotation(self, q_total):
+    @staticmethod
+    def rotation(q_total):
+        """Rotation matrix A and G (omega_local = G de/dt) of the Euler parameters q_total[3:7]."""
         return ep_matrix(q_total[3:7])
 
     def _point_derivatives(self, q, b):
@@ -217,6 +220,14 @@ class EulerParameters(Rigid3D):
 
 
 NODE_KINDS = {c.kind: c for c in (Planar, ScrewJoint, RotationVector, EulerParameters)}
+
+
+def node_rotation(kind, q_total):
+    """Rotation matrix A (3, 3) and G (omega_local = G dq_rot/dt) of a 3D rigid node of Exudyn's node
+    type kind ("RigidBodyRotVecLG" or "RigidBodyEP") at its total coordinates q_total (reference
+    values included): the one place a node's rotation is made from its coordinates in numpy (the
+    compiled kernel's is exu_aniso.kernel.nodes)."""
+    return NODE_KINDS[kind].rotation(np.asarray(q_total, dtype=float))
 
 
 def node_kinematics(mbs, node_number):
