@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from exu_aniso.scenes.screw import ScrewParams, pitch
-from exu_aniso.scenes.screw import (CALIBRATED_MAPS, SteadySliding, _adhesion_stiffnesses,  # noqa: F401
-                                    _friction_coefficients, _helix_components, sliding_onset_angle, steady_sliding)
+from exu_aniso.scenes.screw import (CALIBRATED_MAPS, SteadySliding, sliding_onset_angle,  # noqa: F401
+                                    steady_sliding)
 from exu_aniso.util.validation import check_positive, check_real
 
 ENGINES = ("reference", "exudyn")
@@ -61,10 +61,6 @@ def _unknown_values(base, p):
     if base.return_map == "radial":
         return {"eps_ratio": p.eps_1 / p.eps_2, "mu_scale": p.mu_1 / base.mu_1}
     return {"mu_ratio": p.mu_1 / p.mu_2, "mu_2": p.mu_2}
-
-
-def _x_of(base, p):
-    return np.log(list(_unknown_values(base, p).values()))
 
 
 def closed_form_guess(target_advance_per_rev, target_torque, base):

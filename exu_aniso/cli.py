@@ -395,8 +395,8 @@ def compile_kernels(scenes):
 def _compile_scene(scene):
     """Simulate COMPILE_STEPS steps of a scene's defaults (its kernels compiled or loaded on the way):
     (None or the failure's message, the number of kernels compiled: laws and set kernels)."""
-    from exu_aniso.kernel import point
-    before = len(point.compiled_here)          # this process may have compiled another scene's before
+    from exu_aniso.kernel import compiling
+    before = len(compiling.compiled_here)          # this process may have compiled another scene's before
     try:
         defaults = SCENES[scene].params()
         # every time of the scene (t_end, a pressing's duration, ...) but the step scaled alike
@@ -409,8 +409,8 @@ def _compile_scene(scene):
             params = defaults
         simulate(scene, params, "exudyn")
     except Exception as e:      # noqa: BLE001 - reported, the exit code says it
-        return f"{scene}: {type(e).__name__}: {e}", len(point.compiled_here) - before
-    return None, len(point.compiled_here) - before
+        return f"{scene}: {type(e).__name__}: {e}", len(compiling.compiled_here) - before
+    return None, len(compiling.compiled_here) - before
 
 
 def _run_job(scene, params, engine, out, progress, snapshot, solution_file, output_step=None):
@@ -449,8 +449,9 @@ def _parallel(jobs, a):
     this process (a worker's start costs more than the runs)."""
     if len(jobs) < 2 or a.engine != "exudyn" or (os.cpu_count() or 1) < 2:
         return False
-    from exu_aniso.kernel.point import kernels_cached
-    return not kernels_cached()
+    from exu_aniso.kernel.compiling import kernels_cached
+    from exu_aniso.kernel.law_call import law_entry
+    return not kernels_cached(law_entry)
 
 
 def _run_jobs(jobs, a, tmp):

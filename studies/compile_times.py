@@ -6,11 +6,11 @@ compiled from an empty cache.
 Each scene runs ``exu-aniso compile SCENE`` in a fresh process with an empty kernel cache (its own
 ``NUMBA_CACHE_DIR``), one scene after the other: the kernels it compiles, its contact laws (one per
 surface, nets and return map) and its set kernels (one per node kind, fixed or moving master), what
-each is for (``exu_aniso.kernel.point.kernel_name``) and its compilation's wall time, which holds
+each is for (``exu_aniso.kernel.compiling.kernel_name``) and its compilation's wall time, which holds
 every function it calls; the process's whole wall time (imports, the kernels, the small compiled
 helpers of the energy ledger and the native callbacks, five time steps) and how many compiled
 functions its cache then holds. The range of each kind's times is what the compile announcement
-quotes (``exu_aniso.kernel.point.COMPILE_SECONDS``; tests/test_compile_cache.py holds the two
+quotes (``exu_aniso.kernel.compiling.COMPILE_SECONDS``; tests/test_compile_cache.py holds the two
 together).
 --quick: the block only. Writes ``compile_times.json`` and ``report.md`` (default
 ``studies/results/compile_times``).
@@ -39,10 +39,10 @@ NAME = "compile_times"
 _PROBE = """
 import json, sys
 from exu_aniso import cli
-from exu_aniso.kernel import point
+from exu_aniso.kernel import compiling
 failure, _ = cli._compile_scene(sys.argv[1])
-print(json.dumps(dict(failure=failure, kernels=[dict(kernel=name, kind=point.kernel_kind(entry), seconds=s)
-                                                  for (entry, _), (name, s) in point.compiled_here.items()])))
+print(json.dumps(dict(failure=failure, kernels=[dict(kernel=name, kind=compiling.kernel_kind(entry), seconds=s)
+                                                  for (entry, _), (name, s) in compiling.compiled_here.items()])))
 """
 
 

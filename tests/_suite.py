@@ -11,7 +11,7 @@ running), so how fast the machine is cannot decide a test's outcome.
 ``covering(cases, axes)``: a product of parametrized cases cut to a covering set for the default
 run. Every compiled law is specialised for its surface, nets and return map, every set kernel for
 its node kind (a cold compilation costs 6-10 s here for a law, up to 9 s for a set kernel, 22-30 s
-for a moving master's: ``kernel.point.COMPILE_SECONDS``), so a full product of those axes in the
+for a moving master's: ``kernel.compiling.COMPILE_SECONDS``), so a full product of those axes in the
 default run costs minutes of compilation for what one case per value already checks.
 The default run keeps a small set of cases that together bring every value of every axis (greedy set
 cover); the others are marked ``slow`` (``pytest -m slow`` runs the whole product).

@@ -2,7 +2,7 @@
 an edit of a file no kernel is built from, or of a docstring, recompiles nothing; an edit of a
 surface recompiles that surface's kernels only; a stale kernel never runs. Each check runs a copy of
 the package in a subprocess with a cache of its own, and reads numba's own cache statistics of the
-projection (geometry._core.project) on two surfaces, with its result."""
+projection (geometry.core.project) on two surfaces, with its result."""
 import json
 import os
 import shutil
@@ -13,19 +13,20 @@ import pytest
 from _suite import HANG_S
 
 import exu_aniso
-from exu_aniso.kernel import point
+from exu_aniso.kernel import compiling, law_call
+from exu_aniso.kernel.nodes import NODE_KINDS
 
 # project a point 5 m from the centre of a unit sphere and 4 m above a plane: numba's hits and misses
-# of geometry._core.project (its cache statistics) and the gap per surface
+# of geometry.core.project (its cache statistics) and the gap per surface
 _PROBE = """
 import json
-from exu_aniso.geometry import _core, Plane, Sphere
+from exu_aniso.geometry import core, Plane, Sphere
 out = {}
 for name, surface in (("plane", Plane()), ("sphere", Sphere(1.0))):
-    before = _core.project.stats.cache_hits.copy(), _core.project.stats.cache_misses.copy()
+    before = core.project.stats.cache_hits.copy(), core.project.stats.cache_misses.copy()
     gap = surface.gap_and_normal((0.0, 3.0, 4.0))[0]
-    hits = sum(_core.project.stats.cache_hits.values()) - sum(before[0].values())
-    misses = sum(_core.project.stats.cache_misses.values()) - sum(before[1].values())
+    hits = sum(core.project.stats.cache_hits.values()) - sum(before[0].values())
+    misses = sum(core.project.stats.cache_misses.values()) - sum(before[1].values())
     out[name] = [hits, misses, gap]
 print(json.dumps(out))
 """
@@ -62,7 +63,7 @@ def test_edits_recompile_what_they_change_only(package_copy):
     # a scene, the command line and a docstring of a shared kernel source: nothing recompiles
     edit("scenes/block.py", '"""', '"""An edited docstring.\n\n')
     edit("cli.py", "import argparse\n", "import argparse\nEDITED = 1\n")
-    edit("geometry/_core.py", '"""Closest point projection', '"""An edited docstring. Closest point projection')
+    edit("geometry/core.py", '"""Closest point projection', '"""An edited docstring. Closest point projection')
     second = run()
     assert [second["plane"][:2], second["sphere"][:2]] == [[1, 0], [1, 0]], second
     # the sphere's chart: its kernels recompile, the plane's do not, and the new chart is what runs
@@ -71,7 +72,7 @@ def test_edits_recompile_what_they_change_only(package_copy):
     assert third["plane"][:2] == [1, 0] and third["sphere"][:2] == [0, 1], third
     assert third["sphere"][2] == pytest.approx(3.0)                                    # not a stale kernel
     # a shared kernel source's code: every kernel recompiles
-    edit("geometry/_core.py", "PROJECTION_MAXIT = 50", "PROJECTION_MAXIT = 51")
+    edit("geometry/core.py", "PROJECTION_MAXIT = 50", "PROJECTION_MAXIT = 51")
     fourth = run()
     assert [fourth["plane"][:2], fourth["sphere"][:2]] == [[0, 1], [0, 1]], fourth
     # a surface's parameter type renamed: the index that names the old type cannot be read, and is an
@@ -88,7 +89,7 @@ def test_kernel_sources_are_the_lower_layers():
     no engine, scene, model, command line or study among them; every surface module keyed alone."""
     from exu_aniso.util import numba_cache
     shared = numba_cache.SOURCES.kernel_sources
-    assert {"kernel/point.py", "kernel/sets.py", "geometry/_core.py", "fields/nets.py", "law/return_maps.py",
+    assert {"kernel/point.py", "kernel/sets.py", "geometry/core.py", "fields/nets.py", "law/return_maps.py",
             "law/history.py"} <= set(shared)
     assert not [s for s in shared if s.split("/")[0] in ("engines", "scenes", "models", "cli.py", "catalog.py")]
     assert numba_cache.SOURCES.surface_modules == {
@@ -100,7 +101,7 @@ def test_kernel_sources_are_the_lower_layers():
 
 
 def test_a_law_is_keyed_on_its_surface_and_a_set_kernel_on_none():
-    """A law's compiled code (kernel.point.law_entry, its bundle behind a pointer) is keyed on its
+    """A law's compiled code (kernel.law_call.law_entry, its bundle behind a pointer) is keyed on its
     surface's module, so an edit of the sphere recompiles the sphere's laws; a set's kernel, which
     calls the law through its address, on no surface at all, so such an edit leaves it be."""
     import numpy as np
@@ -108,25 +109,25 @@ def test_a_law_is_keyed_on_its_surface_and_a_set_kernel_on_none():
 
     from exu_aniso import Adhesion, ContactLaw, Friction, Sphere
     from exu_aniso.util import numba_cache
-    bundle = point._law_bundle(ContactLaw(Sphere(1.0), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5))
-    law_sig = (types.CPointer(typeof(bundle)),) + point.LAW_ARGS
+    bundle = law_call.law_bundle(ContactLaw(Sphere(1.0), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5))
+    law_sig = (types.CPointer(typeof(bundle)),) + law_call.LAW_ARGS
     assert numba_cache.signature_surfaces(law_sig) == (numba_cache.SOURCES.surface_hash("exu_aniso.geometry.sphere"),)
-    set_args = (0, np.zeros(3), point.LawCall(0, 0), point.NODE_KINDS["RigidBody2D"])
+    set_args = (0, np.zeros(3), law_call.LawCall(0, 0), NODE_KINDS["RigidBody2D"])
     assert numba_cache.signature_surfaces(tuple(typeof(a) for a in set_args)) == ()
 
 
 def test_compile_estimate_is_the_measured_one():
-    """The compile times the announcement quotes (kernel.point.COMPILE_SECONDS: a law's, a fixed
+    """The compile times the announcement quotes (kernel.compiling.COMPILE_SECONDS: a law's, a fixed
     master's set kernel's and a moving master's) are the ranges measured by studies/compile_times.py
     in docs/results/compile_times/compile_times.json, rounded outward to whole seconds."""
     path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "docs", "results",
                         "compile_times", "compile_times.json")
     with open(path) as f:
         kernels = json.load(f)["kernels"]
-    assert {k["kind"] for k in kernels} == set(point.COMPILE_SECONDS)
-    for which in point.COMPILE_SECONDS:
+    assert {k["kind"] for k in kernels} == set(compiling.COMPILE_SECONDS)
+    for which in compiling.COMPILE_SECONDS:
         measured = [k["seconds"] for k in kernels if k["kind"] == which]
-        assert point.COMPILE_SECONDS[which] == (int(min(measured)), int(max(measured)) + 1), which
+        assert compiling.COMPILE_SECONDS[which] == (int(min(measured)), int(max(measured)) + 1), which
 
 
 @pytest.mark.slow

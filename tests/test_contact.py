@@ -258,7 +258,7 @@ def test_kernels_do_not_import_exudyn():
     import ast
     root, modules = _package_modules()
     kernel_modules = [m for m in modules if not m.startswith(EXUDYN_PARTS)]
-    assert {"geometry._core", "kernel.point", "kernel.sets", "engines.reference", "scenes.base"} <= set(kernel_modules)
+    assert {"geometry.core", "kernel.point", "kernel.sets", "engines.reference", "scenes.base"} <= set(kernel_modules)
     for name in kernel_modules:
         path = os.path.join(root, *name.split("."))
         tree = ast.parse(open(os.path.join(path, "__init__.py") if os.path.isdir(path) else path + ".py").read())

@@ -282,7 +282,7 @@ def test_first_compile_is_announced_once_and_cached(tmp_path):
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
     code = ("import numpy as np\nfrom exu_aniso import Adhesion, ContactLaw, Friction, Plane\n"
             "law = ContactLaw(Plane(), Adhesion.isotropic(1e3), Friction.isotropic(0.3), 1e5)\n"
-            "from exu_aniso.kernel.point import CovariantSet\n"
+            "from exu_aniso.kernel.packed_sets import CovariantSet\n"
             "pk = CovariantSet(law, 'RigidBody2D', np.zeros(3), [[0.0, 0.0, -1e-3]])\n"
             "pk.evaluate(0, np.zeros(3), np.zeros(3), 0.0, 0.0, 1e-3)\n"
             "assert pk.Q[1] == 0.0 and pk.Q.shape == (3,)\n")
@@ -298,25 +298,26 @@ def test_compile_announcement_only_when_not_cached(monkeypatch, capsys):
     """A kernel not in the cache is announced once per process, with what it is for and how long it
     takes (COMPILE_SECONDS): the law for its surface, nets and return map, a set's kernel for its
     node kind; one in the cache is not announced."""
-    from exu_aniso.kernel import point as kernel_point
-    bundle = kernel_point._law_bundle(ContactLaw(Plane(coordinates="polar"), Adhesion.isotropic(1e3),
-                                                 Friction.isotropic(0.3), 1e5))
-    kind, master = kernel_point.NODE_KINDS["RigidBody2D"], kernel_point.NODE_KINDS["RigidBodyEP"]
-    law_call = kernel_point.LawCall(0, 0)
-    cases = [(kernel_point.law_entry, (bundle,), "law",
+    from exu_aniso.kernel import compiling, law_call, packed_sets
+    from exu_aniso.kernel.nodes import NODE_KINDS
+    bundle = law_call.law_bundle(ContactLaw(Plane(coordinates="polar"), Adhesion.isotropic(1e3),
+                                            Friction.isotropic(0.3), 1e5))
+    kind, master = NODE_KINDS["RigidBody2D"], NODE_KINDS["RigidBodyEP"]
+    call = law_call.LawCall(0, 0)
+    cases = [(law_call.law_entry, (bundle,), "law",
               "compiling the contact law for PolarPlane, IsotropicNet adhesion, IsotropicNet friction, exact map"),
-             (kernel_point.evaluate_covariant, (np.zeros(3), law_call, kind), "fixed",
+             (packed_sets.evaluate_covariant, (np.zeros(3), call, kind), "fixed",
               "compiling the contact set kernel for a RigidBody2D node"),
-             (kernel_point.evaluate_covariant_pair, (np.zeros(10), law_call, kind, master), "moving",
+             (packed_sets.evaluate_covariant_pair, (np.zeros(10), call, kind, master), "moving",
               "compiling the contact set kernel for a RigidBody2D slave on an EulerParameters master")]
     for entry, args, which, text in cases:
         for cached, expected in ((True, ""), (False, text)):
-            monkeypatch.setattr(kernel_point, "compiled_here", {})
-            monkeypatch.setattr(kernel_point, "kernels_cached", lambda entry=None, sig=None: cached)
-            kernel_point.announce_compile(entry=entry, sig=("a",), args=args)
-            kernel_point.announce_compile(entry=entry, sig=("a",), args=args)     # once per process and kernel
+            monkeypatch.setattr(compiling, "compiled_here", {})
+            monkeypatch.setattr(compiling, "kernels_cached", lambda entry=None, sig=None: cached)
+            compiling.announce_compile(entry=entry, sig=("a",), args=args)
+            compiling.announce_compile(entry=entry, sig=("a",), args=args)     # once per process and kernel
             err = capsys.readouterr().err
             assert (expected in err) and err.count("compiling") == (0 if cached else 1), err
             if not cached:
-                low, high = kernel_point.COMPILE_SECONDS[which]
+                low, high = compiling.COMPILE_SECONDS[which]
                 assert f"about {low}-{high} s" in err

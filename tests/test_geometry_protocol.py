@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from exu_aniso.geometry import Cone, Cylinder, Helicoid, Plane, Sphere, Torus
-from exu_aniso.geometry import _core
+from exu_aniso.geometry import core
 
 RNG = np.random.default_rng(7)
 
@@ -52,7 +52,7 @@ def _length(s):
 
 
 def _chart(s, xi):
-    return [np.array(v) for v in _core.chart(s.params, float(xi[0]), float(xi[1]))]
+    return [np.array(v) for v in core.chart(s.params, float(xi[0]), float(xi[1]))]
 
 
 def check_chart_derivatives(chart, xi, h=1e-6):
@@ -206,9 +206,9 @@ def test_constant_metric_fact_matches_the_chart(s, box):
     exactly where the chart's metric is the same everywhere: every Christoffel symbol vanishes at
     every drawn point, and transport over a finite step leaves the components unchanged. A
     surface with a varying metric must not declare it (it would carry tractions wrongly)."""
-    declared = _core.constant_metric(s.params)
-    gammas = [np.abs(np.array(_core.christoffel(s.params, *map(float, xi)))).max() for xi in _draw(box)]
-    metrics = [np.array(_core.geometry(s.params, *map(float, xi))[4]) for xi in _draw(box)]
+    declared = core.constant_metric(s.params)
+    gammas = [np.abs(np.array(core.christoffel(s.params, *map(float, xi)))).max() for xi in _draw(box)]
+    metrics = [np.array(core.geometry(s.params, *map(float, xi))[4]) for xi in _draw(box)]
     constant = max(gammas) < 1e-12 and np.ptp(np.array(metrics), axis=0).max() < 1e-12
     assert declared == constant, (declared, max(gammas))
     if declared:

@@ -92,8 +92,40 @@ def test_the_checks_can_fail():
     assert _cycles({"a": ["b"], "b": ["c"], "c": ["a"]}) == [["a", "b", "c", "a"]]
     assert _cycles({"a": ["b"], "b": []}) == []
     g = _graph()
-    assert "exu_aniso.kernel.sets" in g["exu_aniso.kernel.point"]
+    assert "exu_aniso.kernel.sets" in g["exu_aniso.kernel.packed_sets"]
     assert _layer("exu_aniso.cli") > _layer("exu_aniso.scenes.base") > _layer("exu_aniso.kernel.point")
+    assert _private_imports("from exu_aniso.kernel.point import _x\nfrom exu_aniso.geometry import _core\n",
+                            "exu_aniso.scenes.a") == [(1, "exu_aniso.kernel.point._x"), (2, "exu_aniso.geometry._core")]
+    assert _private_imports("from exu_aniso.scenes.b import _x\n", "exu_aniso.scenes.a") == []
+
+
+def _package(name):
+    """The package a module belongs to, as the layers count them: exu_aniso.X (or exu_aniso.X.Y for a
+    subpackage of the engines, whose adapter and reference are packages of their own)."""
+    parts = name.split(".")
+    return ".".join(parts[:3] if parts[1] == "engines" and len(parts) >= 3 else parts[:2])
+
+
+def _private_imports(source, name):
+    """(line, what) of every private name (a leading underscore: a name or a module on the path) that
+    module name imports from another package of exu_aniso."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("exu_aniso") and not node.level:
+            for a in node.names:
+                path = node.module.split(".") + [a.name]
+                if any(p.startswith("_") and not p.startswith("__") for p in path) and \
+                        _package(node.module) != _package(name):
+                    found.append((node.lineno, ".".join(path)))
+    return found
+
+
+def test_no_private_name_is_imported_across_packages():
+    """A name with a leading underscore stays in its package: a module of another package imports
+    only public names (the C++ extensions' own modules, _native and _float_text, are reached through
+    the public names of their packages)."""
+    bad = {name: _private_imports(open(path).read(), name) for name, path in _modules().items()}
+    assert not {k: v for k, v in bad.items() if v}, bad
 
 
 # the names under which the compiled kernels receive a node kind or a return map: types, resolved at

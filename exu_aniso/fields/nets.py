@@ -12,7 +12,7 @@ of C,
 
 (a_2 lies on the side of rho_2, whatever side of the surface the slave is on). Components in that
 frame: ``physical(f, xi1, xi2, r, r1, r2, a1, a2) = (p11, p12, p22)``. Registry dispatch by the parameter type, as for
-the surfaces (``geometry._core``).
+the surfaces (``geometry.core``).
 
 Fields:
 
@@ -40,7 +40,7 @@ from collections import namedtuple
 from numba import njit
 from numba.extending import overload
 
-from exu_aniso.geometry._core import cross, dot
+from exu_aniso.geometry.core import cross, dot
 
 IsotropicNet = namedtuple("IsotropicNet", ("l1", "l2"))
 UserNet = namedtuple("UserNet", ("function", "inverse_square"))

@@ -1,8 +1,8 @@
-"""Analytical master surfaces, one module each, on one protocol (``_core``): chart and its
+"""Analytical master surfaces, one module each, on one protocol (``core``): chart and its
 derivatives, closest point projection, metric, curvature, Christoffel symbols, parallel transport
 and the slip increment. See docs/adding_a_surface.md for how to add one (the torus as the example).
 """
-from ._base import Point, Surface
+from .base import Point, Surface
 from .cone import Cone
 from .cylinder import Cylinder
 from .helicoid import Helicoid

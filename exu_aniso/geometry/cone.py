@@ -14,10 +14,10 @@ from collections import namedtuple
 from numba import njit
 
 from exu_aniso.util.validation import check_positive, check_real
-from . import _core
-from ._base import TWO_PI, Surface, placement, side_sign
+from . import core
+from .base import TWO_PI, Surface, placement, side_sign
 
-ConeParams = namedtuple("ConeParams", _core.COMMON_FIELDS + ("radius", "slope"))
+ConeParams = namedtuple("ConeParams", core.COMMON_FIELDS + ("radius", "slope"))
 
 _Z = (0.0, 0.0, 0.0)
 
@@ -38,7 +38,7 @@ def guess(p, y, xi1, xi2):
     return math.atan2(y[1], y[0]), ((rho - p.radius) * t + y[2]) / (1.0 + t * t), True
 
 
-_core.register(ConeParams, chart, guess)
+core.register(ConeParams, chart, guess)
 
 
 class Cone(Surface):

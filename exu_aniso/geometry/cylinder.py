@@ -13,10 +13,10 @@ import numpy as np
 from numba import njit
 
 from exu_aniso.util.validation import check_positive
-from . import _core
-from ._base import TWO_PI, Surface, placement, side_sign
+from . import core
+from .base import TWO_PI, Surface, placement, side_sign
 
-CylinderParams = namedtuple("CylinderParams", _core.COMMON_FIELDS + ("radius",))
+CylinderParams = namedtuple("CylinderParams", core.COMMON_FIELDS + ("radius",))
 
 _Z = (0.0, 0.0, 0.0)
 
@@ -33,7 +33,7 @@ def guess(p, y, xi1, xi2):
     return math.atan2(y[1], y[0]), y[2], True
 
 
-_core.register(CylinderParams, chart, guess, constant_metric=True)
+core.register(CylinderParams, chart, guess, constant_metric=True)
 
 
 class Cylinder(Surface):

@@ -26,10 +26,10 @@ from collections import namedtuple
 from numba import njit
 
 from exu_aniso.util.validation import check_positive, check_real
-from . import _core
-from ._base import TWO_PI, Surface, placement, side_sign
+from . import core
+from .base import TWO_PI, Surface, placement, side_sign
 
-HelicoidParams = namedtuple("HelicoidParams", _core.COMMON_FIELDS + ("lead_per_radian", "flank_slope",
+HelicoidParams = namedtuple("HelicoidParams", core.COMMON_FIELDS + ("lead_per_radian", "flank_slope",
                                                                       "pitch_radius"))
 
 _Z = (0.0, 0.0, 0.0)
@@ -61,7 +61,7 @@ def guess(p, y, xi1, xi2):
     return a + TWO_PI * math.floor(q + 0.5), rho, False
 
 
-_core.register(HelicoidParams, chart, guess)
+core.register(HelicoidParams, chart, guess)
 
 
 def lead_angle(pitch, radius):

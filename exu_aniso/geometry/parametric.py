@@ -3,7 +3,7 @@ frame: origin 0, axes identity), chart (xi1, xi2).
 
 The user's ``point(xi1, xi2)`` returns x (3,), dx/dxi (2, 3) (rows rho_1, rho_2) and d2x/dxi2
 (2, 2, 3) (rho_ij; [0, 1] is read as rho_12); n = sign rho_1 x rho_2 / |.| with sign +1 on side
-"front", -1 on "back". The closest point has no closed form: Newton (``_core.project``) starts from
+"front", -1 on "back". The closest point has no closed form: Newton (``core.project``) starts from
 the hint (the last projection) or, without one, from the nearest node of a coarse grid of
 (SEARCH + 1)^2 points over ``bounds``; with neither, the projection raises. Newton may converge to a
 closest point outside the bounds (they only seed it). Compilation and the plain Python fallback as
@@ -19,11 +19,11 @@ import numpy as np
 from numba import njit, types
 
 from exu_aniso.util.validation import check_nonnegative
-from . import _core
-from ._base import Surface, side_sign
+from . import core
+from .base import Surface, side_sign
 from .revolution import compile_user_function, python_function
 
-FIELDS = _core.COMMON_FIELDS + ("point", "lower1", "upper1", "lower2", "upper2")
+FIELDS = core.COMMON_FIELDS + ("point", "lower1", "upper1", "lower2", "upper2")
 ParametricParams = namedtuple("ParametricParams", FIELDS)
 PythonParametricParams = namedtuple("PythonParametricParams", FIELDS)
 
@@ -108,8 +108,8 @@ def guess(p, y, xi1, xi2):
     return g1, g2, False
 
 
-_core.register(ParametricParams, chart, guess)
-_core.register(PythonParametricParams, chart.py_func, guess.py_func)
+core.register(ParametricParams, chart, guess)
+core.register(PythonParametricParams, chart.py_func, guess.py_func)
 
 
 class ParametricSurface(Surface):

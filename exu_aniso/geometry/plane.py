@@ -11,11 +11,11 @@ from collections import namedtuple
 
 from numba import njit
 
-from . import _core
-from ._base import TWO_PI, Surface, side_sign
+from . import core
+from .base import TWO_PI, Surface, side_sign
 
-CartesianPlaneParams = namedtuple("CartesianPlaneParams", _core.COMMON_FIELDS)
-PolarPlaneParams = namedtuple("PolarPlaneParams", _core.COMMON_FIELDS)
+CartesianPlaneParams = namedtuple("CartesianPlaneParams", core.COMMON_FIELDS)
+PolarPlaneParams = namedtuple("PolarPlaneParams", core.COMMON_FIELDS)
 
 _Z = (0.0, 0.0, 0.0)
 
@@ -41,8 +41,8 @@ def polar_guess(p, y, xi1, xi2):
     return math.hypot(y[0], y[1]), math.atan2(y[1], y[0]), True
 
 
-_core.register(CartesianPlaneParams, cartesian_chart, cartesian_guess, constant_metric=True)
-_core.register(PolarPlaneParams, polar_chart, polar_guess)
+core.register(CartesianPlaneParams, cartesian_chart, cartesian_guess, constant_metric=True)
+core.register(PolarPlaneParams, polar_chart, polar_guess)
 
 
 class Plane(Surface):

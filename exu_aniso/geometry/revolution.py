@@ -4,14 +4,14 @@ rho = (r cos phi, r sin phi, z), rho_1 = r e_phi, rho_2 = r' e_r + e_z, rho_11 =
 rho_12 = r' e_phi, rho_22 = r'' e_r, with r, r' = dr/dz, r'' = d2r/dz2 from the profile;
 rho_1 x rho_2 = r (e_r - r' e_z), outward where r > 0. The closest point lies in the meridian
 half-plane of the point (phi from its azimuth, for any profile); z by Newton (the guess gives the
-hint's z, else the point's own z, and ``exact=False``: ``_core.project`` iterates). The axis (r = 0)
+hint's z, else the point's own z, and ``exact=False``: ``core.project`` iterates). The axis (r = 0)
 is singular; a point on the axis has no unique closest point (status 2).
 
 User surfaces and numba. The user's function is compiled when numba can: ``numba.njit`` of the
 function, wrapped in an adaptor that turns its result into float tuples, compiled as a
 ``numba.cfunc`` of a fixed signature. The parameter tuple holds that cfunc, which numba types as a
 first-class function of its signature (``FunctionType``), the same type for every profile: the
-protocol's kernels (``_core``, cached on disk) are compiled once for all surfaces of revolution,
+protocol's kernels (``core``, cached on disk) are compiled once for all surfaces of revolution,
 and only the user's function is compiled again in each process (numba cannot cache a lambda or a
 closure across processes). A dispatcher in the tuple would also work, but numba types it by the
 function object itself, so every process would compile the kernels afresh and append never reused
@@ -20,7 +20,7 @@ raises or returns the wrong number of values, and the chart raises the ValueErro
 compile the function (a Python-only feature: a dict, a class instance, a plain Python helper, a bound
 method), the surface takes the plain Python path (``compiled = False``, ``compile_error`` says why):
 its parameter tuple holds a checked Python wrapper of the function and ``Surface.protocol`` runs
-``_core`` as plain Python.
+``core`` as plain Python.
 """
 from __future__ import annotations
 
@@ -31,12 +31,12 @@ from collections import namedtuple
 from numba import cfunc, njit, types
 from numba.core.dispatcher import Dispatcher
 
-from . import _core
-from ._base import TWO_PI, Surface, placement, side_sign
+from . import core
+from .base import TWO_PI, Surface, placement, side_sign
 
 # compiled (profile: a cfunc) and plain Python (profile: a checked Python function) parameters
-RevolutionParams = namedtuple("RevolutionParams", _core.COMMON_FIELDS + ("profile",))
-PythonRevolutionParams = namedtuple("PythonRevolutionParams", _core.COMMON_FIELDS + ("profile",))
+RevolutionParams = namedtuple("RevolutionParams", core.COMMON_FIELDS + ("profile",))
+PythonRevolutionParams = namedtuple("PythonRevolutionParams", core.COMMON_FIELDS + ("profile",))
 
 PROFILE_SIGNATURE = types.UniTuple(types.float64, 3)(types.float64)
 
@@ -104,8 +104,8 @@ def guess(p, y, phi, z):
     return math.atan2(y[1], y[0]), z, False
 
 
-_core.register(RevolutionParams, chart, guess)
-_core.register(PythonRevolutionParams, chart.py_func, guess.py_func)
+core.register(RevolutionParams, chart, guess)
+core.register(PythonRevolutionParams, chart.py_func, guess.py_func)
 
 
 class SurfaceOfRevolution(Surface):

@@ -14,10 +14,10 @@ from collections import namedtuple
 from numba import njit
 
 from exu_aniso.util.validation import check_positive, check_vector
-from . import _core
-from ._base import TWO_PI, Surface, placement, side_sign
+from . import core
+from .base import TWO_PI, Surface, placement, side_sign
 
-SphereParams = namedtuple("SphereParams", _core.COMMON_FIELDS + ("radius",))
+SphereParams = namedtuple("SphereParams", core.COMMON_FIELDS + ("radius",))
 
 
 @njit(cache=True)
@@ -38,7 +38,7 @@ def guess(p, y, xi1, xi2):
     return math.atan2(y[1], y[0]), math.atan2(math.hypot(y[0], y[1]), y[2]), True
 
 
-_core.register(SphereParams, chart, guess)
+core.register(SphereParams, chart, guess)
 
 
 class Sphere(Surface):

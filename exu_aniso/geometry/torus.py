@@ -19,10 +19,10 @@ from collections import namedtuple
 from numba import njit
 
 from exu_aniso.util.validation import check_positive, check_vector
-from . import _core
-from ._base import TWO_PI, Surface, placement, side_sign
+from . import core
+from .base import TWO_PI, Surface, placement, side_sign
 
-TorusParams = namedtuple("TorusParams", _core.COMMON_FIELDS + ("major_radius", "minor_radius"))
+TorusParams = namedtuple("TorusParams", core.COMMON_FIELDS + ("major_radius", "minor_radius"))
 
 
 @njit(cache=True)
@@ -44,7 +44,7 @@ def guess(p, y, xi1, xi2):
     return math.atan2(y[1], y[0]), math.atan2(y[2], math.hypot(y[0], y[1]) - p.major_radius), True
 
 
-_core.register(TorusParams, chart, guess)
+core.register(TorusParams, chart, guess)
 
 
 class Torus(Surface):

@@ -6,7 +6,7 @@ given the slave points and their velocities relative to the master (master frame
 ``commit`` makes the new converged history once a step is accepted. Nothing is stored inside.
 
 The points go through the covariant kernel, compiled when the surface is (every built-in surface,
-a user surface numba can compile: ``exu_aniso.kernel.point.law_entry``, the code the compiled Exudyn
+a user surface numba can compile: ``exu_aniso.kernel.law_call.law_entry``, the code the compiled Exudyn
 route calls), its plain-Python source otherwise (``contact_point`` point by point).
 
 History layout, one row per point, and the status codes: ``exu_aniso.law.history``.
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from exu_aniso import geometry as _geometry
-from exu_aniso.law.history import N_HISTORY, OPEN
+from exu_aniso.law.history import H_DISSIPATED, H_NORMAL, H_T1, H_T2, H_XI1, H_XI2, N_HISTORY, OPEN
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, check_return_map
 from exu_aniso.fields.nets import net_of
 from exu_aniso.util.validation import check_array, check_nonnegative, check_points, check_positive
@@ -176,41 +176,42 @@ class ContactLaw:
             force, stiff, damp, newH, status, gap = self._python_points(x, v, H, tangent, dt)
         closed = status != OPEN
         return ContactState(force, stiff if tangent else None, damp if tangent else None,
-                            np.where(closed[:, None], newH[:, 0:2], 0.0), newH[:, 8].copy(), gap, status,
-                            newH[:, 5] - H[:, 5], newH,
-                            np.where(closed[:, None], newH[:, 2:4], np.nan))
+                            np.where(closed[:, None], newH[:, H_T1:H_T2 + 1], 0.0), newH[:, H_NORMAL].copy(), gap,
+                            status, newH[:, H_DISSIPATED] - H[:, H_DISSIPATED], newH,
+                            np.where(closed[:, None], newH[:, H_XI1:H_XI2 + 1], np.nan))
 
     def _compiled_points(self, x, v, H, tangent, dt):
-        """The law at the K points in one compiled call (the code the set kernels call: kernel.point.law_entry),
+        """The law at the K points in one compiled call (the code the set kernels call: kernel.law_call.law_entry),
         a second one for the tangent: (force, df/dx, df/dv, history candidate, status, gap)."""
-        from exu_aniso.kernel import point as kernel
+        from exu_aniso.kernel import law_call
         from exu_aniso.kernel.sets import SCRATCH_SLOTS, Y_DV, Y_F, Y_GAP, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
         # made again if the law's parameters were changed since (the old code's address is not used again);
         # the surface and nets are held with it, so that their ids in the key name them
         key = (self.eps_N, self.d_N, self.d_T, self.return_map, id(self.surface), id(self._nets))
         if self._call is None or self._call[0] != key:
-            self._call = (key, (self.surface, self._nets)) + kernel.law_call(kernel._law_bundle(self))
+            self._call = (key, (self.surface, self._nets)) + law_call.law_call(law_call.law_bundle(self))
         law = self._call[2]
         K = x.shape[0]
         Y = np.zeros((K, Y_ROWS, 3))
         Y[:, Y_X], Y[:, Y_V] = x, v
         H = np.ascontiguousarray(H, dtype=float)
         newH, S = np.zeros((K, N_HISTORY)), np.zeros((SCRATCH_SLOTS, 9, 9))
-        kernel.call_law(law, Y, H, newH, 0, K, dt, False, S)
+        law_call.call_law(law, Y, H, newH, 0, K, dt, False, S)
         force, status, gap = Y[:, Y_F].copy(), Y[:, Y_INFO, 2].astype(int), Y[:, Y_GAP, 0].copy()
         stiff = damp = None
         if tangent:
-            kernel.call_law(law, Y, H, newH, 0, K, dt, True, S)
+            law_call.call_law(law, Y, H, newH, 0, K, dt, True, S)
             stiff, damp = Y[:, Y_KX:Y_KX + 3].copy(), Y[:, Y_DV:Y_DV + 3].copy()
         return force, stiff, damp, newH, status, gap
 
     def _python_points(self, x, v, H, tangent, dt):
         """The law point by point in plain Python (a user surface or field numba cannot compile):
         what _compiled_points gives."""
+        from exu_aniso.kernel import law_call
         from exu_aniso.kernel import point as kernel
         contact_point = kernel.plain_python().contact_point
         K = x.shape[0]
-        law = kernel.law_params(self)
+        law = law_call.law_params(self)
         sp, nB, nF = self.surface.params, self._nets[0], self._nets[1]
         force = np.zeros((K, 3))
         stiff = np.zeros((K, 3, 3))

@@ -126,7 +126,7 @@ def _type_key(ty):
 
 
 def set_cfunc(entry, block_type):
-    """The cfunc of ``entry`` (a numba dispatcher: kernel.point.evaluate_covariant and its
+    """The cfunc of ``entry`` (a numba dispatcher: kernel.packed_sets.evaluate_covariant and its
     siblings) over the arguments stored as ``block_type``: the ``kernel`` of _CFUNC_MODULE for
     that type, loaded once per (entry, type) and process; from a file numba caches when the type
     can be spelled out (_type_key), else compiled in this process from the same text."""

@@ -1,5 +1,5 @@
 """The covariant contact kernel for one slave point on any surface of the protocol, compiled with
-numba and composed from the surface's chart (``geometry._core``), the adhesion and friction nets
+numba and composed from the surface's chart (``geometry.core``), the adhesion and friction nets
 (``nets``) and the return maps (``law.return_map``). Python
 callers (the numpy reference) call the same compiled function, so both engines evaluate one
 definition.
@@ -31,29 +31,23 @@ One step from the converged history (T_n in the frame at the anchor xi_n):
 
 All geometry is done in the surface's local frame; x, v in and f, df/dx, df/dv out are in the
 master frame.
+
+The kernel reads downward from here: the law at a point (this module), the law as a set's kernel
+calls it (``law_call``), the sets packed for their compiled call (``packed_sets``) and the compile
+management (``compiling``).
 """
 from __future__ import annotations
 
 import math
-import sys
-import time
-import warnings
 from collections import namedtuple
 
-import numpy as np
-from numba import njit, types
-from numba.extending import intrinsic, overload
+from numba import njit
 
-from exu_aniso.kernel.nodes import NODE_KINDS, LinearSlave, node_coordinates_of
-from exu_aniso.kernel.sets import LinearMap, evaluate_group, evaluate_linear, evaluate_pair, evaluate_set
-from exu_aniso.kernel.sets import S_J, S_LAW, S_VEC, Y_DV, Y_F, Y_GAP, Y_INFO, Y_KX, Y_ROWS, Y_V, Y_X
-from exu_aniso.kernel.sets import point_states as sets_point_states
-from exu_aniso.kernel.stored import StoredArguments, _deref, machine_address
-from exu_aniso.geometry import _core
-from exu_aniso.geometry._core import add, dot, local_chart, scale, sub
+from exu_aniso.geometry import core
+from exu_aniso.geometry.core import add, dot, local_chart, scale, sub
 from exu_aniso.law.history import (H_ACTIVE, H_DISSIPATED, H_NORMAL, H_SLIP, H_STATUS, H_T1, H_T2, H_XI1,
                                       H_XI2, N_HISTORY, OPEN, SLIP, STICK, UNRESOLVED)
-from exu_aniso.law.return_maps import MAPS, return_map, run_time, sliding_force, sticks, trial_norm
+from exu_aniso.law.return_maps import return_map, run_time, sliding_force, sticks, trial_norm
 from exu_aniso.fields.nets import physical, physical_pair, tangent_frame
 
 LawParams = namedtuple("LawParams", ("eps_N", "d_N", "d_T", "method"))
@@ -94,7 +88,7 @@ def anchor_contravariant(sp, xn1, xn2, Tn1, Tn2):
     not in every stencil point of the tangent. On a chart with a constant metric the physical
     components themselves (transport changes neither, and the frame has the same components in
     (rho_1, rho_2) everywhere): surface_terms takes them as they are."""
-    if (Tn1 == 0.0 and Tn2 == 0.0) or _core.constant_metric(sp):
+    if (Tn1 == 0.0 and Tn2 == 0.0) or core.constant_metric(sp):
         return Tn1, Tn2
     rn, rn1, rn2, _, _, _ = local_chart(sp, xn1, xn2)
     b1, b2, _ = tangent_frame(rn1, rn2)
@@ -118,13 +112,13 @@ def _surface_terms_at(sp, netB, netF, xi1, xi2, xn1, xn2, tn1, tn2, r, r1, r2, a
     d1, d2 = xi1 - xn1, xi2 - xn2
     # T_n: contravariant at xi_n -> transport -> physical components at xi (a constant metric: the
     # physical components unchanged, anchor_contravariant)
-    Tt1, Tt2 = (tn1, tn2) if _core.constant_metric(sp) else (0.0, 0.0)
-    if (tn1 != 0.0 or tn2 != 0.0) and not _core.constant_metric(sp):
-        t1, t2 = _core.transport(sp, xn1, xn2, d1, d2, tn1, tn2)
+    Tt1, Tt2 = (tn1, tn2) if core.constant_metric(sp) else (0.0, 0.0)
+    if (tn1 != 0.0 or tn2 != 0.0) and not core.constant_metric(sp):
+        t1, t2 = core.transport(sp, xn1, xn2, d1, d2, tn1, tn2)
         w = add(scale(t1, r1), scale(t2, r2))
         Tt1, Tt2 = dot(w, a1), dot(w, a2)
     # slip: d xi at the midpoint, carried to C
-    s1, s2 = _core.transport(sp, xn1 + 0.5 * d1, xn2 + 0.5 * d2, 0.5 * d1, 0.5 * d2, d1, d2)
+    s1, s2 = core.transport(sp, xn1 + 0.5 * d1, xn2 + 0.5 * d2, 0.5 * d1, 0.5 * d2, d1, d2)
     w = add(scale(s1, r1), scale(s2, r2))
     S1, S2 = dot(w, a1), dot(w, a2)
     (c11, c12, c22), (f11, f12, f22) = physical_pair(netB, netF, xi1, xi2, r, r1, r2, a1, a2)
@@ -402,8 +396,8 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, dT):
     law (NO_STATE otherwise)."""
     active = h[H_ACTIVE] > 0.5
     hint1, hint2 = (h[H_XI1], h[H_XI2]) if active else (math.nan, math.nan)
-    y = _core.to_local(sp, (x[0], x[1], x[2]))
-    xi1, xi2, xi3, pstat, chart = _core.project_local(sp, y, hint1, hint2)
+    y = core.to_local(sp, (x[0], x[1], x[2]))
+    xi1, xi2, xi3, pstat, chart = core.project_local(sp, y, hint1, hint2)
     if not xi3 < 0.0:                      # open (a gap that is NaN or undefined counts below)
         if xi3 >= 0.0:
             # the accumulated columns kept, the rest reset; a sticking history is released: its
@@ -433,8 +427,8 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, dT):
     status = STICK
     if active:
         p1, p2 = dot(X1, vl) * dt, dot(X2, vl) * dt
-        d1, e1 = _core.unwrap(sp.period1, xi1 - h[H_XI1], p1)
-        d2, e2 = _core.unwrap(sp.period2, xi2 - h[H_XI2], p2)
+        d1, e1 = core.unwrap(sp.period1, xi1 - h[H_XI1], p1)
+        d2, e2 = core.unwrap(sp.period2, xi2 - h[H_XI2], p2)
         if (sp.period1 > 0.0 and e1 > 0.25 * sp.period1) or (sp.period2 > 0.0 and e2 > 0.25 * sp.period2):
             status = UNRESOLVED
         xn1, xn2, Tn1, Tn2 = h[H_XI1], h[H_XI2], h[H_T1], h[H_T2]
@@ -459,459 +453,13 @@ def contact_force(sp, netB, netF, law, x, v, h, dt, dT):
     dTd = law.d_T if loaded else 0.0
     fl = sub(add(scale(T1, G1), scale(T2, G2)), scale(N, n))
     fl = sub(fl, scale(dTd, sub(vl, scale(vn, n))))
-    fg = _core.to_global(sp, fl)
+    fg = core.to_global(sp, fl)
     # energy removed by the return map in the step (trapezoidal, as contact.ContactLaw)
     D = -0.5 * ((st[ST_T1] + T1) * sl1 + (st[ST_T2] + T2) * sl2)
     slipped = math.sqrt(sl1 * sl1 + sl2 * sl2) if state == SLIP else 0.0
     hn = history_row(T1, T2, xi1, xi2, 1.0, h[H_DISSIPATED] + D, h[H_SLIP] + slipped, float(status), N)
     return status, xi3, (1.0, y[0], y[1], y[2], vl[0], vl[1], vl[2], xi1, xi2, xi3, xn1, xn2, tn1, tn2,
                          1.0 if active else 0.0), (fg[0], fg[1], fg[2]), hn
-
-
-# ----------------------------------------------------------------------------------------------
-# a contact set on one Exudyn node: the node kinematics of kernel.sets.evaluate_set with this kernel
-
-CovariantLaw = namedtuple("CovariantLaw", ("surface", "adhesion", "friction", "law"))
-
-
-# The law of a set's kernel: contact_force inlined into one loop over the points, and a Jacobian call's
-# point_tangent in a second loop, in a function of its own compiled once per law (tangent a run-time
-# flag). Inlined into every loop of the set kernels instead (and with derivatives), the law was copied
-# and compiled several times per kernel: the block's first compilation 35 -> 24 s.
-@overload(sets_point_states)
-def _point_states_covariant(law, Y, H, Hn, first, count, dt, tangent, S):
-    if getattr(law, "instance_class", None) is CovariantLaw:
-        def impl(law, Y, H, Hn, first, count, dt, tangent, S):
-            W = S[S_LAW:S_LAW + 3]
-            dT = W[0, 0:2, :]
-            sp, netB, netF, lp = law.surface, law.adhesion, law.friction, law.law
-            ncontact = 0
-            unresolved = False
-            for k in range(first, first + count):
-                # by element, no view of a row (see history_row)
-                x = (Y[k, Y_X, 0], Y[k, Y_X, 1], Y[k, Y_X, 2])
-                v = (Y[k, Y_V, 0], Y[k, Y_V, 1], Y[k, Y_V, 2])
-                st, xi3, state, f, hn = contact_force(sp, netB, netF, lp, x, v, row_at(H, k), dt, dT)
-                Y[k, Y_F, 0], Y[k, Y_F, 1], Y[k, Y_F, 2] = f[0], f[1], f[2]
-                Y[k, Y_INFO, 2] = st
-                Y[k, Y_GAP, 0] = xi3
-                ncontact += st > 0
-                unresolved |= st == UNRESOLVED
-                if tangent:                # the state for the second loop, in the rows of df/dx and df/dv;
-                    _put_state(Y, k, state)    # a Jacobian call keeps the last residual's candidate
-                else:
-                    put_row(Hn, k, hn)
-            if tangent:
-                for k in range(first, first + count):
-                    state = _get_state(Y, k)
-                    point_tangent(sp, netB, netF, lp, state, Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3], W)
-            return ncontact, unresolved
-        return impl
-    return None
-
-
-# ----------------------------------------------------------------------------------------------
-# A set's kernel calls its law through an address: the set kernels (kernel.sets, below) are compiled
-# once per node kind and the law (law_entry) once per surface, nets and return map, and neither holds
-# the other's code. Compiled into one unit per (law, node kind), every new pairing compiled the set
-# kernel again (docs/guide/decisions.md).
-
-LawCall = namedtuple("LawCall", ("entry", "law"))
-LawCall.__doc__ = """What a set's kernel gets for its law, two int64 addresses: ``entry``, the machine code of
-law_entry compiled for the law bundle's type; ``law``, the bundle stored (kernel.stored.StoredArguments)."""
-
-_F3, _F2 = types.float64[:, :, ::1], types.float64[:, ::1]
-# law_entry's arguments after the bundle's pointer: Y, H, Hn, first, count, dt, tangent, S (kernel.sets.point_states)
-LAW_ARGS = (_F3, _F2, _F2, types.int64, types.int64, types.float64, types.boolean, _F3)
-
-
-@njit(cache=True)
-def law_entry(law, Y, H, Hn, first, count, dt, tangent, S):
-    """kernel.sets.point_states of the law bundle at the pointer ``law`` (a CPointer of its type): the
-    number of points in contact, or -1 minus that number when a point's step is unresolved."""
-    ncontact, unresolved = sets_point_states(_deref(law), Y, H, Hn, first, count, dt, tangent, S)
-    return -1 - ncontact if unresolved else ncontact
-
-
-@intrinsic
-def _call_law(typingctx, entry, law, Y, H, Hn, first, count, dt, tangent, S):
-    """law_entry at the address ``entry`` with the bundle stored at ``law`` and the rest of its
-    arguments (LAW_ARGS: C-contiguous arrays): its result. An exception it raises propagates to the
-    caller with its message."""
-    for name, got, want in (("Y", Y, _F3), ("H", H, _F2), ("Hn", Hn, _F2), ("S", S, _F3)):
-        if not (isinstance(got, types.Array) and got.ndim == want.ndim and got.dtype == want.dtype
-                and got.layout == "C"):
-            raise TypeError(f"the law's call: {name} is {got}, law_entry takes {want}")
-    argtys = (types.voidptr,) + LAW_ARGS
-
-    def codegen(context, builder, sig, llargs):
-        fnty = context.call_conv.get_function_type(types.int64, argtys)
-        fn = builder.inttoptr(llargs[0], fnty.as_pointer())
-        args = [builder.inttoptr(llargs[1], context.get_value_type(types.voidptr))]
-        args += [context.cast(builder, v, t, want) for v, t, want in zip(llargs[2:], sig.args[2:], LAW_ARGS)]
-        status, result = context.call_conv.call_function(builder, fn, types.int64, argtys, args)
-        with builder.if_then(status.is_error, likely=False):
-            context.call_conv.return_status_propagate(builder, status)
-        return result
-    return types.int64(entry, law, Y, H, Hn, first, count, dt, tangent, S), codegen
-
-
-@overload(sets_point_states)
-def _point_states_called(law, Y, H, Hn, first, count, dt, tangent, S):
-    if getattr(law, "instance_class", None) is LawCall:
-        def impl(law, Y, H, Hn, first, count, dt, tangent, S):
-            r = _call_law(law.entry, law.law, Y, H, Hn, first, count, dt, tangent, S)
-            return (-1 - r, True) if r < 0 else (r, False)
-        return impl
-    return None
-
-
-@njit(cache=True)
-def call_law(law, Y, H, Hn, first, count, dt, tangent, S):
-    """kernel.sets.point_states through a LawCall ``law``, for a Python caller (ContactLaw.evaluate):
-    compiled once, whatever the law; returns (points in contact, any unresolved)."""
-    return sets_point_states(law, Y, H, Hn, first, count, dt, tangent, S)
-
-
-def law_call(bundle):
-    """The law bundle (_law_bundle) stored, and law_entry compiled for its type (or loaded from the
-    cache; announced when it compiles): (LawCall, the stored bundle, which must outlive every call)."""
-    stored = StoredArguments(bundle)
-    address = _compiled_address(law_entry, (types.CPointer(stored.type),) + LAW_ARGS, (bundle,))
-    return LawCall(address, stored.address), stored
-
-
-@njit(cache=True, inline="always")
-def _put_state(Y, k, state):
-    """contact_force's state of point k (15 numbers) into the 5 rows from Y[k, Y_KX] (df/dx and df/dv's
-    rows, written after it is read)."""
-    for i in range(15):
-        Y[k, Y_KX + i // 3, i % 3] = state[i]
-
-
-@njit(cache=True, inline="always")
-def _get_state(Y, k):
-    """The state _put_state wrote."""
-    r = Y[k]
-    a, b, c, d, e = r[Y_KX], r[Y_KX + 1], r[Y_KX + 2], r[Y_KX + 3], r[Y_KX + 4]
-    return (a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], e[0], e[1], e[2])
-
-
-@njit(cache=True, inline="always")
-def _remember(mode, q, q_t, X):
-    """Mode 0 (a residual) keeps its state in X (2, n): the candidate in P[2] belongs to it."""
-    if mode == 0:
-        for i in range(q.shape[0]):
-            X[0, i] = q[i]
-            X[1, i] = q_t[i]
-
-
-@njit(cache=True)
-def evaluate_covariant(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, kind):
-    """kernel.sets.evaluate_set (modes 0 force, 1 Jacobian, 2 history candidate) with the covariant
-    kernel at every point. H (K, 9): the converged history (the Exudyn glue passes a view of
-    Exudyn's StartOfStep data coordinates: nothing is copied per step); P (3, K, 9): body-local
-    points, a history buffer for callers without one (CovariantSet.H), the candidate; Y (K, Y_ROWS, 3):
-    the point buffer (kernel.sets.point_states); X (2, n): the state (q, q_t) of the last mode-0
-    call, whose candidate P[2] holds."""
-    nq = q.shape[0]
-    _remember(mode, q, q_t, X)
-    return evaluate_set(kind, q, q_t, ref, P[0, :, :3], H, law, mode, fq, fv, dt, S[S_VEC, 6, :nq],
-                        S[S_J, :nq, :nq], P[2], S, Y)
-
-
-@njit(cache=True)
-def evaluate_covariant_group(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, kind, Q, Jb):
-    """kernel.sets.evaluate_group (the same points on nb rigid nodes) with the covariant kernel; P (3,
-    nb * Kb, 9) with the body-local points in the first Kb rows of P[0]; Jb (nb, nq, nq)."""
-    _remember(mode, q, q_t, X)
-    Kb = P.shape[1] // Jb.shape[0]
-    return evaluate_group(kind, q, q_t, ref, P[0, :Kb, :3], H, law, mode, fq, fv, dt, Q, Jb, P[2], S, Y)
-
-
-@njit(cache=True)
-def evaluate_covariant_linear(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, idx, Sm, c, Q, J):
-    """kernel.sets.evaluate_linear (a linear slave: mass points, ANCF cables) with the covariant kernel."""
-    _remember(mode, q, q_t, X)
-    return evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2], S, Y)
-
-
-@njit(cache=True)
-def evaluate_covariant_pair(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, T, kind, mkind, idx, Sm, c, cols, Q,
-                            J):
-    """kernel.sets.evaluate_pair (a moving master: the surface on a 3D rigid node) with the covariant kernel;
-    P, Y, X as evaluate_covariant."""
-    _remember(mode, q, q_t, X)
-    return evaluate_pair(kind, mkind, q, q_t, ref, P[0, :, :3], idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, P[2],
-                         S, T, cols, Y)
-
-
-def law_params(contact_law):
-    """The law parameters of a ContactLaw for the kernel (LawParams: penalty, dashpots, the return map
-    as its type, law.return_maps.MAPS)."""
-    return LawParams(float(contact_law.eps_N), float(contact_law.d_N), float(contact_law.d_T),
-                     MAPS[contact_law.return_map])
-
-
-def _law_bundle(contact_law):
-    """The law of a ContactLaw packed for the compiled kernels (surface, nets, law parameters; named tuples)."""
-    nB, nF = contact_law._nets
-    return CovariantLaw(contact_law.surface.params, nB, nF, law_params(contact_law))
-
-
-class CovariantSet:
-    """A contact set on the covariant kernel packed for the compiled call: the law (``bundle``: surface,
-    nets, law parameters as named tuples; ``law``: the LawCall the set's kernel gets), points, history
-    and outputs. Views: H (converged history, written by the caller), Q, J, Hn."""
-
-    def __init__(self, contact_law, node_kind, ref, points):
-        self._take_law(contact_law)
-        self.linear = node_kind if isinstance(node_kind, LinearMap) else None
-        if self.linear is not None:     # node_kind: a LinearMap (mass points, cables); points unused
-            self.kind, nq = LinearSlave(), self.linear.n
-            b = np.zeros((self.linear.idx.shape[0], 3))
-        else:
-            self.kind = NODE_KINDS[node_kind]
-            nq = node_coordinates_of(self.kind)
-            b = np.asarray(points, dtype=float)
-        self.ref = np.asarray(ref, dtype=float)
-        self._buffers(b, nq)
-        if self.linear is not None:
-            self.Q, self.J = np.zeros(nq), np.zeros((nq, nq))
-        else:
-            self.Q = self.S[S_VEC, 6, :nq]
-            self.J = self.S[S_J, :nq, :nq]
-
-        if self.linear is not None:
-            lm = self.linear
-            self._fn, self.tail = evaluate_covariant_linear, (self.ref, self.law, self.P, self.S, self.Y, self.X,
-                                                                lm.idx, lm.S, lm.c, self.Q, self.J)
-        else:
-            self._fn, self.tail = evaluate_covariant, (self.ref, self.law, self.P, self.S, self.Y, self.X, self.kind)
-        self._entry = None
-
-    def _take_law(self, contact_law):
-        """The law bundle (``bundle``), its call for the set's kernel (``law``, law_call) and the stored
-        bundle the call reads, held as long as the set."""
-        self.bundle = _law_bundle(contact_law)
-        self.law, self._stored_law = law_call(self.bundle)
-
-    def _buffers(self, b, n):
-        """The packed arrays of K points b (K, 3) over n coordinates: P (3, K, 9) (points, converged
-        history H, candidate Hn), the scratch S, the point buffer Y (K, Y_ROWS, 3) and X (2, n),
-        the state (q, q_t) of the last residual (mode 0), whose candidate Hn holds."""
-        from exu_aniso.kernel.sets import SCRATCH_SLOTS
-        self.P = np.zeros((3, b.shape[0], 9))
-        self.P[0, :, :3] = b
-        self.S = np.zeros((SCRATCH_SLOTS, 9, 9))
-        self.H, self.Hn = self.P[1], self.P[2]
-        self.Y = np.zeros((b.shape[0], Y_ROWS, 3))
-        self.X = np.full((2, n), np.nan)
-
-    def evaluate(self, mode, q, q_t, fq, fv, dt):
-        """One compiled call (mode: see evaluate_covariant); q, q_t: the set's coordinates. Returns
-        the number of points in contact, or -1 when a point's motion in the step is unresolved."""
-        q = np.ascontiguousarray(q, dtype=np.float64)
-        q_t = np.ascontiguousarray(q_t, dtype=np.float64)
-        return self.entry()(int(mode), q, q_t, float(fq), float(fv), float(dt), self.H, *self.tail)
-
-    def entry(self):
-        """The compiled function for this set's argument types (``_entry_point``): callers that
-        pass C-contiguous float64 q, q_t, an int mode, float fq, fv, dt and a C-contiguous (K, 9)
-        float64 history H may call ``entry()(mode, q, q_t, fq, fv, dt, H, *tail)`` directly (the
-        Exudyn glue does, with H a view of Exudyn's StartOfStep data coordinates)."""
-        if self._entry is None:
-            z = np.zeros(self.X.shape[1])
-            self._entry = _entry_point(self._fn, (0, z, z, 0.0, 0.0, 0.0, self.H) + self.tail)
-        return self._entry
-
-
-class CovariantPairSet(CovariantSet):
-    """A contact set with a moving master (the surface carried by a 3D rigid node) packed for
-    kernel.sets.evaluate_pair: the slave (node_kind: a rigid kind's name, or a LinearMap for mass
-    points and cables, with the slave's reference coordinates ref) and the master (master_kind
-    "RigidBodyRotVecLG" or "RigidBodyEP", reference coordinates master_ref); coordinates are the
-    slave's then the master's. The same interface as CovariantSet: H, Q (n,), J (n, n), Hn, X, tail,
-    evaluate, entry."""
-
-    def __init__(self, contact_law, node_kind, ref, points, master_kind, master_ref):
-        from exu_aniso.kernel.sets import PAIR_SLOTS
-        if master_kind not in ("RigidBodyRotVecLG", "RigidBodyEP"):
-            raise ValueError(f"a moving master is a 3D rigid node (RigidBodyRotVecLG or RigidBodyEP); got {master_kind!r}")
-        self._take_law(contact_law)
-        self.mkind = NODE_KINDS[master_kind]
-        nm = node_coordinates_of(self.mkind)
-        self.linear = node_kind if isinstance(node_kind, LinearMap) else None
-        if self.linear is not None:
-            lm = self.linear
-            self.kind, ns, m = LinearSlave(), lm.n, lm.idx.shape[1]
-            b = np.zeros((lm.idx.shape[0], 3))
-            idx, Sm, c = lm.idx, lm.S, lm.c
-        else:
-            self.kind = NODE_KINDS[node_kind]
-            ns = m = node_coordinates_of(self.kind)
-            b = np.asarray(points, dtype=float)
-            idx, Sm, c = np.zeros((b.shape[0], 0), dtype=np.int64), np.zeros((b.shape[0], 3, 0)), np.zeros((b.shape[0], 3))
-        n = ns + nm
-        self.ref = np.ascontiguousarray(np.concatenate([np.asarray(ref, dtype=float), np.asarray(master_ref, dtype=float)]))
-        if self.ref.shape != (n,):
-            raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {ns} slave and {nm} master coordinates")
-        self._buffers(b, n)
-        w = max(9, m + nm)
-        self.T = np.zeros((PAIR_SLOTS, w, w))
-        self.cols = np.zeros(m + nm, dtype=np.int64)
-        self.Q, self.J = np.zeros(n), np.zeros((n, n))
-        self._fn = evaluate_covariant_pair
-        self.tail = (self.ref, self.law, self.P, self.S, self.Y, self.X, self.T, self.kind, self.mkind, idx, Sm, c,
-                     self.cols, self.Q, self.J)
-        self._entry = None
-
-
-class CovariantGroupSet(CovariantSet):
-    """A group: the same body-local points on nb rigid nodes of one kind (node_kind), packed for
-    kernel.sets.evaluate_group; ref: the nodes' reference coordinates one after the other. The same
-    interface as CovariantSet (H, Hn: nb * K rows, body by body; Q (nb * nq,)), but the Jacobian is
-    Jb (nb, nq, nq), its diagonal blocks, and J is a scipy CSR matrix over Jb's memory (what the
-    Exudyn glue returns: Exudyn adds its nb * nq^2 entries, not (nb nq)^2)."""
-
-    def __init__(self, contact_law, node_kind, ref, points, nb):
-        import scipy.sparse as sp
-
-        self._take_law(contact_law)
-        self.linear = None
-        self.kind = NODE_KINDS[node_kind]
-        nq = node_coordinates_of(self.kind)
-        n = nb * nq
-        b = np.asarray(points, dtype=float)
-        self.ref = np.ascontiguousarray(ref, dtype=float)
-        if self.ref.shape != (n,):
-            raise ValueError(f"reference coordinates: {self.ref.shape[0]} for {nb} nodes of {nq} coordinates")
-        self._buffers(np.tile(b, (nb, 1)), n)
-        self.Q = np.zeros(n)
-        self.Jb = np.zeros((nb, nq, nq))
-        rows = np.arange(n)
-        indices = (rows // nq * nq)[:, None] + np.arange(nq)[None, :]       # row i: its body's nq columns
-        self.J = sp.csr_matrix((self.Jb.reshape(-1), indices.reshape(-1), np.arange(0, n * nq + 1, nq)),
-                               shape=(n, n), copy=False)
-        if not np.shares_memory(self.J.data, self.Jb):                       # scipy copied: J would go stale
-            raise RuntimeError("scipy.sparse.csr_matrix copied the Jacobian blocks; the group needs a view")
-        self._fn, self.tail = evaluate_covariant_group, (self.ref, self.law, self.P, self.S, self.Y, self.X, self.kind, self.Q,
-                                                         self.Jb)
-        self._entry = None
-
-
-# What a first compilation costs on this 2-core machine [s] (kernel_kind): a law's, a set kernel's on a
-# fixed master and on a moving one: the ranges over the scenes' kernels in
-# docs/results/compile_times/compile_times.json (python studies/compile_times.py), rounded outward;
-# tests/test_compile_cache.py holds them to that file
-COMPILE_SECONDS = {"law": (6, 10), "fixed": (0, 9), "moving": (22, 30)}
-
-
-def kernels_cached(entry=None, sig=None):
-    """True if numba's on-disk cache (exu_aniso.util.numba_cache) holds compiled code of the kernel
-    ``entry`` (a numba dispatcher; default: law_entry, the laws) for the argument types ``sig`` (a
-    tuple of numba types; None: for any types), so that no compilation is needed; False if the
-    first call will compile. Reads numba's cache index, a private API: when that fails, it answers
-    True (say nothing rather than something wrong)."""
-    try:
-        cache = (entry or law_entry)._cache
-        index = cache._cache_file._load_index()
-        if sig is None:
-            return bool(index)
-        from numba.core.registry import cpu_target
-        return cache._index_key(sig, cpu_target.target_context.codegen()) in index
-    except Exception:   # noqa: BLE001 - numba internals changed: no announcement
-        return True
-
-
-def kernel_name(args, entry=None):
-    """What a kernel's arguments specialise it for, in words: law_entry's law bundle (its surface, nets
-    and return map), or a set kernel's node kinds (``entry``: the set kernel, to name a group)."""
-    law = next((a for a in args if isinstance(a, CovariantLaw)), None)
-    if law is not None:
-        return (f"the contact law for {type(law.surface).__name__.replace('Params', '')}, "
-                f"{type(law.adhesion).__name__} adhesion, {type(law.friction).__name__} friction, "
-                f"{type(law.law.method).__name__.lower()} map")
-    kinds = [type(a).__name__ for a in args if type(a).__module__ == NODE_KINDS_MODULE]
-    if not kinds or kinds == ["LinearSlave"]:      # mass points, cables, a finite-element body's nodes
-        nodes = "a linear slave"
-    elif entry is evaluate_covariant_group:
-        nodes = f"a group of {kinds[0]} nodes"
-    elif len(kinds) == 1:
-        nodes = f"{_a(kinds[0])} node"
-    else:
-        nodes = f"{_a(kinds[0].replace('LinearSlave', 'linear'))} slave on {_a(kinds[-1])} master"
-    return f"the contact set kernel for {nodes}"
-
-
-def _a(word):
-    return ("an " if word[0].lower() in "aeiou" else "a ") + word
-
-
-NODE_KINDS_MODULE = LinearSlave.__module__
-
-
-def kernel_kind(entry):
-    """What the kernel ``entry`` is, as COMPILE_SECONDS names it: "law" (law_entry), "moving" (a set
-    on a moving master) or "fixed" (a set on a fixed master)."""
-    return "law" if entry is law_entry else "moving" if entry is evaluate_covariant_pair else "fixed"
-
-
-def announce_compile(stream=None, entry=None, sig=None, args=None):
-    """Say, before it happens, that a kernel is being compiled (once per kernel and process), what for
-    and how long it takes here (COMPILE_SECONDS); nothing when the cache holds it (kernels_cached).
-    True when it announced (the compilation follows)."""
-    key = (entry, sig)
-    if key in compiled_here or kernels_cached(entry, sig):
-        return False
-    compiled_here[key] = [kernel_name(args, entry) if args is not None else "a contact kernel", None]
-    where = getattr(getattr(entry or evaluate_covariant, "_cache", None), "_cache_path", "numba's cache directory")
-    low, high = COMPILE_SECONDS[kernel_kind(entry)]
-    print(f"exu_aniso: compiling {compiled_here[key][0]} with numba (about {low}-{high} s on a 2-core machine; "
-          f"once per machine: later runs load it from the cache in {where})", file=stream or sys.stderr, flush=True)
-    return True
-
-
-# the set kernels compiled (and announced) in this process: (entry, signature) -> [what for (kernel_name),
-# the compilation's wall time [s]]
-compiled_here = {}
-
-
-def _compile(fn, sig, args):
-    """Compile the numba dispatcher fn for the argument types sig, or load it from the cache: announced
-    (announce_compile) and timed (compiled_here) when it compiles."""
-    from numba.core.errors import NumbaIRAssumptionWarning
-    announced = sig not in fn.overloads and announce_compile(entry=fn, sig=sig, args=args)
-    start = time.perf_counter()
-    with warnings.catch_warnings():
-        # numba's internal SSA check complains about variables of branches it pruned in the force
-        # loop's inlined law (tangent a constant False there); the code is right, the notice is noise
-        warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
-        fn.compile(sig)
-    if announced:
-        compiled_here[(fn, sig)][1] = time.perf_counter() - start
-
-
-def _compiled_address(fn, sig, args):
-    """The machine address of fn compiled for sig (_compile; args: values of those types, to name it)."""
-    _compile(fn, sig, args)
-    return machine_address(fn, sig)[0]
-
-
-def _entry_point(fn, args):
-    """The compiled function of the numba dispatcher fn for the types of args, called directly.
-
-    numba's type dispatch of every call costs ~2 us here (measured: 2 us of dispatch against 0.4 us of
-    the compiled call's entry); the types of a set's arguments never change (the caller passes
-    C-contiguous float64 arrays, floats and ints), so the dispatch is done once. Falls back to the
-    dispatcher if numba's API for it is not there."""
-    from numba import typeof
-    try:
-        sig = tuple(typeof(a) for a in args)
-        _compile(fn, sig, args)
-        return fn.overloads[sig].entry_point
-    except Exception:               # noqa: BLE001 - numba internals changed: dispatch per call
-        return fn
 
 
 _PLAIN = None
@@ -928,10 +476,10 @@ def plain_python():
         import sys
 
         from exu_aniso.fields import nets
-        from exu_aniso.geometry._base import _CORE_PYTHON, _plain_python
-        nets_python = _plain_python(nets, own_only=True)
-        _PLAIN = _plain_python(sys.modules[__name__], own_only=True,
-                               overrides={"_core": _CORE_PYTHON, "local_chart": _CORE_PYTHON.local_chart,
+        from exu_aniso.geometry.base import CORE_PYTHON, plain_python_of
+        nets_python = plain_python_of(nets, own_only=True)
+        _PLAIN = plain_python_of(sys.modules[__name__], own_only=True,
+                               overrides={"core": CORE_PYTHON, "local_chart": CORE_PYTHON.local_chart,
                                           "physical": nets_python.physical,
                                           "physical_pair": nets_python.physical_both,
                                           "tangent_frame": nets_python.tangent_frame})

@@ -20,11 +20,11 @@ Jacobian as its diagonal blocks (many parts on one surface).
 A moving master (``evaluate_pair``): the surface carried by a 3D rigid node (``RotationVector()`` or
 ``EulerParameters()``), any slave of the two functions above (a linear one as ``LinearSlave()``);
 the law at the slave point relative to the master, the reaction on the master, the Jacobian over
-both nodes' coordinates (``tests/test_moving_master_compiled.py``). A force call (mode 0, and the history candidate,
-mode 2) of a rigid set or a pair takes a lean path of its own (``_set_forces``, ``_pair_forces``):
+both nodes' coordinates (``tests/test_moving_master_compiled.py``). A force call (FORCE, and the history candidate,
+CANDIDATE) of a rigid set or a pair takes a lean path of its own (``_set_forces``, ``_pair_forces``):
 the points' kinematics into a buffer Y, the point law without its tangent at all of them in one
 call (``point_states``), the generalized force summed as force and moment per body; the tangent
-path (mode 1) is the rest of each function.
+path (JACOBIAN) is the rest of each function.
 This module needs no Exudyn.
 """
 from __future__ import annotations
@@ -40,21 +40,26 @@ from exu_aniso.kernel.nodes import (generalized_force, master_derivatives, maste
                                     slave_is_linear, slave_point, slave_points_xv)
 from exu_aniso.law.history import H_DISSIPATED, H_STATUS, N_HISTORY, UNRESOLVED
 
+# What a set kernel's call computes (its ``mode``): FORCE the generalized force Q and the history
+# candidate Hn, JACOBIAN the Jacobian J = -(fq dQ/dq + fv dQ/dq_t), CANDIDATE the history candidate
+# alone (what a commit needs when the last residual was not at the converged state)
+FORCE, JACOBIAN, CANDIDATE = 0, 1, 2
+
 # The set kernels' scratch S (SCRATCH_SLOTS, 9, 9), one 9 x 9 slot per named piece: slots 0-8 belong to
 # the point law (point_states: S_LAW), the others to the set kernels, which take these views of them
 SCRATCH_SLOTS = 19
 S_LAW = 0          # slots 0-8: the point law's
 S_A = 9            # the slave's rotation A [:3, :3]
-S_G = 10           # the slave's G [:3, :4]; Euler parameters, mode 1: G(e_t) [3:6, :4]
+S_G = 10           # the slave's G [:3, :4]; Euler parameters, JACOBIAN: G(e_t) [3:6, :4]
 S_JP = 11          # a point's Jacobian Jp [:3, :nq]
 S_KJ = 12          # _add_congruent's product M R [:3, :nq]
-S_DA = 14          # Euler parameters, mode 1: dA/de_m [3:7, :9]
-S_KQ = 15          # evaluate_set, mode 1: sum Jp^T Kx Jp [:nq, :nq]
+S_DA = 14          # Euler parameters, JACOBIAN: dA/de_m [3:7, :9]
+S_KQ = 15          # evaluate_set, JACOBIAN: sum Jp^T Kx Jp [:nq, :nq]
 S_PAIR_Q = 15      # the pair kernels: the slave's q_total [0], the master's q_total [1], local omega [2], omega [3]
-S_DQ = 16          # evaluate_set, mode 1: sum Jp^T Dv Jp [:nq, :nq]
+S_DQ = 16          # evaluate_set, JACOBIAN: sum Jp^T Dv Jp [:nq, :nq]
 S_MASTER = 16      # the pair kernels: the master's A [:3, :3] and G [3:6, :4]
 S_VEC = 17         # rows: q_total [0], x [1], v [2], the local angular velocity [4], the set's Q [6]
-#                    (CovariantSet.Q) and in mode 1 dx/dq [6:9] (Euler parameters)
+#                    (CovariantSet.Q) and in JACOBIAN dx/dq [6:9] (Euler parameters)
 S_J = 18           # the set's Jacobian J [:nq, :nq] (CovariantSet.J)
 
 
@@ -75,7 +80,7 @@ def point_states(law, Y, H, Hn, first, count, dt, tangent, S):
     unresolved). Resolved at compile time by the type of ``law`` (overloads in
     ``exu_aniso.kernel.point``: a LawCall, the law's compiled code called through its address, as
     the set kernels get it; a law bundle, the covariant kernel itself, as that code runs it). Give
-    ``tangent`` as a run-time bool (``mode == 1``), never a literal, or it compiles twice."""
+    ``tangent`` as a run-time bool (``mode == JACOBIAN``), never a literal, or it compiles twice."""
     raise NotImplementedError("point_states is resolved at compile time")
 
 
@@ -97,8 +102,8 @@ def _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y):
     qt = S[S_VEC, 0, :nq]
     node_frame(kind, q, q_t, ref, False, qt, A, G, A, G)
     points_xv(kind, qt, q_t, A, G, b, Y[:, Y_X], Y[:, Y_V], Y[:, Y_INFO, :2])
-    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
-    if mode == 0:
+    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == JACOBIAN, S)
+    if mode == FORCE:
         generalized_force(kind, A, G, nq, b, Y[:, Y_F], Y[:, Y_INFO, :2], Q)
     return -1 if unresolved else ncontact
 
@@ -123,16 +128,16 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     reference coordinates, b (K, 3) body-local points, H (K, 9) converged history, dt time since
     H [s] (0: no branch prediction), S: scratch of shape (SCRATCH_SLOTS, 9, 9), Y (K, Y_ROWS, 3) the
     point buffer (point_states).
-    mode 0: Q (n,) = generalized force sum Jp^T f;
-    mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), complete
+    FORCE: Q (n,) = generalized force sum Jp^T f;
+    JACOBIAN: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) (Exudyn's ODE2 Jacobian convention), complete
             for every node kind: with v = Jp q_t,
             dQ/dq = sum Jp^T Kx Jp + sum f . dJp/dq + sum Jp^T Dv (dJp/dq q_t), dQ/dq_t = sum Jp^T Dv Jp
             (lever arms and point velocities turning with the body; see exudyn_adapter.slaves.rigid
             RigidNode.point_derivatives; rotation-vector nodes by the local increment);
-    mode 2: Hn (K, 9) = history candidate (mode 0 writes it too: the post-Newton commit takes it
+    CANDIDATE: Hn (K, 9) = history candidate (FORCE writes it too: the post-Newton commit takes it
             from the last residual, evaluated at the converged state). Returns the number of points
             in contact, or -1 when a point's motion in the step is unresolved (status 3)."""
-    if mode != 1:
+    if mode != JACOBIAN:
         return _set_forces(kind, q, q_t, ref, b, H, law, mode, dt, Q, Hn, S, Y)
     nq = q.shape[0]
     K = b.shape[0]
@@ -141,13 +146,13 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
     Kq, Dq = S[S_KQ, :nq, :nq], S[S_DQ, :nq, :nq]
     qt, x, v, wl = S[S_VEC, 0, :nq], S[S_VEC, 1, :3], S[S_VEC, 2, :3], S[S_VEC, 4, :3]
     KJ = S[S_KJ, :3, :nq]             # scratch of _add_congruent (3 x nq)
-    tangent = mode == 1
+    tangent = mode == JACOBIAN
     if tangent:
         for i in range(nq):
             for j in range(nq):
                 Kq[i, j] = 0.0
                 Dq[i, j] = 0.0
-    # EP derivatives (mode 1): dA/de_m and G(e_t)
+    # EP derivatives (JACOBIAN): dA/de_m and G(e_t)
     dA, Gt = S[S_DA, 3:7, :9], S[S_G, 3:6, :4]
     node_frame(kind, q, q_t, ref, tangent, qt, A, G, dA, Gt)
     # dx/dq: Jp except for Euler parameters (see exudyn_adapter.contact_set.PointTangent)
@@ -182,7 +187,7 @@ def evaluate_set(kind, q, q_t, ref, b, H, law, mode, fq, fv, dt, Q, J, Hn, S, Y)
                 for a in range(nq):
                     Kq[a, c] += Jp[0, a] * e0 + Jp[1, a] * e1 + Jp[2, a] * e2
         node_geometric(kind, A, G, dA, Jp, f, bx, by, bz, Kq)
-    if mode == 1:
+    if mode == JACOBIAN:
         for i in range(nq):
             for j in range(nq):
                 J[i, j] = -(fq * Kq[i, j] + fv * Dq[i, j])
@@ -230,16 +235,16 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
     element at the point). q, q_t, ref: the set's coordinates; H (K, 9) converged history; dt time
     since H; S scratch (SCRATCH_SLOTS, 9, 9), slots 0-8 belong to the point law; Y (K, Y_ROWS, 3)
     the point buffer (point_states).
-    mode 0: Q (n,) = sum S_k^T f_k; mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) with
+    FORCE: Q (n,) = sum S_k^T f_k; JACOBIAN: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) with
     dQ/dq = sum S^T Kx S and dQ/dq_t = sum S^T Dv S (Jp = S is constant: no geometric terms);
-    mode 2: Hn (K, 9) = history candidate (mode 0 too). Returns the number of points in contact, or
+    CANDIDATE: Hn (K, 9) = history candidate (FORCE too). Returns the number of points in contact, or
     -1 when a point's motion in the step is unresolved."""
     K, m = idx.shape[0], idx.shape[1]
     n = q.shape[0]
-    if mode == 0:
+    if mode == FORCE:
         for i in range(n):
             Q[i] = 0.0
-    elif mode == 1:
+    elif mode == JACOBIAN:
         for i in range(n):
             for j in range(n):
                 J[i, j] = 0.0
@@ -251,14 +256,14 @@ def evaluate_linear(q, q_t, ref, idx, Sm, c, H, law, mode, fq, fv, dt, Q, J, Hn,
                 xi += Sm[k, i, a] * (ref[g] + q[g])
                 vi += Sm[k, i, a] * q_t[g]
             Y[k, Y_X, i], Y[k, Y_V, i] = xi, vi
-    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
+    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == JACOBIAN, S)
     for k in range(K):
         st = Y[k, Y_INFO, 2]
         f, Kx, Dv = Y[k, Y_F], Y[k, Y_KX:Y_KX + 3], Y[k, Y_DV:Y_DV + 3]
-        if mode == 0:
+        if mode == FORCE:
             for a in range(m):
                 Q[idx[k, a]] += Sm[k, 0, a] * f[0] + Sm[k, 1, a] * f[1] + Sm[k, 2, a] * f[2]
-        elif mode == 1 and st > 0:
+        elif mode == JACOBIAN and st > 0:
             # J[idx_a, idx_b] -= S_a^T (fq Kx + fv Dv) S_b
             for a in range(m):
                 for b in range(m):
@@ -369,8 +374,8 @@ def _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, H
         for j in range(3):
             Y[k, Y_X, j] = Am[0, j] * d0 + Am[1, j] * d1 + Am[2, j] * d2
             Y[k, Y_V, j] = Am[0, j] * e0 + Am[1, j] * e1 + Am[2, j] * e2
-    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == 1, S)
-    if mode == 0:
+    ncontact, unresolved = point_states(law, Y, H, Hn, 0, K, dt, mode == JACOBIAN, S)
+    if mode == FORCE:
         for i in range(n):
             Q[i] = 0.0
         FS0 = FS1 = FS2 = 0.0                            # on the slave (the master gets -F)
@@ -414,8 +419,8 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     velocity w, velocity vp; d = x - p; the law at x_rel = A^T d, v_rel = A^T (v - vp - w x d) (master
     frame) gives f; F = A f. Q_slave = Jp^T F; the master gets the reaction at its material point
     b = x_rel: Q_master = -Jm^T F with Jm = [I, -A [b]x G], i.e. -F and -G^T (b x A^T F).
-    mode 0: Q (n,) (and Hn, as mode 2); mode 2: Hn (K, 9) history candidate;
-    mode 1: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) over all coordinates, consistent: with L (n, 3) the
+    FORCE: Q (n,) (and Hn, as CANDIDATE); CANDIDATE: Hn (K, 9) history candidate;
+    JACOBIAN: J (n, n) = -(fq dQ/dq + fv dQ/dq_t) over all coordinates, consistent: with L (n, 3) the
     map Q = sum_k L_k f_k and X, V, Vt (3, n) the derivatives of x_rel by q and of v_rel by q and q_t
     (through the slave's point, the master's position, rotation and angular velocity),
         dQ/dq = sum L (Kx X + Dv V) + sum (dL/dq) f,  dQ/dq_t = sum L Dv Vt,
@@ -424,7 +429,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     A^T A. Rotation-vector coordinates (slave and master) are differentiated by the local
     increment (A -> A (I + [dtheta]x)), Euler parameters by e. Returns the number of points in
     contact, or -1 when a point's motion in the step is unresolved (as evaluate_set)."""
-    if mode != 1:
+    if mode != JACOBIAN:
         return _pair_forces(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, dt, Q, Hn, S, Y)
     n = q.shape[0]
     nm = node_coordinates(mkind)
@@ -434,7 +439,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
     linear = slave_is_linear(kind)
     m = idx.shape[1] if linear else ns
     na = m + nm
-    tangent = mode == 1
+    tangent = mode == JACOBIAN
     # the slave's views (evaluate_set's slots) and the law's outputs
     As, Gs = S[S_A, :3, :3], S[S_G, :3, :4]
     dAs, Gts = S[S_DA, 3:7, :9], S[S_G, 3:6, :4]
@@ -458,7 +463,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
         cols[a] = a
     for i in range(nm):
         cols[m + i] = ns + i
-    if mode == 1:
+    if mode == JACOBIAN:
         # a rigid slave: every point has all n columns, Kc and Dc (n, n) sum over the points; a linear
         # slave: the point's columns only, Kc and Dc per point, added into J by cols
         if linear:
@@ -599,7 +604,7 @@ def evaluate_pair(kind, mkind, q, q_t, ref, b, idx, Sm, c, H, law, mode, fq, fv,
                     J[ra, cols[bb]] -= fq * Kc[a, bb] + fv * Dc[a, bb]
                     Kc[a, bb] = 0.0
                     Dc[a, bb] = 0.0
-    if mode == 1 and not linear:
+    if mode == JACOBIAN and not linear:
         for i in range(n):
             for j in range(n):
                 J[i, j] = -(fq * Kc[i, j] + fv * Dc[i, j])

@@ -43,13 +43,6 @@ from exu_aniso.util.validation import check_instance
 
 
 # ----------------------------------------------------------------------------------------------
-# helpers shared with exu_aniso.models.screw
-
-# Newton of the scenes, the step's floor and the solver types: exu_aniso.engines.exudyn_adapter.solver_settings (one definition,
-# explained there; studies/newton_settings.py measures every choice)
-
-
-# ----------------------------------------------------------------------------------------------
 # pictures: body graphics, raytraced snapshot, solution viewer
 
 

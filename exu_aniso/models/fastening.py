@@ -24,6 +24,7 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
+from exu_aniso.law.history import H_DISSIPATED
 from exu_aniso.law import oracles
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, RunScene,
                                                      SettingsInfo, SimulationSettingsFor, Unwrap)
@@ -150,7 +151,7 @@ def FasteningTrajectory(model):
                 lateral=np.hypot(pos[:, 0], pos[:, 1]), vx=vel[:, 0], vy=vel[:, 1], vz=vel[:, 2], omega_x=w[:, 0],
                 omega_y=w[:, 1], omega_z=w[:, 2], omega_axial=np.einsum("ni,ni->n", w, axis),
                 part_velocity=part_v[:, 2],
-                dissipated_energy=sum(h[:, :, 5].sum(axis=1) for h in H.values()))
+                dissipated_energy=sum(h[:, :, H_DISSIPATED].sum(axis=1) for h in H.values()))
     bolt = energy.RigidMotion(pos, A, vel, w)
     Xt, Vt = energy.point_motion(bolt, thread_points(p))
     Xh, Vh = energy.point_motion(bolt, head_points(p))

@@ -356,10 +356,6 @@ def scene_parameters(table):
 
 
 # ----------------------------------------------------------------------------------------------
-# geometry and contact laws of the scenes
-
-
-# ----------------------------------------------------------------------------------------------
 # summaries shared by every engine (keys are a public interface: CLI summary.json)
 
 

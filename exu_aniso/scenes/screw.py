@@ -435,16 +435,16 @@ class SteadySliding:
     slip_direction: tuple
 
 
-def _helix_components(p):
+def helix_components(p):
     a = math.radians(p.helix_angle)
     return math.cos(a), math.sin(a)
 
 
-def _friction_coefficients(p):
+def friction_coefficients(p):
     return (p.mu_1, p.mu_1) if p.friction == "isotropic" else (p.mu_1, p.mu_2)
 
 
-def _adhesion_stiffnesses(p):
+def adhesion_stiffnesses(p):
     return (p.eps_1, p.eps_1) if p.adhesion == "isotropic" else (p.eps_1, p.eps_2)
 
 
@@ -459,9 +459,9 @@ def steady_sliding(p: ScrewParams) -> SteadySliding:
     if p.return_map not in CALIBRATED_MAPS:
         raise ValueError(f"return_map must be one of {CALIBRATED_MAPS} for the closed form (the seed map's steady "
                          f"state depends on the step size); got {p.return_map!r}")
-    c, s = _helix_components(p)
-    mu1, mu2 = _friction_coefficients(p)
-    eps1, eps2 = _adhesion_stiffnesses(p)
+    c, s = helix_components(p)
+    mu1, mu2 = friction_coefficients(p)
+    eps1, eps2 = adhesion_stiffnesses(p)
     N = p.eps_n * p.interference
     Fa = p.axial_load
     f1, f2 = 1.0 / mu1 ** 2, 1.0 / mu2 ** 2
@@ -491,8 +491,8 @@ def sliding_onset_angle(p: ScrewParams) -> float:
     """Driver rotation [rad] until the screw starts to slide under the rotation drive (estimate):
     elastic circumferential travel of the contact (axial direction free, stiffness
     1 / (cos^2 a / eps_1 + sin^2 a / eps_2)) plus the wind-up of the drive spring."""
-    c, s = _helix_components(p)
-    eps1, eps2 = _adhesion_stiffnesses(p)
+    c, s = helix_components(p)
+    eps1, eps2 = adhesion_stiffnesses(p)
     st = steady_sliding(p)
     k_phi = 1.0 / (c * c / eps1 + s * s / eps2)
     return st.circumferential_traction / k_phi / p.radius + st.torque / p.drive_stiffness
@@ -537,10 +537,10 @@ def sliding_growth_rate(p: ScrewParams) -> float:
     m, J = screw_inertia(p)
     R = p.radius
     Mx, kx = J[2, 2] / R ** 2, p.drive_stiffness / R ** 2
-    c, s = _helix_components(p)
+    c, s = helix_components(p)
     Q = np.array([[c, -s], [s, c]])                          # columns e1, e2 in (e_phi, e_z)
-    eps1, eps2 = _adhesion_stiffnesses(p)
-    mu1, mu2 = _friction_coefficients(p)
+    eps1, eps2 = adhesion_stiffnesses(p)
+    mu1, mu2 = friction_coefficients(p)
     C = Q @ np.diag([eps1, eps2]) @ Q.T
     A = Q @ np.diag([mu1 ** -2, mu2 ** -2]) @ Q.T
     Ci = np.linalg.inv(C)

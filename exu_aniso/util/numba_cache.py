@@ -47,7 +47,7 @@ PACKAGE = os.path.basename(_HERE)
 
 # the folder of the surface modules, each keyed on its own (every module in it but these)
 SURFACE_FOLDER = "geometry"
-SURFACE_SHARED = ("__init__.py", "_core.py", "_base.py")
+SURFACE_SHARED = ("__init__.py", "core.py", "base.py")
 
 
 def _base_dir():

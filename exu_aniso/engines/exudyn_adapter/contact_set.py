@@ -15,8 +15,8 @@ import numpy as np
 
 from exu_aniso.engines.exudyn_adapter.native_callbacks import Delegate, extension
 from exu_aniso.kernel.native import NativeBlock
-from exu_aniso.kernel.point import _entry_point
-from exu_aniso.kernel.sets import gather_coordinates, stage_candidate
+from exu_aniso.kernel.compiling import entry_point
+from exu_aniso.kernel.sets import CANDIDATE, FORCE, JACOBIAN, gather_coordinates, stage_candidate
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY, UNRESOLVED
 
 _SOS = exu.ConfigurationType.StartOfStep
@@ -29,12 +29,12 @@ class CompiledPointLaw:
     """The contact law at K points through the compiled kernel, for a slave whose kinematics the
     kernel has no node kind for (the floating frame): the set kernel of K free points (a linear
     slave over 3K coordinates, x_k = q[3k:3k+3], S = I), so that one compiled call gives the point
-    forces (mode 0: Q = f), and df/dx, df/dv as its Jacobian's diagonal blocks (mode 1 with (fq, fv)
+    forces (FORCE: Q = f), and df/dx, df/dv as its Jacobian's diagonal blocks (JACOBIAN with (fq, fv)
     = (1, 0) and (0, 1)). evaluate() answers as ContactLaw.evaluate for what the glue reads (force,
     stiffness, damping, history and its status)."""
 
     def __init__(self, law, K):
-        from exu_aniso.kernel.point import CovariantSet
+        from exu_aniso.kernel.packed_sets import CovariantSet
         from exu_aniso.kernel.sets import LinearMap
         idx = np.arange(3 * K, dtype=np.int64).reshape(K, 3)
         self.K = K
@@ -48,15 +48,15 @@ class CompiledPointLaw:
         pk.H[:] = 0.0 if history is None else np.reshape(history, (K, N_HISTORY))
         q, q_t = np.ascontiguousarray(x, dtype=float).ravel(), np.ascontiguousarray(v, dtype=float).ravel()
         dt = 0.0 if dt is None else float(dt)
-        pk.evaluate(0, q, q_t, 0.0, 0.0, dt)
+        pk.evaluate(FORCE, q, q_t, 0.0, 0.0, dt)
         force, history = pk.Q.reshape(K, 3).copy(), pk.Hn.copy()
         stiffness = damping = None
         if tangent:
-            pk.evaluate(1, q, q_t, 1.0, 0.0, dt)
+            pk.evaluate(JACOBIAN, q, q_t, 1.0, 0.0, dt)
             stiffness = -pk.J[self._blocks]
             damping = np.zeros((K, 3, 3))
             if self.damped:
-                pk.evaluate(1, q, q_t, 0.0, 1.0, dt)
+                pk.evaluate(JACOBIAN, q, q_t, 0.0, 1.0, dt)
                 damping = -pk.J[self._blocks]
         return PointStates(force, stiffness, damping, history)
 
@@ -327,7 +327,7 @@ class CompiledSet(ContactSet):
       object's coordinates are one range of the system vector (a body, a group of consecutive
       bodies), else gathered at its indices into float64 buffers by a compiled loop
       (``gather_coordinates``; a moving master: the slave's range, then the master's);
-    * every residual (mode 0) also leaves its history candidate and its state; the post-Newton commit
+    * every residual (FORCE) also leaves its history candidate and its state; the post-Newton commit
       takes the candidate of the last residual when that state is the converged one (it is: Newton
       stops after a residual), and evaluates afresh otherwise, and writes it into the Current data
       coordinates (a view) in place. Exudyn's accept (Current -> StartOfStep) is the commit, its
@@ -365,28 +365,28 @@ class CompiledSet(ContactSet):
 
     def _sample_forces(self, q, q_t, H):
         """ContactSet.generalized_force from the set's own compiled kernel, one call per sample
-        (mode 0 on each sample's history; the residual's state is forgotten afterwards, so a later
+        (FORCE on each sample's history; the residual's state is forgotten afterwards, so a later
         commit evaluates afresh)."""
         entry, tail, Q = self.pk.entry(), self.pk.tail, self.pk.Q
         q, q_t = np.ascontiguousarray(q), np.ascontiguousarray(q_t)
         H = np.ascontiguousarray(H)
         out = np.empty((len(q), len(Q)))
         for n in range(len(q)):
-            entry(0, q[n], q_t[n], 0.0, 0.0, 0.0, H[n], *tail)
+            entry(FORCE, q[n], q_t[n], 0.0, 0.0, 0.0, H[n], *tail)
             out[n] = Q
         self.pk.X[:] = np.nan
         return out
 
     def initial_history(self, q, q_t):
-        """As ContactSet.initial_history, from the set's own compiled kernel (mode 2: the candidate
+        """As ContactSet.initial_history, from the set's own compiled kernel (CANDIDATE: the candidate
         from the zero history the packed set starts with), so no other compiled entry is needed."""
-        self.pk.evaluate(2, q, q_t, 0.0, 0.0, 0.0)
+        self.pk.evaluate(CANDIDATE, q, q_t, 0.0, 0.0, 0.0)
         return self.pk.Hn.ravel().copy()
 
     @staticmethod
     def _pack(law, kind, slave, points, master):
         """The set packed for its compiled kernel (CompiledPairSet: a moving master's)."""
-        from exu_aniso.kernel.point import CovariantSet
+        from exu_aniso.kernel.packed_sets import CovariantSet
         return CovariantSet(law, kind, slave.ref, points)
 
     def _views(self, mbs):
@@ -401,7 +401,7 @@ class CompiledSet(ContactSet):
         if self._gathered:
             self._q, self._q_t = self._qb, self._q_tb
             self._gather_args = (V.q, V.q_t, np.ascontiguousarray(a, dtype=np.int64), self._qb, self._q_tb)
-            self._gather = _entry_point(gather_coordinates, self._gather_args)
+            self._gather = entry_point(gather_coordinates, self._gather_args)
         else:
             self._q, self._q_t = V.q[a[0]:a[0] + n], V.q_t[a[0]:a[0] + n]
             self._gather, self._gather_args = None, None
@@ -411,7 +411,7 @@ class CompiledSet(ContactSet):
         # the commit's compiled function (numba's dispatch done once: it cost ~1 us per step) and arguments
         self._stage_args = (self.pk.X, self._q, self._q_t, self.pk.Hn, V.data, np.ascontiguousarray(self.ltg),
                             int(self.ltgTotal))
-        self._stage = _entry_point(stage_candidate, self._stage_args)
+        self._stage = entry_point(stage_candidate, self._stage_args)
         if self._native is not None:          # the native callers read the new views from now on
             self._native.store(self._h0, self._native_stage_args(V))
 
@@ -431,7 +431,7 @@ class CompiledSet(ContactSet):
         self._t = t
         self._t0 = t0
         self._dt = t - t0
-        self._force_args = (0, self._q, self._q_t, 0.0, 0.0, self._dt, self._h0) + self._tail
+        self._force_args = (FORCE, self._q, self._q_t, 0.0, 0.0, self._dt, self._h0) + self._tail
         if self._native is not None:          # views checked, start of the step known: the native callers may go on
             self._native.clock[:2] = (t0, 1.0)
 
@@ -495,8 +495,11 @@ class CompiledSet(ContactSet):
         return extension.jacobian_calls(self._mbs_address, self.oContact)
 
     def __del__(self):
-        if self._native is not None and extension is not None:
-            extension.release_set(self._mbs_address, self.oContact, self._native.args.address)
+        # at the interpreter's exit the extension's module may be torn down before this set: its
+        # registry goes with the process then, and nothing is released
+        release = getattr(extension, "release_set", None)
+        if self._native is not None and callable(release):
+            release(self._mbs_address, self.oContact, self._native.args.address)
 
     def force(self, mbs, t, itemNumber, q, q_t):
         """Generalized contact forces at the given q, q_t (the set's coordinates, any values: for
@@ -505,7 +508,7 @@ class CompiledSet(ContactSet):
             self._load_history(mbs, t)
         self._qb[:] = q
         self._q_tb[:] = q_t
-        self._entry(0, self._qb, self._q_tb, 0.0, 0.0, self._dt, self._h0, *self._tail)
+        self._entry(FORCE, self._qb, self._q_tb, 0.0, 0.0, self._dt, self._h0, *self._tail)
         return self.pk.Q
 
     def jacobian(self, mbs, t, itemNumber, q, q_t, fODE2, fODE2_t):
@@ -514,7 +517,7 @@ class CompiledSet(ContactSet):
             self._load_history(mbs, t)
         self._qb[:] = q
         self._q_tb[:] = q_t
-        self._entry(1, self._qb, self._q_tb, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
+        self._entry(JACOBIAN, self._qb, self._q_tb, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
         return self.pk.J
 
     def force_in_place(self, mbs, t, itemNumber, q, q_t):
@@ -535,7 +538,7 @@ class CompiledSet(ContactSet):
             self._load_history(mbs, t)
         if self._gathered:
             self._gather(*self._gather_args)
-        self._entry(1, self._q, self._q_t, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
+        self._entry(JACOBIAN, self._q, self._q_t, fODE2, fODE2_t, self._dt, self._h0, *self._tail)
         return self.pk.J
 
     def stage(self, mbs, t):
@@ -547,7 +550,7 @@ class CompiledSet(ContactSet):
         code = self._stage(*self._stage_args)
         if code == 1:                         # the last residual was not at the converged state
             self.recomputed += 1
-            self._entry(2, q, q_t, 0.0, 0.0, self._dt, self._h0, *self._tail)
+            self._entry(CANDIDATE, q, q_t, 0.0, 0.0, self._dt, self._h0, *self._tail)
             self.pk.X[0] = q                  # the candidate now belongs to this state
             self.pk.X[1] = q_t
             code = self._stage(*self._stage_args)
@@ -569,7 +572,7 @@ class CompiledPairSet(CompiledSet):
 
     @staticmethod
     def _pack(law, kind, slave, points, master):
-        from exu_aniso.kernel.point import CovariantPairSet
+        from exu_aniso.kernel.packed_sets import CovariantPairSet
         return CovariantPairSet(law, kind, slave.ref, points, master.kind, master.ref)
 
 
@@ -580,6 +583,6 @@ class CompiledGroupSet(CompiledSet):
 
     @staticmethod
     def _pack(law, kind, slave, points, master):
-        from exu_aniso.kernel.point import CovariantGroupSet
+        from exu_aniso.kernel.packed_sets import CovariantGroupSet
         return CovariantGroupSet(law, kind, slave.ref, points, len(slave.bodies))
 

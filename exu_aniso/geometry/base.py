@@ -1,6 +1,6 @@
 """The Python face of a surface: construction with checked arguments, and the protocol's compiled
-functions (``_core``) called on the surface's parameter tuple. The numpy reference uses these
-methods; compiled kernels call the ``_core`` functions with ``surface.params`` directly. A user
+functions (``core``) called on the surface's parameter tuple. The numpy reference uses these
+methods; compiled kernels call the ``core`` functions with ``surface.params`` directly. A user
 surface whose function numba cannot compile (``compiled = False``) runs the same functions as plain
 Python (``Surface.protocol``)."""
 from __future__ import annotations
@@ -12,12 +12,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from exu_aniso.util.validation import check_vector
-from . import _core
+from . import core
 
 TWO_PI = 2.0 * math.pi
 
 
-def _plain_python(module, overrides=None, own_only=False):
+def plain_python_of(module, overrides=None, own_only=False):
     """The numba functions of module as plain Python: each one's py_func, re-bound to a copy of the
     module's globals in which the other numba functions are plain Python too (a py_func alone still
     calls the compiled helpers, and they cannot type a surface numba cannot compile). The registry
@@ -33,7 +33,7 @@ def _plain_python(module, overrides=None, own_only=False):
     return types.SimpleNamespace(**ns)
 
 
-_CORE_PYTHON = _plain_python(_core)
+CORE_PYTHON = plain_python_of(core)
 
 _STATUS_TEXT = {
     1: "the Newton iteration of the closest point projection did not converge",
@@ -70,7 +70,7 @@ def side_sign(name, side, allowed, natural):
 
 @dataclass
 class Point:
-    """Surface quantities at one point of the chart (papers' symbols; see geometry._core)."""
+    """Surface quantities at one point of the chart (papers' symbols; see geometry.core)."""
 
     xi: np.ndarray          # (2,) surface coordinates
     xi3: float              # signed normal gap of the projected point (0 for Surface.at)
@@ -82,13 +82,9 @@ class Point:
     h: np.ndarray           # (2, 2) curvature h_ij = rho_ij . n
     christoffel: np.ndarray  # (2, 2, 2) Gamma^k_ij as [k, i, j]
 
-    @property
-    def rho_contra(self):
-        return self.m_inv @ self.rho
-
 
 class Surface:
-    """Base of every surface: ``params`` is its parameter namedtuple (registered in _core)."""
+    """Base of every surface: ``params`` is its parameter namedtuple (registered in core)."""
 
     name = "Surface"
     compiled = True         # False: a user surface numba could not compile (runs in plain Python)
@@ -98,8 +94,8 @@ class Surface:
 
     @property
     def protocol(self):
-        """The protocol's functions for this surface: compiled (_core) or their plain Python twins."""
-        return _core if self.compiled else _CORE_PYTHON
+        """The protocol's functions for this surface: compiled (core) or their plain Python twins."""
+        return core if self.compiled else CORE_PYTHON
 
     @property
     def periods(self):
@@ -155,4 +151,4 @@ class Surface:
         """Coordinate increment from xi_old to xi_new, periodic coordinates unwrapped to the branch
         closest to the predicted increment."""
         d = np.asarray(xi_new, dtype=float) - np.asarray(xi_old, dtype=float)
-        return np.array([_core.unwrap(P, float(d[i]), float(predicted[i]))[0] for i, P in enumerate(self.periods)])
+        return np.array([core.unwrap(P, float(d[i]), float(predicted[i]))[0] for i, P in enumerate(self.periods)])
