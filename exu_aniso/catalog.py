@@ -50,38 +50,25 @@ class Scene:
         return self._model_function("Build")(params)
 
 
-def _plot_block(traj, params, fig):
-    from exu_aniso.plots import PlotBlockPath
-    PlotBlockPath(traj, params, ax=fig.add_subplot(1, 1, 1))
-
-
-def _plot_screw(traj, params, fig):
-    from exu_aniso.plots import PlotScrewAdvance, PlotScrewTorque
-    PlotScrewAdvance(traj, params, ax=fig.add_subplot(2, 1, 1))
-    PlotScrewTorque(traj, params, ax=fig.add_subplot(2, 1, 2))
-
-
 def _block():
-    from exu_aniso.scenes.block import simulate_block
-    from exu_aniso.scenes.block import BlockParams
+    from exu_aniso.scenes.block import BlockParams, PlotBlock, simulate_block
     return Scene("block", BlockParams,
                  {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
                   "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N",
                   # the full model's other motions (the planar model holds z and has no vz, tilt, omega_x, omega_y)
                   "z": "m", "vz": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s", **_LEDGER},
-                 ("heading_deg", "r_mean"), _plot_block, "block", simulate_block, (5.5, 5.0))
+                 ("heading_deg", "r_mean"), PlotBlock, "block", simulate_block, (5.5, 5.0))
 
 
 def _screw():
-    from exu_aniso.scenes.screw import simulate_screw
-    from exu_aniso.scenes.screw import ScrewParams
+    from exu_aniso.scenes.screw import PlotScrew, ScrewParams, simulate_screw
     return Scene("screw", ScrewParams,
                  {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
                   "axial_force": "N", "dissipated_energy": "J",
                   # the full model's other motions (axis_*: the screw's axis in the world)
                   "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s",
                   "axis_x": "-", "axis_y": "-", "axis_z": "-", **_LEDGER},
-                 ("advance_per_rev", "torque_mean"), _plot_screw, "screw", simulate_screw, (6.0, 6.5))
+                 ("advance_per_rev", "torque_mean"), PlotScrew, "screw", simulate_screw, (6.0, 6.5))
 
 
 def _particle():

@@ -122,8 +122,8 @@ def write_csv(path, scene, traj, step=None, stamp=None):
 
 
 def plot_trajectory(path, scene, traj, title, params, incomplete=False, warning=None, stamp=None):
-    """trajectory.png: the scene's plot (block: plots.PlotBlockPath; screw: plots.PlotScrewAdvance
-    over plots.PlotScrewTorque; see catalog). A failed run's plot says INCOMPLETE, an open
+    """trajectory.png: the scene's plot (its scene module's Plot function, e.g. scenes.block.PlotBlock;
+    see catalog). A failed run's plot says INCOMPLETE, an open
     energy ledger says so in red."""
     import matplotlib
     matplotlib.use("Agg")

@@ -149,8 +149,8 @@ def _guard(mbs, seconds):
 
 def run_block(p, newton_tol=1e-10, lift=None, budget=120.0):
     """Exudyn block scene; lift = (force [N], t0, t1): an upward force pulse at the COM (full model)."""
-    from exu_aniso.models.block import BlockTrajectory, BuildBlock
-    from exu_aniso.engines.exudyn_adapter.runner import BodyMotion, HistoryOutputs, SolveTimed
+    from exu_aniso.models.block import BlockMotion, BlockTrajectory, BuildBlock
+    from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, SolveTimed
     model = BuildBlock(p, newtonTolerance=newton_tol)
     mbs = model["mbs"]
     if lift is not None:
@@ -168,7 +168,7 @@ def run_block(p, newton_tol=1e-10, lift=None, budget=120.0):
     if lift is not None:
         F, t0, t1 = lift
         extra = energy.work_trapezoid(np.where((traj["t"] >= t0) & (traj["t"] < t1), F, 0.0), traj["z"])
-    bal = _balance(block_energy(p, traj, BodyMotion(model, traj), law, H, extra_work=extra))
+    bal = _balance(block_energy(p, traj, BlockMotion(model, traj), law, H, extra_work=extra))
     return dict(traj=traj, steps=steps, nominal=info["nominal_steps"], newton=iters, balance=bal, H=H, law=law,
                 wall=wall)
 
@@ -179,8 +179,8 @@ def _balance(ledger):
 
 
 def run_screw(p, newton_tol=1e-10, budget=120.0):
-    from exu_aniso.models.screw import BuildScrew, ScrewTrajectory
-    from exu_aniso.engines.exudyn_adapter.runner import BodyMotion, HistoryOutputs, SolveTimed
+    from exu_aniso.models.screw import BuildScrew, ScrewMotion, ScrewTrajectory
+    from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, SolveTimed
     model = BuildScrew(p, newtonTolerance=newton_tol)
     mbs = model["mbs"]
     _guard(mbs, budget)
@@ -189,7 +189,7 @@ def run_screw(p, newton_tol=1e-10, budget=120.0):
     traj = ScrewTrajectory(model, contactOutputs=False)
     _, _, H = HistoryOutputs(mbs, model["contact"])
     law = model["contact"]["law"]
-    bal = _balance(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]), law, H))
+    bal = _balance(screw_energy(p, traj, ScrewMotion(model, traj), np.asarray(model["contact"]["points"]), law, H))
     return dict(traj=traj, steps=steps, nominal=info["nominal_steps"], newton=iters, balance=bal, H=H, law=law,
                 wall=wall)
 

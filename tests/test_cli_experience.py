@@ -1,6 +1,6 @@
 """Command line experience: progress on stderr (--quiet), --snapshot (raytraced PNG), --view (refused
 without a display, before simulating; never opens a window here), and the plot functions of
-exu_aniso.plots (matplotlib conventions, closed-form lines)."""
+the scenes (matplotlib conventions, closed-form lines)."""
 import json
 import math
 import os
@@ -15,7 +15,8 @@ from matplotlib.collections import LineCollection  # noqa: E402
 
 from exu_aniso import cli  # noqa: E402
 from exu_aniso.calibration import steady_sliding  # noqa: E402
-from exu_aniso.plots import PlotBlockPath, PlotScrewAdvance, PlotScrewTorque  # noqa: E402
+from exu_aniso.scenes.block import PlotBlockPath  # noqa: E402
+from exu_aniso.scenes.screw import PlotScrewAdvance, PlotScrewTorque  # noqa: E402
 from exu_aniso.util.progress import AFTER_ENV  # noqa: E402
 from exu_aniso.scenes.block import BlockParams  # noqa: E402
 from exu_aniso.scenes.screw import ScrewParams
@@ -296,12 +297,12 @@ def test_drawn_lines_are_thinned_but_keep_their_ends():
     """A plotted line gets at most PLOT_VERTICES (+ the last) vertices, first and last kept: the
     legend's placement tests every vertex, which made long runs' plots cost more than their solve."""
     import numpy as np
-    from exu_aniso import plots
+    from exu_aniso.scenes import plotting
     t = np.arange(10001.0)
-    a, b = plots._drawn(t, 2 * t)
-    assert a[0] == 0 and a[-1] == 10000 and len(a) <= plots.PLOT_VERTICES + 1 and np.array_equal(b, 2 * a)
+    a, b = plotting.drawn(t, 2 * t)
+    assert a[0] == 0 and a[-1] == 10000 and len(a) <= plotting.PLOT_VERTICES + 1 and np.array_equal(b, 2 * a)
     short = np.arange(5.0)
-    assert plots._drawn(short)[0] is short
+    assert plotting.drawn(short)[0] is short
 
 
 # ----------------------------------------------------------------------------------------------

@@ -156,14 +156,14 @@ def test_the_ledgers_blocks_give_the_whole_runs_contact_energy():
     """rigid_contact_energy, a block of samples at a time, equals contact_energy of the whole run's
     point motion: a damped block (the dashpot's trapezoid crosses the blocks' seams) on 4 corners,
     blocks of 1, 7 and more samples than the run has."""
-    from exu_aniso.engines.exudyn_adapter.runner import BodyMotion, HistoryOutputs, SolveTimed
-    from exu_aniso.models.block import BlockTrajectory, BuildBlock
+    from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, SolveTimed
+    from exu_aniso.models.block import BlockMotion, BlockTrajectory, BuildBlock
     from exu_aniso.scenes.block import block_points
     p = BlockParams(model="full", points="corners", t_end=0.3, normal_damping=40.0, tangential_damping=5.0)
     m = BuildBlock(p)
     SolveTimed(m["mbs"], m["simulationSettings"], m["solverType"])
     history = HistoryOutputs(m["mbs"], m["contact"])
-    motion, law, b, H = BodyMotion(m, BlockTrajectory(m, history)), m["contact"]["law"], block_points(p), history[2]
+    motion, law, b, H = BlockMotion(m, BlockTrajectory(m, history)), m["contact"]["law"], block_points(p), history[2]
     stored, diss = energy.contact_energy(law, *energy.point_motion(motion, b), H)
     dashpot = diss - energy.dissipated(H)
     assert dashpot[-1] > 1e-3 * diss[-1] > 0                  # the dashpots do dissipate

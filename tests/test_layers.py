@@ -2,15 +2,14 @@
 functions): each module imports only from its own layer or the layers below it, and no modules
 import each other in a loop. Layers from the ground up: util; geometry and the return maps (law);
 fields and nets; the contact kernel; the engines (the Exudyn adapter, the reference integrator, the
-energy ledger); the scenes; the Exudyn model scripts; calibration and plots; the catalog; the
-command line."""
+energy ledger); the scenes; the Exudyn model scripts; calibration; the catalog; the command line."""
 import ast
 import os
 
 import exu_aniso
 
 LAYERS = {"util": 0, "geometry": 1, "law": 1, "fe": 1, "fields": 2, "kernel": 3, "engines": 4, "scenes": 5, "models": 6,
-          "calibration": 7, "plots": 7, "catalog": 8, "cli": 9}
+          "calibration": 7, "catalog": 8, "cli": 9}
 ROOT = os.path.dirname(exu_aniso.__file__)
 
 

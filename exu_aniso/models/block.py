@@ -34,10 +34,11 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigi
 from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.scenes.block import BlockParams, block_contact_law, block_energy, block_points, block_summary
+from exu_aniso.scenes.block import (BlockParams, block_contact_law, block_energy, block_points, block_summary,
+                                   planar_motion)
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
-                                                     BodyMotion, HistoryOutputs, RunScene,
+                                                     HistoryOutputs, RunScene, SensorMotion,
                                                      SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.util.validation import check_instance
 
@@ -179,6 +180,12 @@ def BlockTrajectory(model, history=None):
     return traj
 
 
+def BlockMotion(model, traj):
+    """energy.RigidMotion of the block: the full model's from its sensors, the planar one's from the
+    trajectory."""
+    return SensorMotion(model) if model["params"].model == "full" else planar_motion(traj)
+
+
 def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=None, **options):
     """Build and solve the block scene; returns exu_aniso.engines.result.Result (trajectory with the
     reference's keys, summary = scenes.block_summary, params, info). options: see BuildBlock.
@@ -199,7 +206,7 @@ def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=
         history = HistoryOutputs(model["mbs"], model["contact"])
         traj = BlockTrajectory(model, history)
         summary = block_summary(traj, wall, steps, iters)
-        summary.update(block_energy(p, traj, BodyMotion(model, traj), model["contact"]["law"], history[2]))
+        summary.update(block_energy(p, traj, BlockMotion(model, traj), model["contact"]["law"], history[2]))
         info.update(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
                     **SettingsInfo(model["simulationSettings"], [model["contact"]]))
         return traj, summary

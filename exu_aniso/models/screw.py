@@ -34,9 +34,10 @@ from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
-                                                     AddYawDrive, BodyMotion, HistoryOutputs, RunScene,
+                                                     AddYawDrive, HistoryOutputs, RunScene, SensorMotion,
                                                      SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
-from exu_aniso.scenes.screw import ScrewParams, screw_contact_law, screw_energy, screw_points, screw_summary
+from exu_aniso.scenes.screw import (ScrewParams, reduced_motion, screw_contact_law, screw_energy, screw_points,
+                                    screw_summary)
 from exu_aniso.util.validation import check_bool, check_instance
 
 
@@ -213,6 +214,12 @@ def ScrewTrajectory(model, contactOutputs=True, history=None):
     return traj
 
 
+def ScrewMotion(model, traj):
+    """energy.RigidMotion of the screw: the full model's from its sensors, the reduced one's from the
+    trajectory."""
+    return SensorMotion(model) if model["params"].model == "full" else reduced_motion(traj)
+
+
 def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapshot=None, solutionFile=None,
              **options):
     """Build and solve the screw scene; returns exu_aniso.engines.result.Result (trajectory with the
@@ -230,7 +237,7 @@ def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapsho
         history = HistoryOutputs(model["mbs"], model["contact"])
         traj = ScrewTrajectory(model, contactOutputs, history)
         summary = screw_summary(traj, wall, steps, iters, p)
-        summary.update(screw_energy(p, traj, BodyMotion(model, traj), np.asarray(model["contact"]["points"]),
+        summary.update(screw_energy(p, traj, ScrewMotion(model, traj), np.asarray(model["contact"]["points"]),
                                     model["contact"]["law"], history[2]))
         info.update(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
                     **SettingsInfo(model["simulationSettings"], [model["contact"]]))

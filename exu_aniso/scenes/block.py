@@ -33,6 +33,8 @@ from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.kernel.contact_law import ContactLaw
+from exu_aniso.scenes.plotting import (NET_STYLES, add_net, axes_of, drawn, finite_rows, line_net, note,
+                                       polar_net)
 from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
@@ -189,6 +191,13 @@ def _undefined_heading(vx, vy):
                 f"(max({HEADING_V_ABS:g} m/s, {HEADING_V_REL:g} x the largest speed of the run, "
                 f"{speed.max():.3g} m/s)); its direction is round-off")
     return None
+
+
+def planar_motion(traj):
+    """energy.RigidMotion of the planar block from its trajectory's coordinates (x, y, z, theta and
+    their rates; z held)."""
+    return energy.motion_about_z(traj["x"], traj["y"], traj["z"], traj["theta"], traj["vx"], traj["vy"], 0.0,
+                                 traj["omega"])
 
 
 def block_energy(p, traj, motion, law, H, extra_work=None):
@@ -375,3 +384,75 @@ def simulate_block(params=None, **options):
     summary = block_summary(traj, wall, steps, iters)
     summary.update(block_energy(p, traj, motion, model.law, H))
     return Result(traj, summary, p, info)
+
+
+# ----------------------------------------------------------------------------------------------
+# the plot of trajectory.png
+
+def _block_nets(params):
+    """[(kind, angle [rad], label)] of the distinct non-isotropic nets of adhesion B and friction F."""
+    nets = []
+    for name, kind, angle in (("B", params.adhesion, params.adhesion_angle),
+                              ("F", params.friction, params.friction_angle)):
+        if kind == "isotropic":
+            continue
+        a = math.radians(angle) if kind == "cartesian" else 0.0
+        for i, (k0, a0, names) in enumerate(nets):
+            same_lines = math.isclose(math.remainder(a - a0, math.pi), 0.0, abs_tol=1e-12)
+            if k0 == kind and (kind == "polar" or same_lines):
+                nets[i] = (k0, a0, names + [name])
+                break
+        else:
+            nets.append((kind, a, [name]))
+    out = []
+    for kind, a, names in nets:
+        who = " and ".join(names)
+        if kind == "polar":
+            out.append((kind, a, f"{who} net: polar (rays e1, circles e2)"))
+        else:
+            out.append((kind, a, f"{who} net: lines along e1 ({math.degrees(a):.4g} deg)"))
+    return out
+
+
+def PlotBlockPath(traj, params, ax=None):
+    """The block's centre path (x, y) over the field net, start and end marked, and the polar
+    origin when a field is polar; equal axes. Returns the Axes."""
+    ax = axes_of(ax)
+    x, y = finite_rows(traj["x"], traj["y"])
+    nets = _block_nets(params)
+    polar = any(kind == "polar" for kind, _, _ in nets)
+    origin_in_view = polar
+    if x.size:
+        xs, ys = list(x), list(y)
+        origin_in_view = polar and math.hypot(x[0], y[0]) < 20.0 * max(np.ptp(x), np.ptp(y), params.size)
+        if origin_in_view:            # keep the origin in view unless it is far away
+            xs.append(0.0)
+            ys.append(0.0)
+        lo, hi = np.array([min(xs), min(ys)]), np.array([max(xs), max(ys)])
+        centre = 0.5 * (lo + hi)
+        half = 0.5 * max(hi[0] - lo[0], hi[1] - lo[1], params.size) * 1.12
+        for (kind, angle, label), style in zip(nets, NET_STYLES):
+            segments = polar_net(centre, half) if kind == "polar" else line_net(centre, half, angle)
+            add_net(ax, segments, style, label)
+        ax.plot(*drawn(x, y), "-", color="C0", lw=1.6, label="centre path", zorder=3)
+        ax.plot(x[0], y[0], "o", color="C2", label="start", zorder=4)
+        ax.plot(x[-1], y[-1], "s", color="C3", ms=5, label="end", zorder=4)
+        # the view: the padded square box around the path (and the origin); the net reaches beyond it
+        ax.set_xlim(centre[0] - half, centre[0] + half)
+        ax.set_ylim(centre[1] - half, centre[1] + half)
+    if origin_in_view:
+        ax.plot(0.0, 0.0, "k+", ms=12, mew=2, label="polar origin", zorder=4, scalex=False, scaley=False)
+    elif polar:
+        note(ax, "polar origin (0, 0) out of view")
+    if not nets:
+        ax.plot([], [], ls="none", label="isotropic B and F: no net")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_aspect("equal", adjustable="box")
+    ax.legend(loc="best", fontsize=7)
+    return ax
+
+
+def PlotBlock(traj, params, fig):
+    """trajectory.png of the block on the matplotlib Figure fig: PlotBlockPath."""
+    PlotBlockPath(traj, params, ax=fig.add_subplot(1, 1, 1))

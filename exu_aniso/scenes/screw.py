@@ -57,6 +57,7 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.kernel.contact_law import ContactLaw
+from exu_aniso.scenes.plotting import CLOSED_FORM_GID, axes_of, drawn, finite_rows, note
 from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cone, Cylinder
@@ -196,6 +197,12 @@ def pitch(p):
 SCREW_SUMMARY_KEYS = ("angle_end", "z_end", "advance_per_rev", "advance_per_rev_theory", "torque_mean",
                       "torque_mean_theory", "axial_force_mean", "dissipated_energy", "wall_s", "steps",
                       "newton_iterations", "undefined")
+
+
+def reduced_motion(traj):
+    """energy.RigidMotion of the reduced screw (a turn about and a travel along z) from its
+    trajectory's coordinates."""
+    return energy.motion_about_z(0.0, 0.0, traj["z"], traj["angle"], 0.0, 0.0, traj["vz"], traj["omega"])
 
 
 def screw_energy(p, traj, motion, points, law, H):
@@ -569,3 +576,75 @@ def sliding_growth_rate(p: ScrewParams) -> float:
     ev = np.linalg.eigvals(jac)
     scale = np.abs(ev).max()
     return float(max(e.real for e in ev if abs(e) > 1e-9 * scale))
+
+
+# ----------------------------------------------------------------------------------------------
+# the plot of trajectory.png
+
+def screw_closed_form(params):
+    """(SteadySliding or None, reason text when None) for the screw parameters ``params``."""
+    if params.return_map == "seed":
+        return None, "seed map: no closed form (its steady state depends on dt)"
+    if params.drive == "axial":
+        return None, "axial drive: no closed form (steady sliding is for the rotation and torque drives)"
+    try:
+        return steady_sliding(params), ""
+    except ValueError as e:
+        return None, f"no closed form: {e}"
+
+
+def PlotScrewAdvance(traj, params, ax=None):
+    """Axial position z [mm] against rotation [rev], with the closed form's advance per revolution
+    (radial/exact map) as a straight line through the last point, and the thread pitch dotted.
+    Returns the Axes."""
+    ax = axes_of(ax, figsize=(6.0, 4.0))
+    rev, z = finite_rows(np.asarray(traj["angle"], dtype=float) / (2.0 * math.pi),
+                     np.asarray(traj["z"], dtype=float) * 1e3)
+    ax.plot(*drawn(rev, z), "-", color="C0", lw=1.6, label=f"screw ({params.return_map} map)")
+    st, why = screw_closed_form(params)
+    if rev.size:
+        xr = np.array([min(rev.min(), 0.0), max(rev.max(), 0.0)])
+        if xr[1] - xr[0] <= 0.0:
+            xr = np.array([rev[-1] - 0.5, rev[-1] + 0.5])
+        p_mm = pitch(params) * 1e3
+        ax.plot(xr, z[-1] + p_mm * (xr - rev[-1]), ls=":", color="0.5", lw=1.0, gid="pitch",
+                label=f"thread pitch {p_mm:.4g} mm/rev")
+        if st is not None and rev[-1] < 0.0 and params.axial_load != 0.0:
+            st, why = None, "no closed form: it is for positive rotation (axial load breaks the symmetry)"
+        if st is not None:
+            k = st.advance_per_rev * 1e3
+            ax.plot(xr, z[-1] + k * (xr - rev[-1]), "--", color="C3", lw=1.2, gid=CLOSED_FORM_GID,
+                    label=f"closed form, steady sliding: {k:.4g} mm/rev")
+    if st is None:
+        note(ax, why)
+    ax.set_xlabel("rotation [rev]")
+    ax.set_ylabel("axial position z [mm]")
+    ax.legend(loc="best", fontsize=7)
+    return ax
+
+
+def PlotScrewTorque(traj, params, ax=None):
+    """Drive torque [N m] against time [s] with the closed form's sliding torque (radial/exact map)
+    as a horizontal line. Returns the Axes."""
+    ax = axes_of(ax, figsize=(6.0, 4.0))
+    t, tau = finite_rows(traj["t"], traj["torque"])
+    ax.plot(*drawn(t, tau), "-", color="C0", lw=1.2, label=f"drive torque ({params.drive} drive)")
+    st, why = screw_closed_form(params)
+    sign = -1.0 if t.size and np.mean(tau) < 0.0 else 1.0     # a screw driven backwards
+    if st is not None and sign < 0.0 and params.axial_load != 0.0:
+        st, why = None, "no closed form: it is for positive rotation (axial load breaks the symmetry)"
+    if st is not None and t.size:
+        ax.plot([float(t[0]), float(t[-1])], [sign * st.torque] * 2, "--", color="C3", lw=1.2,
+                gid=CLOSED_FORM_GID, label=f"closed-form sliding torque {sign * st.torque:.4g} N m")
+    elif st is None:
+        note(ax, why)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("torque [N m]")
+    ax.legend(loc="best", fontsize=7)
+    return ax
+
+
+def PlotScrew(traj, params, fig):
+    """trajectory.png of the screw on the matplotlib Figure fig: PlotScrewAdvance over PlotScrewTorque."""
+    PlotScrewAdvance(traj, params, ax=fig.add_subplot(2, 1, 1))
+    PlotScrewTorque(traj, params, ax=fig.add_subplot(2, 1, 2))

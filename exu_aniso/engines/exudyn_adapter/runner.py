@@ -2,7 +2,7 @@
 (``SimulationSettingsFor``), drives (``AddNodeDrive``, ``AddYawDrive``, ``AddSpringDrive``), the timed
 solve with its allocation check, progress and failure report (``SolveTimed``), the contact history as
 sensors (``HistoryOutputs``), snapshots and the SolutionViewer (``WriteSnapshot``, ``StoreSolution``,
-``ViewSolution``), the bodies' motion for the energy ledger (``BodyMotion``) and the progress hook of a
+``ViewSolution``), a 3D body's motion for the energy ledger (``SensorMotion``) and the progress hook of a
 running solve (``exudyn_pre_step``). It knows no scene: a scene's model script passes its parameters
 (anything with t_end, dt and solver) and its model dict."""
 from __future__ import annotations
@@ -31,7 +31,7 @@ from exu_aniso.engines.failure import SimulationFailure, contact_state_from_hist
 from exu_aniso.engines.result import Result
 from exu_aniso.util.output import atomic_write
 from exu_aniso.util.progress import make_progress
-from exu_aniso.engines.energy import RigidMotion, motion_about_z
+from exu_aniso.engines.energy import RigidMotion
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.engines.exudyn_adapter.solver_settings import NEWTON_MODES, SOLVER_TYPES
 from exu_aniso.util.rotations import skew, wrap_angle
@@ -536,18 +536,12 @@ def ViewSolution(model, fileName, title=""):
     model["mbs"].SolutionViewer(solution, title=title)
 
 
-def BodyMotion(model, traj):
-    """energy.RigidMotion of the model's body from its stored sensors (full: position, rotation
-    matrix, velocity, angular velocity; planar or reduced: from the trajectory's coordinates)."""
-    mbs, p, S = model["mbs"], model["params"], model["sensors"]
-    if p.model == "full":
-        P, A, V, W = (mbs.GetSensorStoredData(S[k])[:, 1:] for k in ("sPosition", "sRotation", "sVelocity", "sOmega"))
-        return RigidMotion(P, A.reshape(-1, 3, 3), V, W)
-    if "theta" in traj:
-        return motion_about_z(traj["x"], traj["y"], traj["z"], traj["theta"], traj["vx"], traj["vy"], 0.0,
-                              traj["omega"])
-    return motion_about_z(0.0, 0.0, traj["z"], traj["angle"], 0.0, 0.0, traj["vz"], traj["omega"])
-
+def SensorMotion(model):
+    """energy.RigidMotion of a 3D rigid body from the model's stored sensors sPosition, sRotation,
+    sVelocity and sOmega (position, rotation matrix, velocity, angular velocity)."""
+    mbs, S = model["mbs"], model["sensors"]
+    P, A, V, W = (mbs.GetSensorStoredData(S[k])[:, 1:] for k in ("sPosition", "sRotation", "sVelocity", "sOmega"))
+    return RigidMotion(P, A.reshape(-1, 3, 3), V, W)
 
 
 def exudyn_pre_step(progress, previous=None):
