@@ -581,8 +581,12 @@ def sliding_growth_rate(p: ScrewParams) -> float:
 # ----------------------------------------------------------------------------------------------
 # the plot of trajectory.png
 
-def screw_closed_form(params):
-    """(SteadySliding or None, reason text when None) for the screw parameters ``params``."""
+def screw_closed_form(params, backwards=False):
+    """(SteadySliding or None, reason text when None) for the screw parameters ``params``; backwards:
+    the screw turned the other way (the closed form is for positive rotation when an axial load
+    breaks the symmetry)."""
+    if backwards and params.axial_load != 0.0:
+        return None, "no closed form: it is for positive rotation (axial load breaks the symmetry)"
     if params.return_map == "seed":
         return None, "seed map: no closed form (its steady state depends on dt)"
     if params.drive == "axial":
@@ -601,7 +605,7 @@ def PlotScrewAdvance(traj, params, ax=None):
     rev, z = finite_rows(np.asarray(traj["angle"], dtype=float) / (2.0 * math.pi),
                      np.asarray(traj["z"], dtype=float) * 1e3)
     ax.plot(*drawn(rev, z), "-", color="C0", lw=1.6, label=f"screw ({params.return_map} map)")
-    st, why = screw_closed_form(params)
+    st, why = screw_closed_form(params, backwards=bool(rev.size) and rev[-1] < 0.0)
     if rev.size:
         xr = np.array([min(rev.min(), 0.0), max(rev.max(), 0.0)])
         if xr[1] - xr[0] <= 0.0:
@@ -609,8 +613,6 @@ def PlotScrewAdvance(traj, params, ax=None):
         p_mm = pitch(params) * 1e3
         ax.plot(xr, z[-1] + p_mm * (xr - rev[-1]), ls=":", color="0.5", lw=1.0, gid="pitch",
                 label=f"thread pitch {p_mm:.4g} mm/rev")
-        if st is not None and rev[-1] < 0.0 and params.axial_load != 0.0:
-            st, why = None, "no closed form: it is for positive rotation (axial load breaks the symmetry)"
         if st is not None:
             k = st.advance_per_rev * 1e3
             ax.plot(xr, z[-1] + k * (xr - rev[-1]), "--", color="C3", lw=1.2, gid=CLOSED_FORM_GID,
@@ -629,10 +631,8 @@ def PlotScrewTorque(traj, params, ax=None):
     ax = axes_of(ax, figsize=(6.0, 4.0))
     t, tau = finite_rows(traj["t"], traj["torque"])
     ax.plot(*drawn(t, tau), "-", color="C0", lw=1.2, label=f"drive torque ({params.drive} drive)")
-    st, why = screw_closed_form(params)
     sign = -1.0 if t.size and np.mean(tau) < 0.0 else 1.0     # a screw driven backwards
-    if st is not None and sign < 0.0 and params.axial_load != 0.0:
-        st, why = None, "no closed form: it is for positive rotation (axial load breaks the symmetry)"
+    st, why = screw_closed_form(params, backwards=sign < 0.0)
     if st is not None and t.size:
         ax.plot([float(t[0]), float(t[-1])], [sign * st.torque] * 2, "--", color="C3", lw=1.2,
                 gid=CLOSED_FORM_GID, label=f"closed-form sliding torque {sign * st.torque:.4g} N m")
