@@ -1,6 +1,6 @@
 """A contact set: K slave points against one analytical master surface, evaluated at once.
 
-``ContactLaw.evaluate`` is the kernel every engine calls (reference integrator and Exudyn glue):
+``ContactLaw.evaluate`` is the kernel every engine calls (reference integrator and Exudyn adapter):
 given the slave points and their velocities relative to the master (master frame) and the last
 *converged* history, it returns forces, the consistent tangent and the history candidate that
 ``commit`` makes the new converged history once a step is accepted. Nothing is stored inside.

@@ -191,7 +191,7 @@ class NativeBlock:
     step [s], the armed flag (1: the native callers may evaluate), the end time of the solve [s] and
     the longest step the native callers take [s] (a call farther from the start of the step goes to
     Python: a new solve that starts later) (read and written by the native callers and the Exudyn
-    glue). ``store(H, stage)`` stores both
+    adapter). ``store(H, stage)`` stores both
     again with another history view H and stage arguments."""
 
     def __init__(self, entry, H, tail, stage):

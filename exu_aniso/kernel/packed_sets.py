@@ -29,7 +29,7 @@ def _remember(mode, q, q_t, X):
 @njit(cache=True)
 def evaluate_covariant(mode, q, q_t, fq, fv, dt, H, ref, law, P, S, Y, X, kind):
     """kernel.sets.evaluate_set (modes 0 force, 1 Jacobian, 2 history candidate) with the covariant
-    kernel at every point. H (K, 9): the converged history (the Exudyn glue passes a view of
+    kernel at every point. H (K, 9): the converged history (the Exudyn adapter passes a view of
     Exudyn's StartOfStep data coordinates: nothing is copied per step); P (3, K, 9): body-local
     points, a history buffer for callers without one (CovariantSet.H), the candidate; Y (K, Y_ROWS, 3):
     the point buffer (kernel.sets.point_states); X (2, n): the state (q, q_t) of the last mode-0
@@ -126,7 +126,7 @@ class CovariantSet:
         """The compiled function for this set's argument types (``compiling.entry_point``): callers that
         pass C-contiguous float64 q, q_t, an int mode, float fq, fv, dt and a C-contiguous (K, 9)
         float64 history H may call ``entry()(mode, q, q_t, fq, fv, dt, H, *tail)`` directly (the
-        Exudyn glue does, with H a view of Exudyn's StartOfStep data coordinates)."""
+        Exudyn adapter does, with H a view of Exudyn's StartOfStep data coordinates)."""
         if self._entry is None:
             z = np.zeros(self.X.shape[1])
             self._entry = entry_point(self._fn, (FORCE, z, z, 0.0, 0.0, 0.0, self.H) + self.tail)
@@ -179,7 +179,7 @@ class CovariantGroupSet(CovariantSet):
     kernel.sets.evaluate_group; ref: the nodes' reference coordinates one after the other. The same
     interface as CovariantSet (H, Hn: nb * K rows, body by body; Q (nb * nq,)), but the Jacobian is
     Jb (nb, nq, nq), its diagonal blocks, and J is a scipy CSR matrix over Jb's memory (what the
-    Exudyn glue returns: Exudyn adds its nb * nq^2 entries, not (nb nq)^2)."""
+    Exudyn adapter returns: Exudyn adds its nb * nq^2 entries, not (nb nq)^2)."""
 
     def __init__(self, contact_law, node_kind, ref, points, nb):
         import scipy.sparse as sp

@@ -7,7 +7,7 @@ point Jacobians of the body-fixed points, the contact law at every point (``poin
 covariant kernel of ``exu_aniso.kernel.point``, called through the address of its compiled code, so a
 set's kernel is compiled once per node kind, whatever the law) and the generalized quantities of the
 node. ``tests/test_fastpath.py`` holds this route equal to the
-numpy glue (``exudyn_adapter.contact_set.ContactSet``).
+numpy route (``exudyn_adapter.contact_set.ContactSet``).
 
 Node kinds of ``evaluate_set`` (rigid bodies, the slave's Exudyn node type): types of
 ``exu_aniso.kernel.nodes`` (``RigidBody2D()``, ``ScrewJoint()`` for a ``NodeGenericODE2`` with (psi,

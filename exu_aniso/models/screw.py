@@ -6,7 +6,7 @@ and friction follow a spiral (thread) net; the interference fit is the normal pr
 drives and trajectory keys are those of ``exu_aniso.engines.reference`` (read its module docstring):
 
 * ``model="reduced"``: a ``NodeGenericODE2`` with 2 coordinates (psi about z [rad], z [m]) and an
-  ``ObjectGenericODE2`` with mass matrix diag(J_axial, m), J_axial = m r^2 / 2 (the contact glue
+  ``ObjectGenericODE2`` with mass matrix diag(J_axial, m), J_axial = m r^2 / 2 (the contact set
   treats this node as a screw joint on the hole axis);
 * ``model="full"``: ``mbs.CreateRigidBody`` (6 DOF, Lie-group rotation vector by default, Euler
   parameters allowed) with J = diag(J_t, J_t, J_axial), J_t = m (3 r^2 + L^2) / 12, centred on the

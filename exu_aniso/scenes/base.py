@@ -1,5 +1,5 @@
 """What every scene shares: the parameter sets' parsing, rules and validation (``SceneParams``), the
-summaries' conventions and the energy ledger's columns (numpy reference, Exudyn glue, CLI).
+summaries' conventions and the energy ledger's columns (numpy reference, Exudyn adapter, CLI).
 
 The two scenes of the papers are ``exu_aniso.scenes.block`` (``BlockParams``: a rigid cube on the
 plane with (polar) orthotropic adhesion and friction) and ``exu_aniso.scenes.screw``

@@ -30,7 +30,7 @@ class CompiledPointLaw:
     kernel has no node kind for (the floating frame): the set kernel of K free points (a linear
     slave over 3K coordinates, x_k = q[3k:3k+3], S = I), so that one compiled call gives the point
     forces (FORCE: Q = f), and df/dx, df/dv as its Jacobian's diagonal blocks (JACOBIAN with (fq, fv)
-    = (1, 0) and (0, 1)). evaluate() answers as ContactLaw.evaluate for what the glue reads (force,
+    = (1, 0) and (0, 1)). evaluate() answers as ContactLaw.evaluate for what the contact set reads (force,
     stiffness, damping, history and its status)."""
 
     def __init__(self, law, K):
