@@ -111,7 +111,7 @@ def main(argv=None):
         sims.append(("coarse pitch 4 mm (flank 60 deg)", case(pitch=4e-3, t_end=t_end)))
     # (3) the machined head bearing and the isotropic head (the M10 run of (2))
     heads = [("isotropic", case(t_end=t_end))] + [
-        ("orthotropic", case(ring=True, head_net="orthotropic", mu_head=MU, mu_head_2=MU_ACROSS, head_lay_angle=a,
+        ("orthotropic", case(ring=True, head_net="orthotropic", mu_head=MU, mu_head_2=MU_ACROSS, head_net_angle=a,
                              t_end=t_end)) for a in lays]
     unique = list({key(c): c for c in tt + [c for _, c in sims] + [c for _, c in heads]}.values())
     res = dict(zip((key(c) for c in unique), sweep(run_case, unique, args)))
@@ -168,7 +168,7 @@ def main(argv=None):
     ring_cont = oracles.orthotropic_ring_torque_factor(MU, MU_ACROSS, 0.0, 3600) * D.head_radius
     hpath = table(os.path.join(out, "head_lay.csv"), HEAD_COLS, [head_row(label, c, r(c)) for label, c in heads])
     trpath = table(os.path.join(out, "head_ring_trace.csv"), TRACE_COLS,
-                   [[c["params"]["head_lay_angle"], a, x, f] for label, c in heads if "trace" in r(c)
+                   [[c["params"]["head_net_angle"], a, x, f] for label, c in heads if "trace" in r(c)
                     for a, x, f in zip(r(c)["trace"]["relative_lay_deg"], r(c)["trace"]["simulated"],
                                        r(c)["trace"]["formula"])])
 
@@ -201,7 +201,7 @@ def head_row(label, c, res):
     p = FasteningParams(**c["params"])
     sm = res["summary"]
     ortho = p.head_net == "orthotropic"
-    return [label, p.head_lay_angle if ortho else NAN, p.mu_head, p.mu_head_2 if ortho else p.mu_head,
+    return [label, p.head_net_angle if ortho else NAN, p.mu_head, p.mu_head_2 if ortho else p.mu_head,
             num(sm.get("head_torque_per_clamp_force")), num(sm.get("head_torque_per_clamp_force_theory")),
             rel(sm.get("head_torque_per_clamp_force"), sm.get("head_torque_per_clamp_force_theory")),
             num(res.get("ring_max_error")),

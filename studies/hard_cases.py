@@ -39,7 +39,7 @@ from exu_aniso.scenes.screw import ScrewParams, screw_energy
 NAME = "hard_cases"
 SEED_KNOWN = ("seed map: its sliding direction depends on the step (power iteration towards the dominant "
               "eigen-direction of C F), so its path differs from the exact map's")
-OBLIQUE = dict(adhesion="cartesian", eps_1=1e5, eps_2=1e3, friction="cartesian", mu_1=0.2, mu_2=0.6,
+OBLIQUE = dict(adhesion="orthotropic", eps_1=1e5, eps_2=1e3, friction="orthotropic", mu_1=0.2, mu_2=0.6,
                drive_angle=45.0, adhesion_angle=30.0, friction_angle=0.0)
 
 # name -> dict(scene, map, params, t_end (full), t_quick, err_tol, energy_tol, expect, note)
@@ -69,10 +69,10 @@ case("adhesion_ratio_1e4_seed", scene="block", map="seed", params=dict(eps_1=1e6
      t_end=2.0, t_quick=0.25, err_tol=0.3, energy_tol=0.15, known=SEED_KNOWN,
      note="polar B ratio 1e4, seed map (step-size dependent; identical to radial while T_tr stays on e_phi)")
 case("friction_ratio_100_exact", scene="block", map="exact",
-     params=dict(adhesion="isotropic", eps_1=1e5, friction="cartesian", mu_1=0.01, mu_2=1.0, drive_angle=45.0,
+     params=dict(adhesion="isotropic", eps_1=1e5, friction="orthotropic", mu_1=0.01, mu_2=1.0, drive_angle=45.0,
                  return_map="exact"), t_end=1.0, t_quick=0.25, note="mu_1 / mu_2 = 1/100, drive at 45 deg")
 case("friction_ratio_100_seed", scene="block", map="seed",
-     params=dict(adhesion="isotropic", eps_1=1e5, friction="cartesian", mu_1=0.01, mu_2=1.0, drive_angle=45.0,
+     params=dict(adhesion="isotropic", eps_1=1e5, friction="orthotropic", mu_1=0.01, mu_2=1.0, drive_angle=45.0,
                  return_map="seed"), t_end=1.0, t_quick=0.25, err_tol=0.3, energy_tol=0.15, known=SEED_KNOWN,
      note="mu ratio 100 with the seed map")
 case("polar_origin_core", scene="block", map="radial",
@@ -111,8 +111,8 @@ case("large_step_50x_seed", scene="block", map="seed", params=dict(dt=5e-2, retu
           "dissipation is the trapezoid of what the map removes")
 for m in ("seed", "exact", "radial"):
     case(f"vanishing_normal_{m}", scene="free", map=m,
-         params=dict(normal_load=1e-9, drive="force", force=0.5, return_map=m, adhesion="cartesian",
-                     friction="cartesian", mu_2=0.6), t_end=0.5, t_quick=0.2, err_tol=1e-6,
+         params=dict(normal_load=1e-9, drive="force", force=0.5, return_map=m, adhesion="orthotropic",
+                     friction="orthotropic", mu_2=0.6), t_end=0.5, t_quick=0.2, err_tol=1e-6,
          note="|N| = 1e-9 N: the block must accelerate at (P - mu N) / m; friction <= mu |N|")
 case("zero_normal", scene="free", map="radial", params=dict(normal_load=0.0, drive="force", force=0.5), t_end=0.5,
      t_quick=0.2, err_tol=1e-9, note="normal_load 0: no contact at all (gap 0 is open), free acceleration P / m")

@@ -97,8 +97,8 @@ EPS_T = 1e5                 # N/m, our (isotropic) sticking stiffness of the sli
 
 def _ours_block_params(dt, points="center", eps=EPS_T):
     from exu_aniso.scenes.block import BlockParams
-    return BlockParams(mass=MASS, normal_load=MASS * GRAVITY, points=points, adhesion="cartesian", eps_1=eps,
-                       eps_2=eps, friction="cartesian", mu_1=MU_X, mu_2=MU_Y, friction_angle=0.0,
+    return BlockParams(mass=MASS, normal_load=MASS * GRAVITY, points=points, adhesion="orthotropic", eps_1=eps,
+                       eps_2=eps, friction="orthotropic", mu_1=MU_X, mu_2=MU_Y, friction_angle=0.0,
                        return_map="exact", drive="force", drive_angle=PULL_ANGLE, force=PULL, t_end=SLIDE_T, dt=dt,
                        model="planar", solver="trapezoidal")
 

@@ -57,7 +57,7 @@ ORACLE_SCENES = {
                                drive_stiffness=1e3, drive_speed=0.1, drive_angle=90.0, points="corners")),
     "coulomb": ("block", dict(adhesion="isotropic", friction="isotropic", mu_1=0.3, eps_1=1e5, drive="force", force=5.0,
                               drive_angle=90.0, return_map="exact", points="corners")),
-    "heading": ("block", dict(adhesion="isotropic", eps_1=1e5, friction="cartesian", mu_1=0.2, mu_2=0.6,
+    "heading": ("block", dict(adhesion="isotropic", eps_1=1e5, friction="orthotropic", mu_1=0.2, mu_2=0.6,
                               friction_angle=0.0, return_map="exact", drive="force", force=10.0, drive_angle=45.0,
                               points="center")),
     "pitch": ("screw", dict(eps_1=1e3, eps_2=1e7, mu_1=0.2, mu_2=5.0, return_map="radial", drive="rotation")),

@@ -245,9 +245,9 @@ def test_plot_functions_create_a_figure_without_ax():
 
 @pytest.mark.parametrize("fields, net_labels", [
     (dict(), ["B and F net: polar (rays e1, circles e2)"]),
-    (dict(adhesion="cartesian", adhesion_angle=30.0, friction="cartesian", friction_angle=30.0),
+    (dict(adhesion="orthotropic", adhesion_angle=30.0, friction="orthotropic", friction_angle=30.0),
      ["B and F net: lines along e1 (30 deg)"]),
-    (dict(adhesion="cartesian", adhesion_angle=30.0, friction="polar"),
+    (dict(adhesion="orthotropic", adhesion_angle=30.0, friction="polar"),
      ["B net: lines along e1 (30 deg)", "F net: polar (rays e1, circles e2)"]),
     (dict(adhesion="isotropic", friction="isotropic"), []),
 ])

@@ -90,7 +90,7 @@ def test_ledger_counts_dashpot_dissipation():
     """Full block with normal and tangential dashpots, sliding: the dashpots' dissipation is part of
     the ledger, which still closes (without it the residual is the dashpot's share)."""
     p = BlockParams(model="full", t_end=0.5, normal_damping=20.0, tangential_damping=5.0, drive="force",
-                    adhesion="cartesian", friction="cartesian")
+                    adhesion="orthotropic", friction="orthotropic")
     r = RunBlock(p)
     e = r.summary["energy"]
     friction_only = r.trajectory["dissipated_energy"][-1]

@@ -20,7 +20,7 @@ from exu_aniso.scenes.base import ENERGY_COLUMNS
 from exu_aniso.scenes.block import BlockParams
 from exu_aniso.scenes.screw import ScrewParams
 
-CARTESIAN = dict(adhesion="cartesian", friction="cartesian", eps_1=1e5, eps_2=1e3, adhesion_angle=30.0, mu_1=0.2,
+CARTESIAN = dict(adhesion="orthotropic", friction="orthotropic", eps_1=1e5, eps_2=1e3, adhesion_angle=30.0, mu_1=0.2,
                  mu_2=0.6)
 
 

@@ -163,7 +163,7 @@ def test_orthotropic_sliding_direction_exact_map():
     acceleration (and so the velocity after the transient) points along the direction where pull
     plus friction -|N| F^-1 v / sqrt(v.F^-1 v) is parallel to v."""
     N, P = 9.81, 10.0
-    p = BlockParams(adhesion="isotropic", eps_1=1e5, friction="cartesian", mu_1=0.2, mu_2=0.6, friction_angle=0.0,
+    p = BlockParams(adhesion="isotropic", eps_1=1e5, friction="orthotropic", mu_1=0.2, mu_2=0.6, friction_angle=0.0,
                     return_map="exact", drive="force", force=P, drive_angle=45.0, points="center", normal_load=N,
                     t_end=1.0, dt=1e-3)
     r = RunBlock(p).trajectory

@@ -143,7 +143,7 @@ def test_orthotropic_head_bearing_follows_the_associated_ring_torque():
     is r_K times the ring mean of sqrt(mu_1^2 cos^2 a + mu_2^2 sin^2 a) (oracles.orthotropic_ring_torque_factor)
     at the ring's orientation as it turns over the lay, which lies between the two coefficients. The
     8-point ring's factor varies by 0.18 % with its orientation: the summary follows it (measured 2e-7)."""
-    p = FasteningParams(head_net="orthotropic", mu_head=0.12, mu_head_2=0.24, head_lay_angle=20.0)
+    p = FasteningParams(head_net="orthotropic", mu_head=0.12, mu_head_2=0.24, head_net_angle=20.0)
     s = RunFastening(p).summary
     assert s["energy_ok"]
     assert 0.12 < s["head_torque_per_clamp_force_theory"] / p.head_radius < 0.24

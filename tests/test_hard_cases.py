@@ -180,7 +180,7 @@ def test_seed_large_step_dissipation_closes_the_balance():
 def test_energy_balance_is_exact_in_stick_with_constant_adhesion():
     """Oracle for the bookkeeping itself: a block held in stick by a slow spring drive with constant
     (cartesian) B; trapezoidal work = kinetic + stored to round-off, nothing dissipated."""
-    p = BlockParams(adhesion="cartesian", eps_1=1e5, eps_2=1e3, adhesion_angle=30.0, friction="isotropic", mu_1=0.3,
+    p = BlockParams(adhesion="orthotropic", eps_1=1e5, eps_2=1e3, adhesion_angle=30.0, friction="isotropic", mu_1=0.3,
                     drive_angle=45.0, drive_speed=0.01, t_end=0.1)
     r = STUDY.run_block(p)
     b = r["balance"]

@@ -45,7 +45,7 @@ def test_defaults_and_table():
     p = ParticleParams()
     assert p.case == "departure" and p.surface == "sphere"
     assert "half_angle" in ParticleParams.describe() and "deg" in ParticleParams.describe()
-    assert ParticleParams.from_strings({"angle": "pi", "case": "free"}).angle == pytest.approx(math.pi)
+    assert ParticleParams.from_strings({"net_angle": "pi", "case": "free"}).net_angle == pytest.approx(math.pi)
 
 
 @pytest.mark.parametrize("values,match", [
@@ -264,15 +264,15 @@ def test_incline_domain_edges():
 @pytest.mark.parametrize("values,mu,reason", [
     (dict(INCLINE, gravity=0.0), None, "gravity=0"),
     (dict(INCLINE, speed=0.0, tilt=-30.0), None, "toward -x"),
-    (dict(INCLINE, friction="orthotropic", mu_2=0.15, angle=0.0), 0.15, None),       # the axis is xi2
-    (dict(INCLINE, friction="orthotropic", mu_2=0.15, angle=90.0), 0.3, None),       # direction 1 on the axis
-    (dict(DEPARTURE, friction="orthotropic", mu_1=0.3, mu_2=0.15, angle=90.0), 0.15, None),
-    (dict(DEPARTURE, friction="orthotropic", mu_1=0.3, mu_2=0.15, angle=45.0), None, "angle=45"),
+    (dict(INCLINE, friction="orthotropic", mu_2=0.15, net_angle=0.0), 0.15, None),       # the axis is xi2
+    (dict(INCLINE, friction="orthotropic", mu_2=0.15, net_angle=90.0), 0.3, None),       # direction 1 on the axis
+    (dict(DEPARTURE, friction="orthotropic", mu_1=0.3, mu_2=0.15, net_angle=90.0), 0.15, None),
+    (dict(DEPARTURE, friction="orthotropic", mu_1=0.3, mu_2=0.15, net_angle=45.0), None, "net_angle=45"),
     (dict(CAVITY, tangential_damping=1e-6), None, "tangential_damping=1e-06"),
     (dict(CAVITY, normal_damping=1e6), 0.3, None),
-    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, angle=30.0, return_map="radial"), None, "return_map=radial"),
-    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, angle=30.0, return_map="exact"), 0.3, None),
-    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, angle=90.0, return_map="seed"), 0.3, None),
+    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, net_angle=30.0, return_map="radial"), None, "return_map=radial"),
+    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, net_angle=30.0, return_map="exact"), 0.3, None),
+    (dict(CAVITY, adhesion="orthotropic", eps_2=1e4, net_angle=90.0, return_map="seed"), 0.3, None),
 ])
 def test_theory_domain_rules(values, mu, reason):
     """The rules of scenes.particle.theory_domain (the measurements behind them: its docstring and the
@@ -290,7 +290,7 @@ def test_bent_friction_of_a_non_associated_map_has_no_theory():
     """Just outside: radial map, B orthotropic at 30 deg (eps_2 = eps_1 / 10): the friction force turns
     toward B v and the cavity's speed leaves exp(-mu psi) by 7 % (measured 7.3e-2); no theory. Just
     inside: the exact map on the same B meets the oracle as with isotropic B (start-up term + 1e-5)."""
-    kw = dict(CAVITY, adhesion="orthotropic", eps_1=1e5, eps_2=1e4, angle=30.0)
+    kw = dict(CAVITY, adhesion="orthotropic", eps_1=1e5, eps_2=1e4, net_angle=30.0)
     startup = oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, 5e-4)
     s = simulate_particle(ParticleParams(dt=5e-4, return_map="exact", **kw)).summary
     assert abs(s["cavity_speed_error"] - startup) <= 1e-5, s["cavity_speed_error"]
@@ -352,7 +352,7 @@ def test_summary_and_columns():
 
 
 def test_orthotropic_friction_off_axis_has_no_theory():
-    s = simulate_particle(ParticleParams(dt=1e-3, friction="orthotropic", mu_1=0.1, mu_2=0.2, angle=30.0,
+    s = simulate_particle(ParticleParams(dt=1e-3, friction="orthotropic", mu_1=0.1, mu_2=0.2, net_angle=30.0,
                                          **DEPARTURE)).summary
     assert s["departure_angle_deg_theory"] is None and "principal direction" in s["undefined"]["oracle_theory"]
 

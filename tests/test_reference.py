@@ -156,7 +156,7 @@ def test_orthotropic_exact_steady_direction():
     v = np.array([math.cos(phi), math.sin(phi)])
     a_exact = (pull + friction(phi)) @ v / m
 
-    p = BlockParams(adhesion="isotropic", eps_1=1e5, friction="cartesian", mu_1=mu1, mu_2=mu2, friction_angle=0.0,
+    p = BlockParams(adhesion="isotropic", eps_1=1e5, friction="orthotropic", mu_1=mu1, mu_2=mu2, friction_angle=0.0,
                     return_map="exact", drive="force", force=P, drive_angle=45.0, normal_load=N, mass=m,
                     t_end=1.0, dt=1e-3)
     r = simulate_block(p)
@@ -229,7 +229,7 @@ def test_step_rejection_leaves_no_trace():
 
 @pytest.mark.parametrize("params", [
     BlockParams(), BlockParams(model="full"),
-    BlockParams(model="full", return_map="exact", adhesion="cartesian", adhesion_angle=30.0, friction="cartesian",
+    BlockParams(model="full", return_map="exact", adhesion="orthotropic", adhesion_angle=30.0, friction="orthotropic",
                 mu_2=0.6),
     BlockParams(return_map="seed"), ScrewParams(), ScrewParams(model="full"),
     ScrewParams(model="full", return_map="exact", drive="axial", drive_stiffness=1e3, solver="generalized_alpha"),

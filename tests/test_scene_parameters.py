@@ -40,3 +40,34 @@ def test_one_default_return_map():
             assert default == "radial" and "default is exact" in text and "steer" in text, name
         else:
             assert default == DEFAULT_RETURN_MAP, name
+
+
+def test_one_vocabulary_for_fields_and_their_angle_old_names_still_accepted():
+    """An orthotropic field of constant direction is "orthotropic" in every scene (the block said
+    "cartesian"), its direction <what carries it>_angle (the particle's one net said "angle", the
+    fastening's head net "head_lay_angle"). The old names still work, each with a FutureWarning
+    naming the new one, and give the same parameters; old and new together are an error."""
+    import warnings
+
+    from exu_aniso.scenes.block import BlockParams
+    from exu_aniso.scenes.fastening import FasteningParams
+    from exu_aniso.scenes.particle import ParticleParams
+    cases = [(BlockParams, dict(adhesion="cartesian", adhesion_angle=30.0), dict(adhesion="orthotropic",
+                                                                                 adhesion_angle=30.0), "adhesion"),
+             (ParticleParams, dict(angle=30.0), dict(net_angle=30.0), "net_angle"),
+             (FasteningParams, dict(head_lay_angle=20.0), dict(head_net_angle=20.0), "head_net_angle")]
+    for cls, old, new, word in cases:
+        with pytest.warns(FutureWarning, match=f"now called {word}"):
+            a = cls(**old)
+        with pytest.warns(FutureWarning, match=f"now called {word}"):
+            b = cls.from_strings({k: str(v) for k, v in old.items()})
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            assert a == b == cls(**new) == cls().with_overrides(**new)
+        with pytest.warns(FutureWarning):
+            assert cls().with_overrides(**old) == a
+        assert "Old names still accepted" in cls.describe()
+    with pytest.raises(ValueError, match="angle is the old name of net_angle; give net_angle only"):
+        ParticleParams(angle=30.0, net_angle=10.0)
+    with pytest.raises(ValueError, match="adhesion must be one of"):
+        BlockParams(adhesion="cartesain")

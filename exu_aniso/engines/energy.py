@@ -269,16 +269,16 @@ def warn_if_open(summary, what="run", advice=DEFAULT_ADVICE):
         where = f"at t = {bad['t']:.6g} s" if "t" in bad else f"at sample {bad['index']}"
         warnings.warn(f"energy ledger of this {what} cannot close: {bad['column']} is not finite {where} "
                       "(an overflow or a NaN in the state or the contact), so the results are not to be trusted; "
-                      "check the parameters' magnitudes", EnergyWarning, stacklevel=_outside_the_package())
+                      "check the parameters' magnitudes", EnergyWarning, stacklevel=outside_the_package())
         return
     warnings.warn(f"energy ledger of this {what} does not close: relative residual "
                   f"{summary['energy']['residual']:.3g} > tolerance {summary['energy_tolerance']:.3g} "
                   f"(work in {summary['energy']['work_in']:.6g} J): energy is created or lost that the "
                   f"model does not account for, so the results may be wrong; {advice} (the ledger: "
-                  "docs/guide/energy_ledger.md)", EnergyWarning, stacklevel=_outside_the_package())
+                  "docs/guide/energy_ledger.md)", EnergyWarning, stacklevel=outside_the_package())
 
 
-def _outside_the_package():
+def outside_the_package():
     """warnings.warn's stacklevel of the first caller outside exu_aniso, so that a warning names the
     user's line (a model script's RunBlock call), not one of the package's own lines."""
     import os

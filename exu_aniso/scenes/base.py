@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import functools
 from dataclasses import dataclass
 import math
 import operator
@@ -232,6 +233,32 @@ class SceneParams:
     ``_check_scene`` and its number of contact points in ``contact_points``."""
 
     TABLE: dict = {}
+    RENAMED: dict = {}
+    """Old parameter names still accepted: old name -> new name (a FutureWarning says so)."""
+    RENAMED_VALUES: dict = {}
+    """Old choices still accepted: (parameter, old value) -> new value (a FutureWarning says so)."""
+
+    @classmethod
+    def _current_names(cls, values):
+        """values (a dict name -> value) with every old name and old choice (RENAMED, RENAMED_VALUES)
+        replaced by the current one, each with a FutureWarning naming both; an old name given beside
+        its new one is an error."""
+        out = {}
+        for name, value in values.items():
+            if name in cls.RENAMED:
+                new = cls.RENAMED[name]
+                if new in values:
+                    raise ValueError(f"{cls.__name__}: {name} is the old name of {new}; give {new} only")
+                warnings.warn(f"{cls.__name__}: the parameter {name} is now called {new}; the old name will be "
+                              "removed", FutureWarning, stacklevel=energy.outside_the_package())
+                name = new
+            old = value.strip() if isinstance(value, str) else value
+            if isinstance(old, str) and (name, old) in cls.RENAMED_VALUES:
+                value = cls.RENAMED_VALUES[name, old]
+                warnings.warn(f"{cls.__name__}: {name}={old} is now called {name}={value}; the old value will be "
+                              "removed", FutureWarning, stacklevel=energy.outside_the_package())
+            out[name] = value
+        return out
 
     def __post_init__(self):
         for name, (_, unit, _, rule) in self.TABLE.items():
@@ -283,7 +310,7 @@ class SceneParams:
 
     @classmethod
     def _unknown(cls, names):
-        bad = sorted(set(names) - set(cls.TABLE))
+        bad = sorted(set(names) - set(cls.TABLE) - set(cls.RENAMED))
         if bad:
             raise ValueError(f"{cls.__name__}: unknown parameter(s) {bad}; valid names: {list(cls.TABLE)}")
 
@@ -302,7 +329,7 @@ class SceneParams:
     def with_overrides(self, **kw):
         """A validated copy with some fields replaced (strings are parsed)."""
         self._unknown(kw)
-        return dataclasses.replace(self, **kw)
+        return dataclasses.replace(self, **self._current_names(kw))
 
     def as_dict(self):
         return dataclasses.asdict(self)
@@ -335,6 +362,10 @@ class SceneParams:
             wrapped = textwrap.wrap(r[4], max(width - indent, 40)) or [""]
             lines.append(first + wrapped[0])
             lines += [" " * indent + more for more in wrapped[1:]]
+        renamed = [f"{old} -> {new}" for old, new in cls.RENAMED.items()]
+        renamed += [f"{name}={old} -> {name}={new}" for (name, old), new in cls.RENAMED_VALUES.items()]
+        if renamed:
+            lines += ["", "Old names still accepted (with a warning): " + "; ".join(renamed)]
         lines += ["", "Bounds on a run's cost, checked before anything is built:"]
         for rule in cls.cost_rules():
             lines += textwrap.wrap(rule, max(width, 40), initial_indent="  ", subsequent_indent="    ")
@@ -351,7 +382,14 @@ def scene_parameters(table):
         for name, row in table.items():
             setattr(cls, name, row[0])
         cls.TABLE = table
-        return dataclass(frozen=True)(cls)
+        made = dataclass(frozen=True)(cls)
+        init = made.__init__
+
+        @functools.wraps(init)
+        def __init__(self, **values):      # old names and choices (RENAMED, RENAMED_VALUES) still accepted
+            init(self, **made._current_names(values))
+        made.__init__ = __init__
+        return made
     return make
 
 
@@ -417,6 +455,6 @@ def basis_compliance(p, mesh, basis, contact_set, fixed_set, words, warn=True):
                                                            mesh.node_sets[fixed_set])
     text = missing_compliance(share, COMPLIANCE_SHARE_FLOOR, *words)
     if text is not None and warn:
-        warnings.warn(text, BasisWarning, stacklevel=energy._outside_the_package())
+        warnings.warn(text, BasisWarning, stacklevel=energy.outside_the_package())
     return dict(contact_compliance_share=float(share), basis_warning=text)
 

@@ -56,14 +56,14 @@ BLOCK_PARAMS = {
     "normal_load": (9.81, "N", "total downward load (planar: carried by the held penetration; full: "
                     "vertical force at the COM, no separate gravity)", ">= 0"),
     "eps_n": (1e6, "N/m", "total normal penalty stiffness, split equally over the K points", "> 0"),
-    "adhesion": ("polar", "-", "adhesion (sticking stiffness) field B", ("isotropic", "cartesian", "polar")),
+    "adhesion": ("polar", "-", "adhesion (sticking stiffness) field B", ("isotropic", "orthotropic", "polar")),
     "eps_1": (1e5, "N/m", "total tangential stiffness along e1 (polar: radial; isotropic: both)", "> 0"),
     "eps_2": (1e3, "N/m", "total tangential stiffness along e2 (polar: circumferential)", "> 0"),
-    "adhesion_angle": (0.0, "deg", "angle of e1 from e_x for cartesian adhesion", "real"),
-    "friction": ("polar", "-", "friction field F", ("isotropic", "cartesian", "polar")),
+    "adhesion_angle": (0.0, "deg", "angle of e1 from e_x for orthotropic adhesion (a constant direction)", "real"),
+    "friction": ("polar", "-", "friction field F", ("isotropic", "orthotropic", "polar")),
     "mu_1": (0.3, "-", "friction coefficient along e1 (polar: radial; isotropic: both)", "> 0"),
     "mu_2": (0.3, "-", "friction coefficient along e2 (polar: circumferential)", "> 0"),
-    "friction_angle": (0.0, "deg", "angle of e1 from e_x for cartesian friction", "real"),
+    "friction_angle": (0.0, "deg", "angle of e1 from e_x for orthotropic friction (a constant direction)", "real"),
     "return_map": ("radial", "-", "sliding return map; radial here, the package's default is exact: the papers' block "
                    "slides where the polar adhesion steers it (exact: straight along the push)", RETURN_MAPS),
     "drive": ("displacement", "-", "constant force at the COM, or a spring along the drive direction "
@@ -93,6 +93,8 @@ BLOCK_PARAMS = {
 @scene_parameters(BLOCK_PARAMS)
 class BlockParams(SceneParams):
     """Block on a (polar-)orthotropic plane; see BLOCK_PARAMS for units and meaning."""
+
+    RENAMED_VALUES = {("adhesion", "cartesian"): "orthotropic", ("friction", "cartesian"): "orthotropic"}
 
     def contact_points(self):
         return _n_block_points(self)
@@ -152,13 +154,13 @@ def block_contact_law(p):
     rad = math.radians
     if p.adhesion == "isotropic":
         B = Adhesion.isotropic(p.eps_1 / K)
-    elif p.adhesion == "cartesian":
+    elif p.adhesion == "orthotropic":
         B = Adhesion.orthotropic(p.eps_1 / K, p.eps_2 / K, angle=rad(p.adhesion_angle))
     else:
         B = Adhesion.polar(p.eps_1 / K, p.eps_2 / K, core_radius=p.core_radius)
     if p.friction == "isotropic":
         Fr = Friction.isotropic(p.mu_1)
-    elif p.friction == "cartesian":
+    elif p.friction == "orthotropic":
         Fr = Friction.orthotropic(p.mu_1, p.mu_2, angle=rad(p.friction_angle))
     else:
         Fr = Friction.polar(p.mu_1, p.mu_2, core_radius=p.core_radius)
@@ -396,7 +398,7 @@ def _block_nets(params):
                               ("F", params.friction, params.friction_angle)):
         if kind == "isotropic":
             continue
-        a = math.radians(angle) if kind == "cartesian" else 0.0
+        a = math.radians(angle) if kind == "orthotropic" else 0.0
         for i, (k0, a0, names) in enumerate(nets):
             same_lines = math.isclose(math.remainder(a - a0, math.pi), 0.0, abs_tol=1e-12)
             if k0 == kind and (kind == "polar" or same_lines):

@@ -19,7 +19,7 @@ r2 = d2/2; its head's underside has ``head_points`` points on the mean bearing r
   (the other flank, with its play, is not modelled).
 
 Fields: isotropic on the flank (``mu_thread``), isotropic or orthotropic on the head bearing (a
-machined lay: ``mu_head`` along the lay at ``head_lay_angle`` from the part's x axis, ``mu_head_2``
+machined lay: ``mu_head`` along the lay at ``head_net_angle`` from the part's x axis, ``mu_head_2``
 across). Stiffnesses are totals, split over the points of a contact (docs/guide/conventions.md, "Per point or per set").
 
 Measured (``fastening_summary``): the torque-angle curve (drive torque = the torsional spring's),
@@ -64,7 +64,7 @@ FASTENING_PARAMS = {
     "head_net": ("isotropic", "-", "head bearing field: isotropic or orthotropic (a machined lay)",
                  ("isotropic", "orthotropic")),
     "mu_head_2": (0.2, "-", "head bearing friction across the lay (head_net orthotropic)", "> 0"),
-    "head_lay_angle": (0.0, "deg", "direction of the lay from the clamped part's x axis", "real"),
+    "head_net_angle": (0.0, "deg", "direction 1 of head_net (the lay) from the clamped part's x axis", "real"),
     "head_radius": (6.6e-3, "m", "mean bearing radius r_K of the head (M10: (d_w + d_h)/4)", "> 0"),
     "joint_stiffness": (1e8, "N/m", "clamped part's spring: the joint's compliance (part and bolt)", "> 0"),
     "joint_damping_ratio": (1.0, "-", "damping ratio of the clamped part on its spring", ">= 0"),
@@ -117,6 +117,8 @@ ENERGY_ADVICE = ("reduce dt (spectral_radius 0, the default, removes the unresol
 @scene_parameters(FASTENING_PARAMS)
 class FasteningParams(SceneParams):
     """A bolt tightened into a nut; see FASTENING_PARAMS for units and meaning."""
+
+    RENAMED = {"head_lay_angle": "head_net_angle"}
 
     def contact_points(self):
         return self.turns * self.points_per_turn + self.head_points
@@ -297,7 +299,7 @@ def head_contact_law(p):
     K = p.head_points
     eps_t = p.sticking_stiffness / K
     if p.head_net == "orthotropic":
-        a = math.radians(p.head_lay_angle)
+        a = math.radians(p.head_net_angle)
         F = Friction.orthotropic(p.mu_head, p.mu_head_2, angle=a)
     else:
         F = Friction.isotropic(p.mu_head)
@@ -349,7 +351,7 @@ def theory(p):
         head = p.mu_head * p.head_radius
     elif p.return_map == "exact":      # at the start orientation; fastening_summary follows the ring as it turns
         head = p.head_radius * oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2,
-                                                                      math.radians(p.head_lay_angle), p.head_points)
+                                                                      math.radians(p.head_net_angle), p.head_points)
     else:
         head = None
         undefined["head_torque_per_clamp_force_theory"] = (f"orthotropic head under the {p.return_map!r} map: the "
@@ -430,8 +432,8 @@ def tightening(clamp_force):
 def head_ring_factor(p, angle):
     """The orthotropic head ring's torque factor (oracles.orthotropic_ring_torque_factor) at the bolt
     angles ``angle`` [rad]: the ring turns with the bolt while the lay stays with the part, so the lay
-    lies at head_lay_angle - angle from the ring's points."""
-    lay = math.radians(p.head_lay_angle)
+    lies at head_net_angle - angle from the ring's points."""
+    lay = math.radians(p.head_net_angle)
     return np.array([oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2, lay - a, p.head_points)
                      for a in np.atleast_1d(angle)])
 

@@ -19,8 +19,8 @@ Frame and geometry (the surface's frame; every length in m, angles of the parame
 
 Gravity acts along (sin(tilt), 0, -cos(tilt)) in this frame: ``tilt`` tilts the surface by that
 angle about the y axis so that +x runs downhill. ``eps_n``, ``eps_1``, ``eps_2`` and the dashpots
-are per point (one point). Orthotropic fields: direction 1 at ``angle`` from the xi1 coordinate
-line at every point (``nets.OrthotropicNet``), the same angle for adhesion and friction.
+are per point (one point). Orthotropic fields: direction 1 at ``net_angle`` from the xi1 coordinate
+line at every point (``nets.OrthotropicNet``), the same ``net_angle`` for adhesion and friction.
 
 Cases (``case``)
 ----------------
@@ -111,7 +111,8 @@ PARTICLE_PARAMS = {
     "friction": ("isotropic", "-", "friction field F", ("isotropic", "orthotropic")),
     "mu_1": (0.15, "-", "friction coefficient along direction 1 (isotropic: both)", "> 0"),
     "mu_2": (0.15, "-", "friction coefficient along direction 2", "> 0"),
-    "angle": (0.0, "deg", "direction 1 of orthotropic fields from the xi1 coordinate line", "real"),
+    "net_angle": (0.0, "deg", "direction 1 of the orthotropic fields' net from the xi1 coordinate line (the same "
+                  "for adhesion and friction)", "real"),
     "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (1.0, "s", "simulated time", "> 0"),
     "dt": (2e-4, "s", "time step", "> 0"),
@@ -127,6 +128,8 @@ _STATE = ("x0", "y0", "z0", "vx0", "vy0", "vz0")
 @scene_parameters(PARTICLE_PARAMS)
 class ParticleParams(SceneParams):
     """Mass point on a surface of the protocol; see PARTICLE_PARAMS for units and meaning."""
+
+    RENAMED = {"angle": "net_angle"}
 
     def _check_scene(self):
         if self.surface == "torus" and not self.minor_radius < self.radius:
@@ -224,7 +227,7 @@ def particle_surface(p):
 def particle_contact_law(p, surface=None):
     """ContactLaw of the scene (one point: the stiffnesses as given); surface: another surface of
     the protocol instead of the scene's (tests: a ParametricSurface of one's own)."""
-    a = math.radians(p.angle)
+    a = math.radians(p.net_angle)
     B = (Adhesion.isotropic(p.eps_1) if p.adhesion == "isotropic"
          else Adhesion.orthotropic(p.eps_1, p.eps_2, angle=a))
     F = Friction.isotropic(p.mu_1) if p.friction == "isotropic" else Friction.orthotropic(p.mu_1, p.mu_2, angle=a)
@@ -255,12 +258,12 @@ def initial_state(p):
 def path_mu(p):
     """(mu along the oracle's path, None) or (None, reason): the path runs along the xi1 lines
     (departure, cavity) or the xi2 line (incline: the cylinder's axis); on these orthogonal charts an
-    orthotropic F has a principal direction along the path when ``angle`` is a multiple of 90 deg
+    orthotropic F has a principal direction along the path when ``net_angle`` is a multiple of 90 deg
     (direction 1 along xi1 at 0 and 180 deg, along xi2 at 90 and 270 deg)."""
     name, mu = _path_mu_name(p)
     if name is None:
-        return None, (f"angle={p.angle:g} deg with friction=orthotropic: the path does not run along a principal "
-                      "direction of F (angle a multiple of 90 deg), so no single mu applies to the textbook oracle")
+        return None, (f"net_angle={p.net_angle:g} deg with friction=orthotropic: the path does not run along a principal "
+                      "direction of F (net_angle a multiple of 90 deg), so no single mu applies to the textbook oracle")
     return mu, None
 
 
@@ -268,9 +271,9 @@ def _path_mu_name(p):
     """(name of the parameter that is mu along the path, its value), or (None, None) off the axes."""
     if p.friction == "isotropic":
         return "mu_1", p.mu_1
-    if p.angle % 90.0 != 0.0:
+    if p.net_angle % 90.0 != 0.0:
         return None, None
-    name = "mu_1" if (p.angle % 180.0 == 0.0) == (p.case != "incline") else "mu_2"
+    name = "mu_1" if (p.net_angle % 180.0 == 0.0) == (p.case != "incline") else "mu_2"
     return name, getattr(p, name)
 
 
@@ -281,7 +284,7 @@ def theory_domain(p):
 
     * friction: one mu along the path (isotropic, or orthotropic at a multiple of 90 deg: ``path_mu``);
       the return map does not matter there (seed, exact, radial: the same angle to 2e-9 deg), unless
-      the adhesion B is orthotropic off the axes (eps_1 != eps_2, angle not a multiple of 90 deg): the
+      the adhesion B is orthotropic off the axes (eps_1 != eps_2, net_angle not a multiple of 90 deg): the
       non-associated maps (seed, radial) then slide with T along B v, not v, which bends the path (eps_2
       = eps_1 / 10 at 30 deg: departure -3.83 deg radial, -4.87 deg seed; cavity speed error 7.3 %;
       incline 2.652 against 2.356 m/s^2); the exact map stays on the oracle (departure error 2.59e-3
@@ -305,8 +308,8 @@ def theory_domain(p):
     if why:
         return why
     if (p.return_map != "exact" and p.adhesion == "orthotropic" and p.eps_1 != p.eps_2
-            and p.angle % 90.0 != 0.0):
-        return (f"return_map={p.return_map} with adhesion=orthotropic at angle={p.angle:g} deg (eps_1 != eps_2): "
+            and p.net_angle % 90.0 != 0.0):
+        return (f"return_map={p.return_map} with adhesion=orthotropic at net_angle={p.net_angle:g} deg (eps_1 != eps_2): "
                 "this non-associated map turns the friction force toward B v, off the sliding direction, the "
                 "textbook oracle assumes friction against the sliding (return_map=exact keeps it)")
     if p.tangential_damping > 0.0:

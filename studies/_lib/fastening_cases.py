@@ -46,7 +46,7 @@ def clamp_force_at_torque_theory(p, target):
 def ring_check(p, traj):
     """The head torque per clamp force against the ring formula at the ring's *current* orientation:
     the head's points turn with the bolt while the lay stays with the part, so at the bolt angle a the
-    lay lies at head_lay_angle - a from the ring's points (oracles.orthotropic_ring_torque_factor).
+    lay lies at head_net_angle - a from the ring's points (oracles.orthotropic_ring_torque_factor).
     Over the tightening phase (scenes.fastening.tightening): the largest relative error, the range
     of the formula, the bolt angles, and a thinned trace (relative lay angle [deg], simulated, formula)."""
     from exu_aniso.scenes.fastening import head_ring_factor, tightening
@@ -54,7 +54,7 @@ def ring_check(p, traj):
     tight = tightening(F)
     ang = np.asarray(traj["angle"], float)[tight]
     sim = np.asarray(traj["head_torque"], float)[tight] / (F[tight] * p.head_radius)
-    rel = math.radians(p.head_lay_angle) - ang
+    rel = math.radians(p.head_net_angle) - ang
     formula = head_ring_factor(p, ang)
     pick = np.unique(np.linspace(0, len(sim) - 1, TRACE_SAMPLES).round().astype(int))
     return dict(ring_max_error=float(np.max(np.abs(sim / formula - 1.0))),
