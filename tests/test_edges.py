@@ -302,8 +302,8 @@ def test_fe_block_ledger_recomputed_from_csv(tmp_path):
                                rtol=0, atol=1e-9 * scale)
     assert np.all(np.diff(c["rayleigh_dissipated_energy"]) >= -1e-12 * scale)
     _ledger_sums(c, c["contact_stored_energy"] + c["strain_energy"] + c["drive_spring_energy"],
-                 c["contact_dissipated_energy"] + c["rayleigh_dissipated_energy"]
-                 + c["drive_dashpot_dissipated_energy"], scale)
+                 c["contact_dissipated_energy"] + (c["rayleigh_dissipated_energy"]
+                                                   + c["drive_dashpot_dissipated_energy"]), scale)
     assert np.all(c["energy_potential"] == 0.0) and c["strain_energy"][-1] > 0.0
 
 

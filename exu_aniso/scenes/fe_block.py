@@ -264,8 +264,8 @@ def fe_block_energy(p, traj, Xb, Vb, H, work_in):
     traj["contact_stored_energy"], traj["contact_dissipated_energy"] = energy.contact_energy(
         fe_block_contact_law(p), Xb, Vb, H)
     stored = traj["contact_stored_energy"] + traj["strain_energy"] + traj["drive_spring_energy"]
-    dissipated = (traj["contact_dissipated_energy"] + traj["rayleigh_dissipated_energy"]
-                  + traj["drive_dashpot_dissipated_energy"])
+    dissipated = traj["contact_dissipated_energy"] + (traj["rayleigh_dissipated_energy"]
+                                                      + traj["drive_dashpot_dissipated_energy"])
     return energy_ledger(dict(work_in=work_in, kinetic=traj["kinetic_energy"], potential=np.zeros(len(work_in)),
                               stored=stored, dissipated=dissipated), traj,
                          "fe_block run", "reduce dt, or raise stiffness_damping (a quasi-static run)")

@@ -20,8 +20,8 @@ import numpy as np
 import exudyn as exu
 from exudyn.FEM import FEMinterface
 from exudyn.itemInterface import NodePoint, ObjectGenericODE2, VObjectGenericODE2
+from exudyn.rigidBodyUtilities import EulerParameters2GLocal, EulerParameters2RotationMatrix
 
-from exu_aniso.engines.exudyn_adapter.slaves.rigid import node_rotation
 from exu_aniso.util.validation import check_nonnegative, check_vector
 
 # scikit-fem's hexahedron (corners (000), (010), (100), (001), (110), (011), (101), (111) in the
@@ -104,8 +104,9 @@ def FloatingFrameMotion(mesh, basis, rigid, rigid_t, modal, modal_t):
     U = (modal @ basis.T).reshape(n, -1, 3)
     A, omega = np.empty((n, 3, 3)), np.empty((n, 3))
     for i in range(n):
-        A[i], G = node_rotation("RigidBodyEP", rigid[i])
-        w_local = G @ rigid_t[i, 3:7]
+        e = rigid[i, 3:7]
+        A[i] = EulerParameters2RotationMatrix(e)
+        w_local = np.asarray(EulerParameters2GLocal(e)) @ rigid_t[i, 3:7]
         omega[i] = A[i] @ w_local
         b = mesh.nodes + U[i]
         X[i] = rigid[i, 0:3] + b @ A[i].T

@@ -22,11 +22,11 @@ from exudyn.itemInterface import (MarkerNodeCoordinate, MarkerNodeCoordinates, N
                                   ObjectConnectorCoordinate, ObjectConnectorCoordinateSpringDamper, ObjectConnectorCoordinateVector,
                                   ObjectGenericODE2, VNodePointGround,
                                   VObjectConnectorCoordinate, VObjectConnectorCoordinateSpringDamper)
-from exudyn.rigidBodyUtilities import RotationMatrixX, RotationMatrixZ
+from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RotationMatrixX,
+                                       RotationMatrixZ)
 
 from exu_aniso.law.history import HISTORY_FIELDS, N_HISTORY
 from exu_aniso.engines.exudyn_adapter.commit import contact_force_calls, disarm_native
-from exu_aniso.engines.exudyn_adapter.slaves.rigid import node_rotation
 from exu_aniso.engines.failure import SimulationFailure, contact_state_from_history, failure_message
 from exu_aniso.engines.result import Result
 from exu_aniso.util.output import atomic_write
@@ -34,7 +34,7 @@ from exu_aniso.util.progress import make_progress
 from exu_aniso.engines.energy import RigidMotion
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.engines.exudyn_adapter.solver_settings import NEWTON_MODES, SOLVER_TYPES
-from exu_aniso.util.rotations import skew, wrap_angle
+from exu_aniso.util.rotations import rotation_matrix, skew, wrap_angle
 from exu_aniso.util.validation import check_in_range, check_instance, check_nonnegative, check_positive
 
 
@@ -94,10 +94,11 @@ def AddYawDrive(mbs, nodeNumber, nodeType, torque):
     nq = 7 if ep else 6
     yaw_last = [0.0]   # last evaluated yaw: only used to unwrap (per-step change << pi)
 
-    kind, ref = ("RigidBodyEP", np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])) if ep else ("RigidBodyRotVecLG", 0.0)
-
-    def Kinematics(q):
-        return node_rotation(kind, q + ref)
+    def Kinematics(q):     # Exudyn's own functions of the node, as its sensors and markers use them
+        if ep:
+            e = q[3:7] + np.array([1.0, 0.0, 0.0, 0.0])
+            return np.asarray(EulerParameters2RotationMatrix(e)), np.asarray(EulerParameters2GLocal(e))
+        return rotation_matrix(q[3:6]), np.eye(3)
 
     def Yaw(A):
         yaw = yaw_last[0] + wrap_angle(math.atan2(A[1, 0], A[0, 0]) - yaw_last[0])

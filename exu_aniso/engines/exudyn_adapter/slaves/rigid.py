@@ -222,14 +222,6 @@ class EulerParameters(Rigid3D):
 NODE_KINDS = {c.kind: c for c in (Planar, ScrewJoint, RotationVector, EulerParameters)}
 
 
-def node_rotation(kind, q_total):
-    """Rotation matrix A (3, 3) and G (omega_local = G dq_rot/dt) of a 3D rigid node of Exudyn's node
-    type kind ("RigidBodyRotVecLG" or "RigidBodyEP") at its total coordinates q_total (reference
-    values included): the one place a node's rotation is made from its coordinates in numpy (the
-    compiled kernel's is exu_aniso.kernel.nodes)."""
-    return NODE_KINDS[kind].rotation(np.asarray(q_total, dtype=float))
-
-
 def node_kinematics(mbs, node_number):
     """The RigidNode of an Exudyn node, by its node type."""
     kind = mbs.GetNode(node_number)["nodeType"]
