@@ -77,6 +77,7 @@ def test_write_summary_turns_nan_into_null(tmp_path):
     assert s["wall_s"] is None and s["x"] == [1.0, None] and "not finite" in s["undefined"]["wall_s"]
 
 
+@pytest.mark.filterwarnings("ignore::exu_aniso.engines.energy.EnergyWarning")    # 20 steps of a start
 @pytest.mark.parametrize("scene", ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block",
                                    "fe_screw"])
 def test_every_null_in_a_short_runs_summary_says_why(scene):

@@ -136,7 +136,7 @@ def test_parity_on_a_parametric_surface_of_ones_own(side):
     assert SLIP in set(b.trajectory["status"].astype(int))
 
 
-MAPS_SCENE = dict(adhesion="orthotropic", eps_1=1e5, eps_2=1e4, angle=30.0, mu_1=0.3, vx0=0.3, vy0=0.2)
+MAPS_SCENE = dict(adhesion="orthotropic", eps_1=1e5, eps_2=1e4, net_angle=30.0, mu_1=0.3, vx0=0.3, vy0=0.2)
 
 
 @pytest.mark.parametrize("return_map", ["seed", "exact", "radial"])
