@@ -106,3 +106,11 @@ def line_net(centre, half, angle):
 def note(ax, text):
     """A legend entry without a line: a statement about the plot."""
     ax.plot([], [], ls="none", label=text)
+
+
+def labelled(ax, xlabel, ylabel):
+    """The Axes ax with its axis labels and a legend (the small font the scenes' plots use); returns it."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(loc="best", fontsize=7)
+    return ax

@@ -57,7 +57,7 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.kernel.contact_law import ContactLaw
-from exu_aniso.scenes.plotting import CLOSED_FORM_GID, axes_of, drawn, finite_rows, note
+from exu_aniso.scenes.plotting import CLOSED_FORM_GID, axes_of, drawn, finite_rows, labelled, note
 from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cone, Cylinder
@@ -619,10 +619,7 @@ def PlotScrewAdvance(traj, params, ax=None):
                     label=f"closed form, steady sliding: {k:.4g} mm/rev")
     if st is None:
         note(ax, why)
-    ax.set_xlabel("rotation [rev]")
-    ax.set_ylabel("axial position z [mm]")
-    ax.legend(loc="best", fontsize=7)
-    return ax
+    return labelled(ax, "rotation [rev]", "axial position z [mm]")
 
 
 def PlotScrewTorque(traj, params, ax=None):
@@ -638,10 +635,7 @@ def PlotScrewTorque(traj, params, ax=None):
                 gid=CLOSED_FORM_GID, label=f"closed-form sliding torque {sign * st.torque:.4g} N m")
     elif st is None:
         note(ax, why)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("torque [N m]")
-    ax.legend(loc="best", fontsize=7)
-    return ax
+    return labelled(ax, "t [s]", "torque [N m]")
 
 
 def PlotScrew(traj, params, fig):
