@@ -96,26 +96,38 @@ def test_the_checks_can_fail():
     assert _private_imports("from exu_aniso.kernel.point import _x\nfrom exu_aniso.geometry import _core\n",
                             "exu_aniso.scenes.a") == [(1, "exu_aniso.kernel.point._x"), (2, "exu_aniso.geometry._core")]
     assert _private_imports("from exu_aniso.scenes.b import _x\n", "exu_aniso.scenes.a") == []
+    assert _private_imports("from exu_aniso.engines import energy\nenergy._f()\n", "exu_aniso.scenes.a") == [
+        (2, "exu_aniso.engines.energy._f")]
 
 
 def _package(name):
-    """The package a module belongs to, as the layers count them: exu_aniso.X (or exu_aniso.X.Y for a
-    subpackage of the engines, whose adapter and reference are packages of their own)."""
+    """The package a module belongs to: exu_aniso.X, or exu_aniso.engines.exudyn_adapter for the
+    Exudyn adapter (a package of its own inside the engines)."""
     parts = name.split(".")
-    return ".".join(parts[:3] if parts[1] == "engines" and len(parts) >= 3 else parts[:2])
+    return ".".join(parts[:3] if parts[1:3] == ["engines", "exudyn_adapter"] else parts[:2])
 
 
 def _private_imports(source, name):
     """(line, what) of every private name (a leading underscore: a name or a module on the path) that
-    module name imports from another package of exu_aniso."""
-    found = []
-    for node in ast.walk(ast.parse(source)):
+    module name imports from another package of exu_aniso, or reads as an attribute of a module of
+    another package it imported (``energy._helper``)."""
+    found, modules = [], {}
+    tree = ast.parse(source)
+    for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("exu_aniso") and not node.level:
             for a in node.names:
                 path = node.module.split(".") + [a.name]
+                modules[a.asname or a.name] = ".".join(path)
                 if any(p.startswith("_") and not p.startswith("__") for p in path) and \
                         _package(node.module) != _package(name):
                     found.append((node.lineno, ".".join(path)))
+        elif isinstance(node, ast.Import):
+            modules.update({a.asname: a.name for a in node.names if a.asname and a.name.startswith("exu_aniso")})
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in modules
+                and node.attr.startswith("_") and not node.attr.startswith("__")
+                and _package(modules[node.value.id]) != _package(name)):
+            found.append((node.lineno, f"{modules[node.value.id]}.{node.attr}"))
     return found
 
 
