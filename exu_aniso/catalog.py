@@ -37,14 +37,6 @@ class Scene:
     reference: Callable | None = None  # params -> Result of the reference engine, None if it has no model
     figsize: tuple = (6.0, 5.0)         # of trajectory.png [in]
 
-    def run_exudyn(self, params, **kw):
-        """The Exudyn model script's run: Result."""
-        return self.run(params, **kw)
-
-    def build_exudyn(self, params):
-        """The Exudyn model script's assembled model (for the SolutionViewer)."""
-        return self.build(params)
-
 
 def _block():
     from exu_aniso.models.block import BuildBlock, RunBlock

@@ -80,7 +80,7 @@ def simulate(scene, params, engine, progress=False, snapshot=None, solution_file
     sc = SCENES[scene]
     if engine == "reference":
         return sc.reference(params)
-    return sc.run_exudyn(params, progress=progress, snapshot=snapshot, solutionFile=solution_file)
+    return sc.run(params, progress=progress, snapshot=snapshot, solutionFile=solution_file)
 
 
 def view_problem():
@@ -94,7 +94,7 @@ def view_problem():
 def view_solution(scene, params, solution_file):
     """Exudyn's SolutionViewer on the solution a run wrote (the model is rebuilt from params)."""
     from exu_aniso.engines.exudyn_adapter.runner import ViewSolution
-    ViewSolution(SCENES[scene].build_exudyn(params), solution_file, title=f"exu-aniso {scene}")
+    ViewSolution(SCENES[scene].build(params), solution_file, title=f"exu-aniso {scene}")
 
 
 def output_rows(t, step):

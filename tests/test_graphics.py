@@ -603,7 +603,7 @@ def test_every_scenes_snapshot_shows_its_surface(scene):
     from exu_aniso.catalog import SCENES
     from exu_aniso.engines.exudyn_adapter.runner import SnapshotImage
     sc = SCENES[scene]
-    model = sc.build_exudyn(sc.params())                     # the initial state is pictured: no solve
+    model = sc.build(sc.params())                     # the initial state is pictured: no solve
     contacts = model.get("contacts") or [model["contact"]]
     contacts = list(contacts.values()) if isinstance(contacts, dict) else contacts
     shown = SnapshotImage(model, size=(240, 180))
@@ -672,7 +672,7 @@ from exu_aniso.catalog import SCENES
 out = {}
 for scene in sys.argv[1:]:
     sc = SCENES[scene]
-    m = sc.build_exudyn(sc.params())
+    m = sc.build(sc.params())
     SC, mbs = m["SC"], m["mbs"]
     SC.visualizationSettings.view0.window.renderWindowSize = [320, 240]
     contacts = m.get("contacts") or [m["contact"]]
@@ -724,7 +724,7 @@ from exu_aniso.catalog import SCENES
 from exu_aniso.engines.exudyn_adapter.runner import StoreSolution
 scene, show = sys.argv[1], sys.argv[2] == "1"
 sc = SCENES[scene]
-m = sc.build_exudyn(sc.params())
+m = sc.build(sc.params())
 SC, mbs = m["SC"], m["mbs"]
 contacts = m.get("contacts") or [m["contact"]]
 contacts = list(contacts.values()) if isinstance(contacts, dict) else contacts

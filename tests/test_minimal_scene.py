@@ -316,8 +316,8 @@ def test_catalog_entry_calls_its_model_script():
         return calls.append(("RunPush", p, kw)) or "result"
 
     scene = Scene("push", PushParams, COLUMNS, ("x", "vx"), None, RunPush, BuildPush, simulate_push)
-    assert scene.run_exudyn(SLIDING, progress=False, snapshot=None, solutionFile=None) == "result"
-    assert scene.build_exudyn(SLIDING) == "model"
+    assert scene.run(SLIDING, progress=False, snapshot=None, solutionFile=None) == "result"
+    assert scene.build(SLIDING) == "model"
     assert calls == [("RunPush", SLIDING, dict(progress=False, snapshot=None, solutionFile=None)),
                      ("BuildPush", SLIDING)]
 

@@ -40,7 +40,7 @@ def summaries():
         warnings.simplefilter("ignore", EnergyWarning)
         for name, kw, defined in RUNS:
             scene = SCENES[name]
-            out.append((name, kw, defined, scene.run_exudyn(scene.params(**kw)).summary))
+            out.append((name, kw, defined, scene.run(scene.params(**kw)).summary))
     return out
 
 

@@ -37,7 +37,7 @@ import math
 
 import numpy as np
 
-from exu_aniso.util.validation import check_nonnegative, check_positive, check_real, check_spd
+from exu_aniso.util.validation import check_in_range, check_nonnegative, check_positive, check_real, check_spd
 
 _ADHESION, _FRICTION = "adhesion", "friction"
 
@@ -122,10 +122,8 @@ FRICTION_RANGE = (1e-9, 1e3)
 
 
 def _in_range(name, value, bounds, what):
-    v = check_positive(name, value)
-    if not bounds[0] <= v <= bounds[1]:
-        raise ValueError(f"{name} must lie in [{bounds[0]:g}, {bounds[1]:g}] ({what}); got {value!r}")
-    return v
+    """A positive value within bounds (util.validation.check_in_range, the error saying what they are)."""
+    return check_in_range(name, check_positive(name, value), *bounds, why=what)
 
 
 def _pair(kind, n1, v1, n2, v2):

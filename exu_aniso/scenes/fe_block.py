@@ -133,9 +133,8 @@ class FeBlockParams(SceneParams):
         if self.cells > 12:
             raise ValueError(f"cells must be <= 12 (the mesh's coordinates grow like cells^3: "
                              f"{3 * (self.cells + 1) ** 3} here); got {self.cells}")
-        free = 3 * self.cells * (self.cells + 1) ** 2          # the coordinates off the top face
         if self.model == "reduced":
-            room = free if self.basis == "eigenmodes" else free - 3 * (self.cells + 1) ** 2
+            room = self.free_coordinates() - (0 if self.basis == "eigenmodes" else self.static_modes())
             if self.basis == "eigenmodes" and self.modes < 1:
                 raise ValueError("modes must be >= 1 with model=reduced and basis=eigenmodes (the body's only "
                                  "deformation)")
@@ -148,12 +147,20 @@ class FeBlockParams(SceneParams):
                                                                if self.model == "reduced" else "")
         fe_cost.check_cost((self.cells + 1) ** 3, self.body_modes(), layout)
 
+    def free_coordinates(self):
+        """The mesh's coordinates off the top face (the frame's)."""
+        return 3 * self.cells * (self.cells + 1) ** 2
+
+    def static_modes(self):
+        """Craig-Bampton's static modes: every coordinate of the bottom nodes."""
+        return 3 * (self.cells + 1) ** 2
+
     def body_modes(self):
         """The elastic body's modes: every coordinate off the top face (full), the bottom nodes' static
         modes plus ``modes`` (craig_bampton) or ``modes`` (eigenmodes)."""
         if self.model == "full":
-            return 3 * self.cells * (self.cells + 1) ** 2
-        return self.modes + (3 * (self.cells + 1) ** 2 if self.basis == "craig_bampton" else 0)
+            return self.free_coordinates()
+        return self.modes + (self.static_modes() if self.basis == "craig_bampton" else 0)
 
     @classmethod
     def cost_rules(cls):

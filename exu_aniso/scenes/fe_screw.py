@@ -114,8 +114,7 @@ class FeScrewParams(SceneParams):
             raise ValueError(f"nu must lie in (-1, 0.5) (a positive definite elasticity); got {self.nu!r}")
         if not self.bore < self.radius:
             raise ValueError(f"bore must be < radius (a tube); got bore={self.bore!r}, radius={self.radius!r}")
-        free = 3 * (self.cells_r + 1) * self.cells_theta * self.cells_z
-        static = 3 * self.cells_theta * self.cells_z                     # the thread's coordinates off the head
+        free, static = self.free_coordinates(), self.static_modes()
         if self.model == "reduced":
             if self.basis == "eigenmodes" and self.modes < 1:
                 raise ValueError("modes must be >= 1 with model=reduced and basis=eigenmodes (the shank's only "
@@ -132,12 +131,20 @@ class FeScrewParams(SceneParams):
         nodes = (self.cells_r + 1) * self.cells_theta * (self.cells_z + 1)
         fe_cost.check_cost(nodes, self.body_modes(), layout)
 
+    def free_coordinates(self):
+        """The mesh's coordinates off the head (the frame's)."""
+        return 3 * (self.cells_r + 1) * self.cells_theta * self.cells_z
+
+    def static_modes(self):
+        """Craig-Bampton's static modes: the thread's coordinates off the head (3 cells_theta cells_z)."""
+        return 3 * self.cells_theta * self.cells_z
+
     def body_modes(self):
-        """The shank's modes: every coordinate off the head (full), the thread's static modes (3
-        cells_theta cells_z) plus ``modes`` (craig_bampton) or ``modes`` (eigenmodes)."""
+        """The shank's modes: every coordinate off the head (full), the thread's static modes plus
+        ``modes`` (craig_bampton) or ``modes`` (eigenmodes)."""
         if self.model == "full":
-            return 3 * (self.cells_r + 1) * self.cells_theta * self.cells_z
-        return self.modes + (3 * self.cells_theta * self.cells_z if self.basis == "craig_bampton" else 0)
+            return self.free_coordinates()
+        return self.modes + (self.static_modes() if self.basis == "craig_bampton" else 0)
 
     @classmethod
     def cost_rules(cls):
@@ -194,7 +201,7 @@ def basis_name(p):
         return "the full body"
     if p.basis == "eigenmodes":
         return f"{p.modes} clamped eigenmodes"
-    return f"Craig-Bampton: {3 * p.cells_theta * p.cells_z} static modes + {p.modes} fixed-interface eigenmodes"
+    return f"Craig-Bampton: {p.static_modes()} static modes + {p.modes} fixed-interface eigenmodes"
 
 
 def contact_compliance(p, mesh, basis, warn=True):

@@ -106,11 +106,12 @@ def check_integer(name, value, minimum=None):
     return v
 
 
-def check_in_range(name, value, lo, hi):
-    """A finite real scalar with lo <= value <= hi."""
+def check_in_range(name, value, lo, hi, why=None):
+    """A finite real scalar with lo <= value <= hi (why: what the range is, for the message)."""
     value = check_real(name, value)
     if not lo <= value <= hi:
-        raise ValueError(f"{name} must lie in [{lo}, {hi}]; got {value!r}")
+        reason = f" ({why})" if why else ""
+        raise ValueError(f"{name} must lie in [{lo}, {hi}]{reason}; got {value!r}")
     return value
 
 

@@ -152,11 +152,11 @@ def CreateAnisotropicContact(mbs, bodyNumber, localPoints, surface=None, adhesio
     check_bool("storeHistory", storeHistory)
     if jacobian not in ("analytic", "numerical"):
         raise ValueError(f"CreateAnisotropicContact: jacobian must be 'analytic' or 'numerical'; got {jacobian!r}")
-    if slave.points_are_nodes:      # every point is a mesh node: no offset from it
+    if slave.points_are_nodes:      # every point is a mesh node (resolved from localPoints): no offset from it
         points = np.zeros((len(slave.mesh_indices), 3))
     else:
         points = check_points("localPoints", localPoints)
-    slave.check_points(points)
+        slave.check_points(points)
     master = None
     if masterBodyNumber is not None:
         master = node_kinematics(mbs, body_node(mbs, masterBodyNumber))

@@ -27,7 +27,8 @@ class Slave:
 
     points_are_nodes = False
     """True when the contact points are nodes of the body (a mesh), chosen by localPoints as node
-    indices or positions, with no offset from them: the constructor then passes zero offsets."""
+    indices or positions (resolved, and a node twice refused, by the slave), with no offset from
+    them: the constructor then passes zero offsets and asks check_points nothing."""
 
     compiled_route = "set"
     """The compiled kernel for its kinematics: "set" (kernel.sets.evaluate_set or evaluate_linear;

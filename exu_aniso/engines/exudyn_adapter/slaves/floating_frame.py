@@ -62,9 +62,6 @@ class FloatingFrame(Slave):
     def number_of_points(self, b):
         return len(self.mesh_indices)
 
-    def check_points(self, points):
-        """Nothing to check: the nodes were resolved from localPoints (resolve_points)."""
-
     def coordinates(self, mbs, variable, configuration):
         return np.concatenate([np.asarray(mbs.GetNodeOutput(nd, variable, configuration=configuration), dtype=float)
                                for nd in self.nodes])

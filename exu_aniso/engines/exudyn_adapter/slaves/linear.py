@@ -173,10 +173,6 @@ class MeshNodes(LinearSlave):
     def number_of_points(self, b):
         return len(self.nodes)
 
-    def check_points(self, points):
-        """Nothing to check: the nodes were resolved from localPoints (resolve_points, which refuses
-        a node twice)."""
-
     def linear_map(self, b):
         """idx (K, 3) = the node's three set coordinates, S = I, c = 0 (b: (K, 3) zeros)."""
         K = len(self.nodes)
