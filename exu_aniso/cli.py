@@ -213,7 +213,7 @@ def run_scene(scene, params, engine, out, progress=False, snapshot=False, soluti
     the folder then holds the failed run's files alone. A run whose state went non-finite writes
     its files with "complete": false and raises IncompleteRun. Bad input found while preparing
     the run (ParameterError) writes nothing and leaves ``out`` as it was."""
-    identity = dict(zip(("run_id", "params_hash"), run_identity(params.as_dict())))
+    identity = run_identity(params.as_dict())
     with result_folder(out) as staging, tempfile.TemporaryDirectory(prefix="exu-aniso-snapshot-") as tmp:
         shot = os.path.join(tmp, "snapshot.png") if snapshot else None
         try:
@@ -269,7 +269,7 @@ def write_outputs(scene, params, engine, out, res, failure=None, output_step=Non
     (a comment) and in trajectory.png's metadata. summary.json also says how the steps went
     (nominal_steps, step_reductions, smallest_step, step_warning)."""
     if identity is None:
-        identity = dict(zip(("run_id", "params_hash"), run_identity(params.as_dict())))
+        identity = run_identity(params.as_dict())
     summary = dict(complete=failure is None, **identity)
     summary.update(res.summary)
     if failure is not None:

@@ -39,7 +39,7 @@ def test_every_file_names_its_run(tmp_path):
         assert cli.main(["run", "block", "--out", str(tmp_path / name)] + QUICK + extra) == 0
         ids.append(_identity(tmp_path / name))
     assert ids[0][0] != ids[1][0] and ids[0][1] == ids[1][1] != ids[2][1]
-    assert run_identity({"a": 1.0, "b": "x"})[1] == run_identity({"b": "x", "a": 1.0})[1]
+    assert run_identity({"a": 1.0, "b": "x"})["params_hash"] == run_identity({"b": "x", "a": 1.0})["params_hash"]
 
 
 def test_interrupted_while_writing_keeps_the_earlier_run(tmp_path, monkeypatch, capsys):

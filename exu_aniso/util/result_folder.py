@@ -24,7 +24,7 @@ class FolderInUse(ResultFolderError):
 
 
 def run_identity(params_dict):
-    """(run_id, params_hash) of a run: a new id per run (UTC time and 8 random hex digits) and the
+    """dict(run_id, params_hash) of a run: a new id per run (UTC time and 8 random hex digits) and the
     first 16 hex digits of the sha256 of its parameters as sorted JSON (the same parameters, the same
     hash, whatever the run)."""
     import hashlib
@@ -32,7 +32,7 @@ def run_identity(params_dict):
     import uuid
     run_id = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime()) + "-" + uuid.uuid4().hex[:8]
     text = json.dumps(json_safe(params_dict), sort_keys=True, separators=(",", ":"), allow_nan=False)
-    return run_id, hashlib.sha256(text.encode()).hexdigest()[:16]
+    return dict(run_id=run_id, params_hash=hashlib.sha256(text.encode()).hexdigest()[:16])
 
 
 def _check_result_folder(out):
