@@ -37,7 +37,7 @@ from exu_aniso.util.output import atomic_write as _atomic_write
 from exu_aniso.engines.result import step_accounting, step_warning
 from exu_aniso.util.output import csv_rows, json_safe, write_json
 from exu_aniso.util.result_folder import ResultFolderError, result_folder, run_identity
-from exu_aniso.catalog import MAIN_JOB, SCENES
+from exu_aniso.catalog import MAIN_JOB, MODELS, SCENES
 from exu_aniso.util.validation import ParameterError
 
 ENGINES = ("exudyn", "reference")
@@ -66,7 +66,7 @@ def parse_sets(pairs):
 
 def make_params(scene, sets):
     try:
-        return SCENES[scene].params.from_strings(sets)
+        return SCENES[scene].Params.from_strings(sets)
     except (ValueError, TypeError) as e:
         raise UsageError(f"{scene}: {e}") from None
 
@@ -80,7 +80,7 @@ def simulate(scene, params, engine, progress=False, snapshot=None, solution_file
     sc = SCENES[scene]
     if engine == "reference":
         return sc.reference(params)
-    return sc.run(params, progress=progress, snapshot=snapshot, solutionFile=solution_file)
+    return MODELS[scene].run(params, progress=progress, snapshot=snapshot, solutionFile=solution_file)
 
 
 def view_problem():
@@ -94,7 +94,7 @@ def view_problem():
 def view_solution(scene, params, solution_file):
     """Exudyn's SolutionViewer on the solution a run wrote (the model is rebuilt from params)."""
     from exu_aniso.engines.exudyn_adapter.runner import ViewSolution
-    ViewSolution(SCENES[scene].build(params), solution_file, title=f"exu-aniso {scene}")
+    ViewSolution(MODELS[scene].build(params), solution_file, title=f"exu-aniso {scene}")
 
 
 def output_rows(t, step):
@@ -331,7 +331,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     try:
         if a.command == "params":
-            print(SCENES[a.scene].params.describe())
+            print(SCENES[a.scene].Params.describe())
             return 0
         if a.command == "compile":
             unknown = [x for x in a.scenes if x not in (*SCENES, "all")]
@@ -398,7 +398,7 @@ def _compile_scene(scene):
     from exu_aniso.kernel import compiling
     before = len(compiling.compiled_here)          # this process may have compiled another scene's before
     try:
-        defaults = SCENES[scene].params()
+        defaults = SCENES[scene].Params()
         # every time of the scene (t_end, a pressing's duration, ...) but the step scaled alike
         factor = COMPILE_STEPS * defaults.dt / defaults.t_end
         sets = {name: repr(getattr(defaults, name) * factor) for name, (_, unit, _, _) in defaults.TABLE.items()

@@ -24,7 +24,7 @@ from _lib.fastening_cases import (pitch_for_lead, run_case, timed_runs, vdi_band
                                   vdi_thread_error)
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.law import oracles  # noqa: E402
+from exu_aniso.scenes import threads  # noqa: E402
 from exu_aniso.geometry.helicoid import lead_angle  # noqa: E402
 from exu_aniso.scenes.fastening import FasteningParams, calibrate_net, theory  # noqa: E402
 
@@ -165,7 +165,7 @@ def main(argv=None):
     spath = table(os.path.join(out, "vdi_simulated.csv"), SIM_COLS, [sim_row(label, c, r(c)) for label, c in sims])
 
     # (3) head bearing
-    ring_cont = oracles.orthotropic_ring_torque_factor(MU, MU_ACROSS, 0.0, 3600) * D.head_radius
+    ring_cont = threads.orthotropic_ring_torque_factor(MU, MU_ACROSS, 0.0, 3600) * D.head_radius
     hpath = table(os.path.join(out, "head_lay.csv"), HEAD_COLS, [head_row(label, c, r(c)) for label, c in heads])
     trpath = table(os.path.join(out, "head_ring_trace.csv"), TRACE_COLS,
                    [[c["params"]["head_net_angle"], a, x, f] for label, c in heads if "trace" in r(c)
@@ -188,8 +188,8 @@ def sim_row(label, c, res):
     p = FasteningParams(**c["params"])
     sm = res["summary"]
     beta = math.radians(p.flank_angle)
-    exact = oracles.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
-    vdi = oracles.torque_per_clamp_force_vdi2230(p.d2, p.pitch, p.mu_thread, 0.0, 0.0)
+    exact = threads.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
+    vdi = threads.torque_per_clamp_force_vdi2230(p.d2, p.pitch, p.mu_thread, 0.0, 0.0)
     return [label, p.flank_angle, p.pitch, math.degrees(lead_angle(p.pitch, 0.5 * p.d2)),
             num(sm.get("thread_torque_per_clamp_force")), exact, vdi,
             rel(sm.get("thread_torque_per_clamp_force"), exact),
@@ -323,7 +323,7 @@ def plot_head(out, HE, TR, ring_cont):
                 label=f"simulated, lay {la:g} deg")
     if TR["relative_lay [deg]"]:
         x = np.linspace(min(TR["relative_lay [deg]"]), max(TR["relative_lay [deg]"]), 400)
-        a2.plot(x, [oracles.orthotropic_ring_torque_factor(MU, MU_ACROSS, math.radians(v), D.head_points) for v in x],
+        a2.plot(x, [threads.orthotropic_ring_torque_factor(MU, MU_ACROSS, math.radians(v), D.head_points) for v in x],
                 "k-", lw=0.8, label=f"ring formula, {D.head_points} points")
     a2.set(xlabel="lay - bolt angle [deg]", ylabel="T_head / (F r_K) [-]")
     a2.set_title("instantaneous, tightening phase", fontsize=9)
@@ -485,7 +485,7 @@ def report(TT, BA, SI, HE, SP, figs, ring_cont, mu_net, repeats, t_end, n_runs, 
     read3 = (f"A machined lay (mu {MU:g} along, {MU_ACROSS:g} across) gives the head a T/F between the two: "
              f"T_head / (F r_K) at lay angle {lay_text}, against {MU:g} for the isotropic head; the continuous "
              f"ring's mean is {ring_cont / D.head_radius:.5f}. The head's {D.head_points} points turn with the bolt "
-             "while the lay stays with the part, so the ring formula (oracles.orthotropic_ring_torque_factor: "
+             "while the lay stays with the part, so the ring formula (threads.orthotropic_ring_torque_factor: "
              "points equally loaded, each sliding along the circle, the associated law) holds at the ring's "
              "current orientation: evaluated at lay - bolt angle at every sample of the tightening phase it "
              f"matches the simulated T_head / F to {np.nanmax(einst):.2g}. The scene's summary follows the ring the "
@@ -632,7 +632,7 @@ mu_*_iso16047: ISO 16047's evaluation of the simulated torques. Files: `torque_t
 
 {v2}
 
-Analytic map: the relative error of 0.16 P + 0.58 d2 mu_G against `oracles.thread_torque_per_force` (the head term
+Analytic map: the relative error of 0.16 P + 0.58 d2 mu_G against `threads.thread_torque_per_force` (the head term
 mu_K r_K, the same in both, left out) over lead angles {LEADS[0]:g} to {LEADS[1]:g} deg (P = pi d2 tan(lead)) and
 flank angles {FLANKS[0]:g} to {FLANKS[1]:g} deg at mu_G = {MU:g} (it depends on the lead angle, not on d2 and P
 apart): `vdi_map.csv` (0.25 deg x 2.5 deg grid), `vdi_bands.csv` (the flank angles where |error| <= 1 % and 5 %,

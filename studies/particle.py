@@ -18,7 +18,7 @@ if HERE not in sys.path:
     sys.path.insert(0, HERE)
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.law import oracles  # noqa: E402
+from exu_aniso.scenes import point_on_surface  # noqa: E402
 from exu_aniso.scenes.particle import ParticleParams  # noqa: E402
 
 CASES = {"departure": dict(case="departure", t_end=0.8),
@@ -50,10 +50,10 @@ def run_case(c):
     s = r.summary
     m, t = s["oracle"], s["oracle_theory"]
     if c["case"] == "departure":
-        startup = math.degrees(oracles.startup_impulse_error("departure", p.mu_1, p.radius, p.gravity, p.speed,
+        startup = math.degrees(point_on_surface.startup_impulse_error("departure", p.mu_1, p.radius, p.gravity, p.speed,
                                                              p.dt))
     elif c["case"] == "cavity":
-        startup = oracles.startup_impulse_error("cavity", p.mu_1, p.radius, p.gravity, p.speed, p.dt) * t
+        startup = point_on_surface.startup_impulse_error("cavity", p.mu_1, p.radius, p.gravity, p.speed, p.dt) * t
     else:
         startup = 0.0
     return dict(measured=m, theory=t, error=(m - t) / abs(t), startup=startup / abs(t),
@@ -82,7 +82,7 @@ def main(argv=None):
     p0 = params("departure", *LEVELS[0])
     body = f"""
 Scene: `exu_aniso/scenes/particle.py` (ParticleParams; Exudyn model `exu_aniso/models/particle.py`), a mass point
-of {p0.mass:g} kg with the exact return map and isotropic friction; the oracles are `exu_aniso/law/oracles.py`:
+of {p0.mass:g} kg with the exact return map and isotropic friction; the oracles are `exu_aniso/scenes/point_on_surface.py`:
 
 * **departure** (`case=departure`): from the top of a rough sphere of radius {p0.radius:g} m at
   {p0.speed:g} m/s, mu = {p0.mu_1:g}: the angle where the normal force vanishes (textbook ODE
@@ -99,7 +99,7 @@ omega dt. "error" is (measured - theory) / |theory|. Both engines start the poin
 of `CreateAnisotropicContact(initializeHistory=True)`: sticking, T = 0, so the initial acceleration carries no
 friction and the trapezoidal rule, which averages it into the first step, misses half a step of friction impulse,
 mu |N0| dt / 2. That is a first-order error of the start, the same on both engines, which
-`oracles.startup_impulse_error` predicts from the textbook solution itself ("startup_term"); "error_after_startup"
+`point_on_surface.startup_impulse_error` predicts from the textbook solution itself ("startup_term"); "error_after_startup"
 is what is left. Departure: the start-up term is all of the first-order error; the rest (2e-6 to 7e-6) is the
 penalty's normal vibration (omega dt = 1.6 at every level here) in the fit of |N|, and it does not fall under
 this refinement (at eps_n = 1e6 and dt = 1.25e-4 s, omega dt = 0.4, it is 2.5e-7); cavity: the rest falls faster

@@ -48,7 +48,7 @@ if HERE not in sys.path:
 
 from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.law.oracles import orthotropic_heading  # noqa: E402  (re-exported for tests/test_peers.py)
+from exu_aniso.scenes.block import orthotropic_heading  # noqa: E402  (re-exported for tests/test_peers.py)
 from exu_aniso.scenes.base import summary_float  # noqa: E402
 
 NAME = "peers"

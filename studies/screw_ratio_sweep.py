@@ -76,7 +76,7 @@ def run_case(case):
         res, failed = failure.partial, str(failure).splitlines()[0]
     s, tr = res.summary, res.trajectory
     # the regime check and the closed form of the screw scene's summary, for both bodies
-    check = screw_summary(tr, s["wall_s"], s["steps"], s["newton_iterations"], rigid)
+    check = screw_summary(tr, rigid, s["wall_s"], s["steps"], s["newton_iterations"])
     t, omega = np.asarray(tr["t"]), np.asarray(tr["omega"])
     late = t >= 0.5 * t[-1]
     cf = steady_sliding(rigid)

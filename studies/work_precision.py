@@ -41,7 +41,7 @@ from _lib import studylib  # noqa: E402
 from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
 from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
 
-from exu_aniso.law.oracles import orthotropic_heading  # noqa: E402
+from exu_aniso.scenes.block import orthotropic_heading  # noqa: E402
 from exu_aniso.scenes.block import BlockParams  # noqa: E402
 from exu_aniso.scenes.screw import ScrewParams, pitch
 from exu_aniso.scenes.base import summary_float

@@ -151,7 +151,7 @@ def test_point_steps_and_memory_bounds():
 
 def _real_parameters():
     for name, sc in SCENES.items():
-        for k, (default, unit, _, rule) in sc.params.TABLE.items():
+        for k, (default, unit, _, rule) in sc.Params.TABLE.items():
             if isinstance(rule, tuple) or rule in ("int >= 1", "int >= 0") or "grid" in str(rule):
                 continue
             if MAGNITUDE_LIMITS.get(unit, (None, None))[1] is not None:
@@ -164,7 +164,7 @@ def test_every_real_parameter_has_a_physical_range(scene, name, unit, rule):
     scene rule that is tighter)."""
     hi = MAGNITUDE_LIMITS[unit][1]
     with pytest.raises(ValueError, match=name):
-        SCENES[scene].params.from_strings({name: repr(10.0 * hi)})
+        SCENES[scene].Params.from_strings({name: repr(10.0 * hi)})
 
 
 # ----------------------------------------------------------------------------------------------
@@ -253,7 +253,7 @@ def test_ledger_recomputed_from_csv(scene, sets, engine, tmp_path):
         args += ["--set", s]
     assert cli.main(args) == 0
     c = _read_csv(tmp_path / "trajectory.csv")
-    p = SCENES[scene].params.from_strings(dict(s.split("=") for s in sets))
+    p = SCENES[scene].Params.from_strings(dict(s.split("=") for s in sets))
     work, kinetic, potential = (_recompute_block if scene == "block" else _recompute_screw)(c, p)
     scale = max(np.max(np.abs(c["energy_work_in"])), np.max(np.abs(c["energy_kinetic"])), 1e-300)
     for name, mine in (("work_in", work), ("kinetic", kinetic), ("potential", potential)):
@@ -288,7 +288,7 @@ def test_fe_block_ledger_recomputed_from_csv(tmp_path):
         args += ["--set", "=".join(kv)]
     assert cli.main(args) == 0
     c = _read_csv(tmp_path / "trajectory.csv")
-    p = SCENES["fe_block"].params.from_strings(sets)
+    p = SCENES["fe_block"].Params.from_strings(sets)
     speed = p.travel / (p.t_end - p.t_press - 0.5 * p.drive_ramp)
     tau = np.clip(c["t"] - p.t_press, 0.0, None)
     travel = np.where(tau < p.drive_ramp, 0.5 * speed * tau ** 2 / p.drive_ramp, speed * (tau - 0.5 * p.drive_ramp))

@@ -42,7 +42,7 @@ exudyn = pytest.importorskip("exudyn")
 from exu_aniso.models.block import BuildBlock, RunBlock  # noqa: E402
 from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.models.screw import RunScrew  # noqa: E402
-from exu_aniso.law.oracles import orthotropic_heading  # noqa: E402
+from exu_aniso.scenes.block import orthotropic_heading  # noqa: E402
 from exu_aniso.scenes.block import simulate_block  # noqa: E402
 from exu_aniso.scenes.screw import simulate_screw
 from exu_aniso.scenes.block import BlockParams  # noqa: E402

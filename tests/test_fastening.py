@@ -17,7 +17,7 @@ import sys
 import numpy as np
 import pytest
 
-from exu_aniso.law import oracles
+from exu_aniso.scenes import threads
 from exu_aniso.calibration import steady_sliding
 from exu_aniso.geometry import Helicoid
 from exu_aniso.geometry.helicoid import lead_angle
@@ -52,15 +52,15 @@ def test_thread_formula_is_the_force_balance_on_the_helicoid():
         t /= np.linalg.norm(t)
         f = n - mu * t                                   # on the bolt, per unit normal force
         torque = -r * f @ e_phi                          # the drive supplies minus the moment about +z
-        assert torque / f[2] == pytest.approx(oracles.thread_torque_per_force(d2, P, math.radians(beta_deg), mu),
+        assert torque / f[2] == pytest.approx(threads.thread_torque_per_force(d2, P, math.radians(beta_deg), mu),
                                               rel=1e-12)
 
 
 def test_vdi2230_linearization_is_close_for_a_metric_thread():
     """VDI 2230's 0.16 P + 0.58 d2 mu_G is within 0.5 % of the formula's thread term for M10 at mu 0.12
     (it is a linearization for 60 deg threads; the study maps its error)."""
-    exact = oracles.thread_torque_per_force(9.026e-3, 1.5e-3, math.pi / 3, 0.12)
-    vdi = oracles.torque_per_clamp_force_vdi2230(9.026e-3, 1.5e-3, 0.12, 0.0, 0.0)
+    exact = threads.thread_torque_per_force(9.026e-3, 1.5e-3, math.pi / 3, 0.12)
+    vdi = threads.torque_per_clamp_force_vdi2230(9.026e-3, 1.5e-3, 0.12, 0.0, 0.0)
     assert 0.0 < _rel(vdi, exact) < 5e-3
 
 
@@ -124,7 +124,7 @@ def test_iso16047_evaluation_backs_out_the_friction(flank):
     s, p = flank.summary, flank.params
     assert s["mu_head_iso16047"] == pytest.approx(p.mu_head, rel=1e-5)
     beta = math.radians(p.flank_angle)
-    expected = (oracles.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread) - p.pitch / (2 * math.pi)) \
+    expected = (threads.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread) - p.pitch / (2 * math.pi)) \
         * 2 * math.cos(beta / 2) / p.d2
     assert s["mu_thread_iso16047"] == pytest.approx(expected, rel=1e-3)
     assert s["mu_thread_iso16047"] > p.mu_thread * 1.005
@@ -140,7 +140,7 @@ def test_energy_ledger_and_no_wobble(flank):
 
 def test_orthotropic_head_bearing_follows_the_associated_ring_torque():
     """A machined lay (mu 0.12 along, 0.24 across) under the exact map: the head torque per clamp force
-    is r_K times the ring mean of sqrt(mu_1^2 cos^2 a + mu_2^2 sin^2 a) (oracles.orthotropic_ring_torque_factor)
+    is r_K times the ring mean of sqrt(mu_1^2 cos^2 a + mu_2^2 sin^2 a) (threads.orthotropic_ring_torque_factor)
     at the ring's orientation as it turns over the lay, which lies between the two coefficients. The
     8-point ring's factor varies by 0.18 % with its orientation: the summary follows it (measured 2e-7)."""
     p = FasteningParams(head_net="orthotropic", mu_head=0.12, mu_head_2=0.24, head_net_angle=20.0)

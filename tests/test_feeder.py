@@ -1,7 +1,7 @@
 """The feeder scene: parts conveyed on a vibrating track.
 
 Oracles:
-* ``oracles.conveying_velocity`` (the 1D stick-slip analysis of vibratory conveying, in closed
+* ``conveying_velocity`` (the 1D stick-slip analysis of vibratory conveying, in closed
   form between events) against a brute-force Moreau time stepping of the same 1D model; zero
   drift without a throw angle (symmetric excitation);
 * the Exudyn scene converges to that rigid-stick theory as the sticking stiffness grows, with the
@@ -20,10 +20,8 @@ import sys
 import numpy as np
 import pytest
 
-from exu_aniso.law import oracles
 from exu_aniso.models.feeder import RunFeeder
-from exu_aniso.scenes.feeder import simulate_feeder
-from exu_aniso.scenes.feeder import FeederParams, throw_number
+from exu_aniso.scenes.feeder import FeederParams, conveying_velocity, simulate_feeder, throw_number
 from _suite import HANG_S
 
 
@@ -48,7 +46,7 @@ def _moreau(A, f, beta, mu, g=9.81, periods=40, n=10000):
 
 @pytest.mark.parametrize("mu, beta_deg", [(0.3, 20.0), (1.0, 20.0), (0.15, 10.0)])
 def test_conveying_velocity_is_the_1d_stick_slip_motion(mu, beta_deg):
-    v = oracles.conveying_velocity(2e-4, 50.0, math.radians(beta_deg), mu)
+    v = conveying_velocity(2e-4, 50.0, math.radians(beta_deg), mu)
     assert v > 1e-3
     # 40 periods settle every case (the slowest, mu 0.15 at 10 deg, needs ~24); first order in the step:
     # measured 1.6e-4 .. 5e-4 relative at 10000 steps per period
@@ -57,11 +55,11 @@ def test_conveying_velocity_is_the_1d_stick_slip_motion(mu, beta_deg):
 
 def test_conveying_velocity_limits_and_errors():
     V = 2e-4 * 100.0 * math.pi                                                 # the track's velocity amplitude
-    assert abs(oracles.conveying_velocity(2e-4, 50.0, 0.0, 0.3)) < 1e-6 * V    # symmetric: no drift
+    assert abs(conveying_velocity(2e-4, 50.0, 0.0, 0.3)) < 1e-6 * V    # symmetric: no drift
     with pytest.raises(ValueError, match="leaves the track"):
-        oracles.conveying_velocity(1e-3, 50.0, math.radians(20.0), 0.3)
+        conveying_velocity(1e-3, 50.0, math.radians(20.0), 0.3)
     with pytest.raises(ValueError, match="mu must be a finite number > 0"):
-        oracles.conveying_velocity(2e-4, 50.0, 0.3, -0.1)
+        conveying_velocity(2e-4, 50.0, 0.3, -0.1)
 
 
 def test_scene_converges_to_the_rigid_stick_theory():

@@ -66,7 +66,7 @@ def _draw(rng, name, default, rule):
 
 def random_case(scene, rng):
     """{name: string} of a valid parameter set with a short run (the class accepts it)."""
-    cls = SCENES[scene].params
+    cls = SCENES[scene].Params
     table = cls.TABLE
     for _ in range(500):
         sets = {n: _draw(rng, n, d, r) for n, (d, _, _, r) in table.items()

@@ -600,10 +600,10 @@ def test_every_scenes_snapshot_shows_its_surface(scene):
     scene's picture was a ball and an arrow, 7.5 % of the pixels, before its surface was drawn), and
     where the contact draws the master surface, hiding the contact's graphics changes a twentieth of
     the picture or more (the fastening: a hundredth)."""
-    from exu_aniso.catalog import SCENES
+    from exu_aniso.catalog import MODELS
     from exu_aniso.engines.exudyn_adapter.runner import SnapshotImage
-    sc = SCENES[scene]
-    model = sc.build(sc.params())                     # the initial state is pictured: no solve
+    sc = MODELS[scene]
+    model = sc.build(sc.scene.Params())                     # the initial state is pictured: no solve
     contacts = model.get("contacts") or [model["contact"]]
     contacts = list(contacts.values()) if isinstance(contacts, dict) else contacts
     shown = SnapshotImage(model, size=(240, 180))
@@ -668,11 +668,11 @@ def test_the_blocks_plane_is_drawn_under_its_whole_path():
 _LIVE = """
 import json, sys
 import numpy as np
-from exu_aniso.catalog import SCENES
+from exu_aniso.catalog import MODELS
 out = {}
 for scene in sys.argv[1:]:
-    sc = SCENES[scene]
-    m = sc.build(sc.params())
+    sc = MODELS[scene]
+    m = sc.build(sc.scene.Params())
     SC, mbs = m["SC"], m["mbs"]
     SC.visualizationSettings.view0.window.renderWindowSize = [320, 240]
     contacts = m.get("contacts") or [m["contact"]]
@@ -720,11 +720,11 @@ import json, sys
 import numpy as np
 import exudyn.interactive as interactive
 from exudyn.utilities import LoadSolutionFile
-from exu_aniso.catalog import SCENES
+from exu_aniso.catalog import MODELS
 from exu_aniso.engines.exudyn_adapter.runner import StoreSolution
 scene, show = sys.argv[1], sys.argv[2] == "1"
-sc = SCENES[scene]
-m = sc.build(sc.params())
+sc = MODELS[scene]
+m = sc.build(sc.scene.Params())
 SC, mbs = m["SC"], m["mbs"]
 contacts = m.get("contacts") or [m["contact"]]
 contacts = list(contacts.values()) if isinstance(contacts, dict) else contacts

@@ -36,11 +36,15 @@ import pytest
 from exu_aniso import HISTORY_FIELDS, RETURN_MAPS, SLIP, STICK, Adhesion, ContactLaw, Friction, Plane
 from exu_aniso.engines import energy
 from exu_aniso.engines.reference import BodyModel, jacobian_check, run
-from exu_aniso.scenes.base import SOLVERS, SceneParams, scene_parameters
+from exu_aniso.engines.result import Result
+from exu_aniso.scenes.base import LEDGER_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters
+from exu_aniso.scenes.scene import Scene
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "adding_a_scene.md"
 HAVE_EXUDYN = importlib.util.find_spec("exudyn") is not None
+STATUS = HISTORY_FIELDS.index("status")
+NORMAL = HISTORY_FIELDS.index("normal")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -87,18 +91,71 @@ def applied_force(p):
 
 # trajectory columns (trajectory.csv) -> SI unit, the same keys from every engine
 COLUMNS = {"t": "s", "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s",
-           "slip_distance": "m", "dissipated_energy": "J"}
+           "normal_force": "N", "status": "-", "slip_distance": "m", "dissipated_energy": "J",
+           **LEDGER_COLUMNS}
+TITLE_KEYS = ("acceleration", "acceleration_theory")
+
+
+def finish_trajectory(traj, H):
+    """Add the contact's columns from its history H (n, 1, 9): the normal force's magnitude and the
+    status (STICK, SLIP, ...)."""
+    traj["normal_force"] = -H[:, 0, NORMAL]
+    traj["status"] = H[:, 0, STATUS]
+    return traj
 
 
 def push_energy(p, traj, H):
     """The energy ledger of a run (any engine): work of the constant force = kinetic + stored +
-    dissipated (changes from t = 0, J); returns (columns, summary) of energy.ledger."""
+    dissipated (changes from t = 0, J); adds the ledger's columns to traj, returns the summary's
+    entries."""
     X = np.column_stack([traj["x"], traj["y"], traj["z"]])
     V = np.column_stack([traj["vx"], traj["vy"], traj["vz"]])
     stored, dissipated = energy.contact_energy(push_contact_law(p), X[:, None, :], V[:, None, :], H)
-    work_in = (X - X[0]) @ applied_force(p)
-    kinetic = 0.5 * p.mass * np.sum(V ** 2, axis=1)
-    return energy.ledger(work_in, kinetic, np.zeros(len(X)), stored, dissipated, t=traj["t"])
+    terms = dict(work_in=(X - X[0]) @ applied_force(p), kinetic=0.5 * p.mass * np.sum(V ** 2, axis=1),
+                 potential=np.zeros(len(X)), stored=stored, dissipated=dissipated)
+    return energy_ledger(terms, traj, "push run")
+
+
+def push_closed_forms(p):
+    """Sliding (push > mu load): the acceleration (push - mu load) / m [m/s^2] and the time the
+    adhesion spring takes to carry mu load [s]; at rest: the tangential displacement push / eps_t [m];
+    both: the penetration that carries the load [m]."""
+    z_rest = -p.load / p.eps_n
+    if p.push > p.mu * p.load:
+        return dict(acceleration_theory=(p.push - p.mu * p.load) / p.mass,
+                    slip_time_theory=math.acos(1 - p.mu * p.load / p.push) / math.sqrt(p.eps_t / p.mass),
+                    x_rest_theory=None, z_rest_theory=z_rest,
+                    undefined=dict(x_rest_theory="the point slides"))
+    why = f"push = {p.push:g} N <= mu load = {p.mu * p.load:g} N: the point sticks"
+    return dict(acceleration_theory=None, slip_time_theory=None, x_rest_theory=p.push / p.eps_t,
+                z_rest_theory=z_rest, undefined=dict(acceleration_theory=why, slip_time_theory=why))
+
+
+def push_summary(traj, p, wall_s, steps, newton_iterations):
+    """The end state, the acceleration fitted to vx over the samples that slide after t = 0.1 s
+    beside its closed form, and the cost; None with the reason under "undefined"."""
+    t, vx = np.asarray(traj["t"]), np.asarray(traj["vx"])
+    late = (t >= 0.1) & (np.asarray(traj["status"]) == SLIP)
+    theory = push_closed_forms(p)
+    undefined = {k: v for k, v in theory["undefined"].items() if k == "acceleration_theory"}
+    if late.sum() >= 3:
+        acceleration = float(np.polyfit(t[late], vx[late], 1)[0])
+    else:
+        acceleration = None
+        undefined["acceleration"] = f"{late.sum()} samples slide after t = 0.1 s: fewer than 3 to fit"
+    return dict(x_end=float(traj["x"][-1]), z_end=float(traj["z"][-1]), vx_end=float(vx[-1]),
+                acceleration=acceleration, acceleration_theory=theory["acceleration_theory"],
+                slip_distance=float(traj["slip_distance"][-1]),
+                dissipated_energy=float(traj["dissipated_energy"][-1]),
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
+                undefined=undefined)
+
+
+def PlotPush(traj, params, fig):
+    """trajectory.png: the velocity along the push over time."""
+    ax = fig.add_subplot(1, 1, 1)
+    ax.plot(traj["t"], traj["vx"])
+    ax.set(xlabel="t [s]", ylabel="vx [m/s]")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -135,18 +192,46 @@ class PushedPoint(BodyModel):
         return dict(x=q[0], y=q[1], z=q[2], vx=v[0], vy=v[1], vz=v[2])
 
 
-def simulate_push(p):
-    """The scene on the reference engine: the trajectory (dict of arrays: t, x, y, z, vx, vy, vz,
-    dissipated_energy, slip_distance, ...) and the contact history (steps + 1, 1, 9)."""
+def simulate_push(p, **options):
+    """The scene on the reference engine: a Result with the trajectory (COLUMNS), the summary and
+    the ledger. options: of the engine's run (RUN_OPTIONS)."""
     model = PushedPoint(p, push_contact_law(p))
-    traj, wall, iters, steps, info, motion, H = run(model, p, floor=1e-6 * p.load)
-    return traj, H
+    traj, wall, iters, steps, info, motion, H = run(model, p, floor=1e-6 * p.load, **options)
+    finish_trajectory(traj, H)
+    summary = push_summary(traj, p, wall, steps, iters)
+    summary.update(push_energy(p, traj, H))
+    return Result(traj, summary, p, info)
 
 
 # ----------------------------------------------------------------------------------------------
-# the Exudyn engine: the model and its run
+# the scene, as every engine and the command line see it
 
-def build_push(p):
+class PushScene(Scene):
+    """A mass point pushed along a plane (the module docstring)."""
+
+    name = "push"
+    Params = PushParams
+    columns = COLUMNS
+    title_keys = TITLE_KEYS
+    law = staticmethod(push_contact_law)
+    closed_forms = staticmethod(push_closed_forms)
+    summary = staticmethod(push_summary)
+    ledger = staticmethod(push_energy)
+    plot = staticmethod(PlotPush)
+    reference = staticmethod(simulate_push)
+
+    def points(self, p):
+        """The one contact point: the mass point itself."""
+        return np.zeros((1, 3))
+
+
+SCENE = PushScene()
+
+
+# ----------------------------------------------------------------------------------------------
+# the Exudyn model script: build, read back, run
+
+def BuildPush(p):
     """The scene as an Exudyn model: a MassPoint under the constant force, one contact set."""
     import exudyn as exu
     from exudyn.itemInterface import SensorNode
@@ -171,19 +256,25 @@ def build_push(p):
                 sensors=sensors)
 
 
-def run_push_exudyn(p):
-    """The scene on Exudyn: the trajectory with the reference's keys and the contact history."""
-    from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, SolveTimed
+def ReadPush(model, complete):
+    """The trajectory with the reference's keys, the summary's inputs (none) and the ledger's (the
+    contact history)."""
+    from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs
 
-    model = build_push(p)
     mbs, contact = model["mbs"], model["contact"]
-    SolveTimed(mbs, model["simulationSettings"], model["solverType"], contacts=[contact])
     P = mbs.GetSensorStoredData(model["sensors"]["sPosition"])
     V = mbs.GetSensorStoredData(model["sensors"]["sVelocity"])
     dissipated, slipped, H = HistoryOutputs(mbs, contact)
     traj = dict(t=P[:, 0], x=P[:, 1], y=P[:, 2], z=P[:, 3], vx=V[:, 1], vy=V[:, 2], vz=V[:, 3],
                 dissipated_energy=dissipated, slip_distance=slipped)
-    return traj, H
+    return finish_trajectory(traj, H), {}, dict(H=H)
+
+
+def push_model():
+    """The model script's MODEL (a function here, so that the module imports without Exudyn)."""
+    from exu_aniso.engines.exudyn_adapter.runner import ModelScript
+
+    return ModelScript(SCENE, BuildPush, ReadPush)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -195,19 +286,17 @@ AT_REST = PushParams(push=1.0, press0=0.5,               # push 1 N < 3 N; dashp
 CASES = {"sliding": SLIDING, "at_rest": AT_REST}
 NEEDS_EXUDYN = pytest.mark.skipif(not HAVE_EXUDYN, reason="needs exudyn")
 ENGINES = ["reference", pytest.param("exudyn", marks=NEEDS_EXUDYN)]
-STATUS = HISTORY_FIELDS.index("status")
-NORMAL = HISTORY_FIELDS.index("normal")
 
 
 @pytest.fixture(scope="module")
 def runs():
-    """runs(engine, case) -> (trajectory, history), each simulated once."""
+    """runs(engine, case) -> the Result, each simulated once."""
     cache = {}
 
     def get(engine, case):
         if (engine, case) not in cache:
-            simulate = simulate_push if engine == "reference" else run_push_exudyn
-            cache[engine, case] = simulate(CASES[case])
+            run_case = SCENE.reference if engine == "reference" else push_model().run
+            cache[engine, case] = run_case(CASES[case])
         return cache[engine, case]
     return get
 
@@ -237,21 +326,24 @@ def test_body_model_tangent_equals_finite_differences():
 @pytest.mark.parametrize("engine", ENGINES)
 def test_sliding_point_accelerates_at_push_minus_mu_N_over_m(engine, runs):
     p = SLIDING
-    traj, H = runs(engine, "sliding")
-    t, status = traj["t"], H[:, 0, STATUS]
+    result = runs(engine, "sliding")
+    traj, theory = result.trajectory, SCENE.closed_forms(p)
+    t, status = traj["t"], traj["status"]
     # it sticks until the adhesion spring carries mu N: push (1 - cos w t_s) = mu load
     t_s = math.acos(1.0 - p.mu * p.load / p.push) / math.sqrt(p.eps_t / p.mass)     # 0.01047 s
+    assert theory["slip_time_theory"] == pytest.approx(t_s, rel=1e-15)
     first = np.argmax(status == SLIP)
     assert t_s < t[first] <= t_s + p.dt
     assert np.all(status[1:first] == STICK) and np.all(status[first:] == SLIP)
     # then it slides at a = (push - mu N) / m: measured 1.6e-13 (reference) and 3.9e-11 (Exudyn)
     # relative, Newton's tolerance 1e-10 of the force level
     a = (p.push - p.mu * p.load) / p.mass                                            # 3 m/s^2
-    sel = t >= 0.1
-    assert np.polyfit(t[sel], traj["vx"][sel], 1)[0] == pytest.approx(a, rel=1e-8)
+    assert result.summary["acceleration_theory"] == theory["acceleration_theory"]
+    assert theory["acceleration_theory"] == pytest.approx(a, rel=1e-15)
+    assert result.summary["acceleration"] == pytest.approx(a, rel=1e-8)
     # along +x only, and the normal force stays the load (the start is the static penetration)
     assert np.max(np.abs(traj["y"])) < 1e-12 and np.max(np.abs(traj["vy"])) < 1e-12
-    assert np.allclose(-H[:, 0, NORMAL], p.load, rtol=1e-9, atol=0)
+    assert np.allclose(traj["normal_force"], p.load, rtol=1e-9, atol=0)
     assert np.allclose(traj["z"], -p.load / p.eps_n, rtol=1e-9, atol=0)
     # Coulomb: friction dissipates mu N per metre slid (measured 3e-16 relative)
     i, j = np.searchsorted(t, 0.2), len(t) - 1
@@ -263,18 +355,22 @@ def test_sliding_point_accelerates_at_push_minus_mu_N_over_m(engine, runs):
 @pytest.mark.parametrize("engine", ENGINES)
 def test_point_below_the_friction_limit_comes_to_rest_at_the_static_displacements(engine, runs):
     p = AT_REST
-    traj, H = runs(engine, "at_rest")
-    assert np.all(H[1:, 0, STATUS] == STICK) and traj["slip_distance"][-1] == 0.0
+    result = runs(engine, "at_rest")
+    traj, theory = result.trajectory, SCENE.closed_forms(p)
+    assert np.all(traj["status"][1:] == STICK) and traj["slip_distance"][-1] == 0.0
+    assert result.summary["acceleration"] is None and result.summary["acceleration_theory"] is None
+    assert "sticks" in result.summary["undefined"]["acceleration_theory"]
     # from press0 = 0.5 and x = 0 to the static solution (dashpots' decay e^-25 by t_end; measured
     # x 1.0e-10 relative on the reference, 6e-12 on Exudyn; z 2e-16)
-    assert abs(traj["z"][0] + p.load / p.eps_n) > 0.4 * p.load / p.eps_n       # the start is not the answer
+    assert abs(traj["z"][0] - theory["z_rest_theory"]) > 0.4 * p.load / p.eps_n     # not the answer
     assert traj["z"][-1] == pytest.approx(-p.load / p.eps_n, rel=1e-9)              # 1e-4 m
     assert traj["x"][-1] == pytest.approx(p.push / p.eps_t, rel=1e-8)               # 1e-4 m
+    assert theory["x_rest_theory"] == pytest.approx(p.push / p.eps_t, rel=1e-15)
     assert abs(traj["vx"][-1]) < 1e-9 and abs(traj["vz"][-1]) < 1e-9
     # the dashpots dissipate what the springs do not store: push^2 / (2 eps_t) tangentially and
     # (1 - press0)^2 load^2 / (2 eps_n) normally, 1.75e-4 J (measured 1e-15 relative)
     diss = (p.push ** 2 / p.eps_t + (1.0 - p.press0) ** 2 * p.load ** 2 / p.eps_n) / 2.0
-    assert push_energy(p, traj, H)[1]["energy"]["dissipated"] == pytest.approx(diss, rel=1e-9)
+    assert result.summary["energy"]["dissipated"] == pytest.approx(diss, rel=1e-9)
 
 
 @pytest.mark.parametrize("engine", ENGINES)
@@ -282,7 +378,7 @@ def test_point_below_the_friction_limit_comes_to_rest_at_the_static_displacement
 def test_energy_ledger_closes(engine, case, runs):
     """work in = kinetic + stored + dissipated; measured residual 8.3e-14 (reference, sliding) and
     1.9e-11 (Exudyn, sliding: its modified Newton stops at the tolerance 1e-10), 1e-15 at rest."""
-    columns, summary = push_energy(CASES[case], *runs(engine, case))
+    summary = runs(engine, case).summary
     assert summary["energy_ok"] and summary["energy"]["residual"] < 1e-9, summary
     assert summary["energy"]["work_in"] > 1e-4                                      # something happened
 
@@ -293,33 +389,16 @@ def test_engines_agree(case, runs):
     """Both engines take the same time grid and the same trapezoidal rule; each solves every step to
     Newton's tolerance 1e-10 of its force level, so the states differ by what that tolerance lets
     through. Measured at every sample, relative to the largest value of the column: sliding 3.7e-11
-    (x, vx), at rest 5.6e-10 (x) and 1.2e-9 (vx, whose peak is only 5e-3 m/s). Tolerance 1e-8."""
-    (a, _), (b, _) = runs("reference", case), runs("exudyn", case)
+    (x, vx), at rest 5.6e-10 (x) and 1.2e-9 (vx, whose peak is only 5e-3 m/s). Tolerance 1e-8. Both
+    give every column and the same summary keys."""
+    ra, rb = runs("reference", case), runs("exudyn", case)
+    a, b = ra.trajectory, rb.trajectory
     assert set(COLUMNS) <= set(a) and set(COLUMNS) <= set(b)
+    assert set(ra.summary) == set(rb.summary)
     assert np.allclose(a["t"], b["t"], rtol=0, atol=1e-12)
     for k in ("x", "y", "z", "vx", "vy", "vz", "slip_distance", "dissipated_energy"):
         scale = max(float(np.max(np.abs(a[k]))), 1e-300)
         assert np.max(np.abs(a[k] - b[k])) <= 1e-8 * scale, (case, k)
-
-
-def test_catalog_entry_calls_its_model_script():
-    """A catalog entry holds its model script's Run<Model> and Build<Model> (imported by name in the
-    entry) and calls them with the command line's arguments."""
-    from exu_aniso.catalog import Scene
-
-    calls = []
-
-    def BuildPush(p):                 # stand in for exu_aniso/models/push.py's
-        return calls.append(("BuildPush", p)) or "model"
-
-    def RunPush(p, **kw):
-        return calls.append(("RunPush", p, kw)) or "result"
-
-    scene = Scene("push", PushParams, COLUMNS, ("x", "vx"), None, RunPush, BuildPush, simulate_push)
-    assert scene.run(SLIDING, progress=False, snapshot=None, solutionFile=None) == "result"
-    assert scene.build(SLIDING) == "model"
-    assert calls == [("RunPush", SLIDING, dict(progress=False, snapshot=None, solutionFile=None)),
-                     ("BuildPush", SLIDING)]
 
 
 # ----------------------------------------------------------------------------------------------

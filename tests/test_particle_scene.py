@@ -2,7 +2,7 @@
 parameters and their errors, the textbook oracles measured through the scene on both engines, the
 summary, the columns and the plot.
 
-Oracles (exu_aniso.law.oracles), with the error budget the tests hold them to:
+Oracles (exu_aniso.scenes.point_on_surface), with the error budget the tests hold them to:
 
 * ``incline``: a point sliding along the top line of an inclined cylinder accelerates at
   g (sin a - mu cos a): the trapezoidal rule integrates a constant acceleration exactly, so the fit
@@ -10,7 +10,7 @@ Oracles (exu_aniso.law.oracles), with the error budget the tests hold them to:
 * ``cavity``: v = v0 exp(-mu psi); ``departure``: the angle of the textbook ODE. Both engines start
   the point sliding from the initial history of CreateAnisotropicContact (sticking, T = 0), so the
   first step misses half a step of friction impulse, mu |N0| dt / 2: a first-order error that
-  ``oracles.startup_impulse_error`` predicts from the oracle itself. The tests subtract it and
+  ``point_on_surface.startup_impulse_error`` predicts from the oracle itself. The tests subtract it and
   hold the rest to a bound that falls with dt (cavity: second order; measured below). The
   convergence runs take seconds (both engines, four levels), so they are not slow-marked.
 """
@@ -21,7 +21,7 @@ import warnings
 
 import pytest
 
-from exu_aniso.law import oracles
+from exu_aniso.scenes import point_on_surface
 from exu_aniso.scenes.particle import simulate_particle
 from exu_aniso.scenes.particle import (COLUMNS, ORACLE_KEYS, TITLE_KEYS, ParticleParams, PlotParticle,
                                       particle_contact_law)
@@ -104,7 +104,7 @@ def test_cavity_speed_follows_the_exponential():
     """Measured (dt 5e-4, eps_n 1e6): cavity_speed_error 3.0321e-4 on both engines, against the
     start-up term mu v0 dt / (2 R) = 3.0000e-4; the rest, 3.2e-6, is second order (slow test)."""
     dt = 5e-4
-    startup = oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)
+    startup = point_on_surface.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)
     for name, run in engines():
         s = run(ParticleParams(dt=dt, **CAVITY)).summary
         assert s["cavity_psi_end_deg"] > 80.0                    # nearly a quarter turn (89.8 deg)
@@ -118,7 +118,7 @@ def test_departure_angle():
     start-up term is 2.28e-3 deg; the rest, 3.1e-4 deg, is the penalty's normal vibration in the fit
     (bounded by 5e-4 deg)."""
     dt = 5e-4
-    startup = math.degrees(oracles.startup_impulse_error("departure", 0.15, 0.5, 9.81, 0.5, dt))
+    startup = math.degrees(point_on_surface.startup_impulse_error("departure", 0.15, 0.5, 9.81, 0.5, dt))
     for name, run in engines():
         s = run(ParticleParams(dt=dt, **DEPARTURE)).summary
         assert s["departure_angle_deg_theory"] == pytest.approx(51.4547, abs=1e-4)
@@ -153,7 +153,7 @@ def test_cavity_converges():
         for k, dt in enumerate((1e-3, 5e-4, 2.5e-4, 1.25e-4)):
             eps = 2.5e5 * 4 ** k
             s = run(ParticleParams(dt=dt, eps_n=eps, eps_1=eps / 10, **CAVITY)).summary
-            startup = oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)
+            startup = point_on_surface.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)
             rest.append(abs(s["cavity_speed_error"] - startup))
         assert all(b < 0.35 * a for a, b in zip(rest, rest[1:])), (name, rest)
 
@@ -166,7 +166,7 @@ def test_departure_error_is_the_startup_term():
         for k, dt in enumerate((1e-3, 5e-4, 2.5e-4, 1.25e-4)):
             eps = 2.5e5 * 4 ** k
             s = run(ParticleParams(dt=dt, eps_n=eps, eps_1=eps / 10, **DEPARTURE)).summary
-            startup = math.degrees(oracles.startup_impulse_error("departure", 0.15, 0.5, 9.81, 0.5, dt))
+            startup = math.degrees(point_on_surface.startup_impulse_error("departure", 0.15, 0.5, 9.81, 0.5, dt))
             errs.append(_err(s))
             assert abs(_err(s) - startup) <= 5e-4, (name, dt, _err(s), startup)
         assert all(abs(b) < 0.8 * abs(a) for a, b in zip(errs, errs[1:])), (name, errs)
@@ -174,15 +174,15 @@ def test_departure_error_is_the_startup_term():
 
 # ----------------------------------------------------------------------------------------------
 # every oracle knows its domain: just inside it the theory is reported and met, just outside it
-# is None with the reason (scenes.particle.theory_domain, oracles.OutsideDomain)
+# is None with the reason (scenes.particle.theory_domain, point_on_surface.OutsideDomain)
 
 MU_EDGE = 0.2312331401      # departure at speed 0.5 m/s, R 0.5 m: the ODE's point stops above this mu
-#                             (bisection of oracles.departure_angle; checked below, not trusted)
+#                             (bisection of point_on_surface.departure_angle; checked below, not trusted)
 
 
 def _stop_angle(mu, speed):
-    with pytest.raises(oracles.OutsideDomain) as e:
-        oracles.departure_angle(mu, 0.5, 9.81, speed)
+    with pytest.raises(point_on_surface.OutsideDomain) as e:
+        point_on_surface.departure_angle(mu, 0.5, 9.81, speed)
     return e.value.stop_angle
 
 
@@ -190,17 +190,17 @@ def test_departure_oracle_refuses_a_point_that_friction_stops():
     """The ODE's -mu N term used to push a stopped point backwards (mu 0.5 gave -37.2 deg). A point
     that friction stops is held by it (moving downhill, v falls to 0 only where g (sin - mu cos) <= 0,
     the sticking rule), so there is no departure angle: OutsideDomain naming mu and the rule."""
-    assert oracles.departure_angle(MU_EDGE - 1e-6, 0.5, 9.81, 0.5) > 0.9          # leaves (54.5 deg)
+    assert point_on_surface.departure_angle(MU_EDGE - 1e-6, 0.5, 9.81, 0.5) > 0.9          # leaves (54.5 deg)
     for mu in (MU_EDGE + 1e-6, 0.5, 0.8, 1.0, 1.1):
-        with pytest.raises(oracles.OutsideDomain, match=r"mu = .*sticking rule .*never leaves"):
-            oracles.departure_angle(mu, 0.5, 9.81, 0.5)
+        with pytest.raises(point_on_surface.OutsideDomain, match=r"mu = .*sticking rule .*never leaves"):
+            point_on_surface.departure_angle(mu, 0.5, 9.81, 0.5)
         th = _stop_angle(mu, 0.5)
         assert 0.0 < th and math.tan(th) <= mu                                    # where friction can hold it
-    with pytest.raises(oracles.OutsideDomain, match="speed = 0: the point rests on the top"):
-        oracles.departure_angle(0.15, 0.5, 9.81, 0.0)
-    assert issubclass(oracles.OutsideDomain, ValueError)
+    with pytest.raises(point_on_surface.OutsideDomain, match="speed = 0: the point rests on the top"):
+        point_on_surface.departure_angle(0.15, 0.5, 9.81, 0.0)
+    assert issubclass(point_on_surface.OutsideDomain, ValueError)
     with pytest.raises(ValueError, match="speed"):                                # bad input: plain ValueError
-        oracles.departure_angle(0.15, 0.5, 9.81, -1.0)
+        point_on_surface.departure_angle(0.15, 0.5, 9.81, -1.0)
 
 
 def test_departure_domain_edge_through_the_scene():
@@ -210,7 +210,7 @@ def test_departure_domain_edge_through_the_scene():
     angle moved by the start-up term (its derivative by the launch speed times dv = mu |N0| dt / 2m),
     within 5e-4 deg (measured 1e-4 deg; the stick's elastic offset m g sin / (eps_1 R) is 1.7e-4 deg)."""
     dt, R, g, v0 = 5e-4, 0.5, 9.81, 0.5
-    startup = math.degrees(oracles.startup_impulse_error("departure", 0.21, R, g, v0, dt))
+    startup = math.degrees(point_on_surface.startup_impulse_error("departure", 0.21, R, g, v0, dt))
     dv, h = 0.25 * (g - v0 * v0 / R) * dt / 2.0, 1e-4 * v0
     stop = math.degrees(_stop_angle(0.25, v0) + (_stop_angle(0.25, v0 + h) - _stop_angle(0.25, v0 - h)) / (2 * h) * dv)
     for name, run in engines():
@@ -233,7 +233,7 @@ def test_cavity_dashpots():
     speed ratio lies 2.93e-3 below exp(-mu psi_end) (reference: 0.62258 against 0.62552), ten times
     the start-up term 3.0e-4 (the test asks for five)."""
     dt = 5e-4
-    startup = oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)
+    startup = point_on_surface.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, dt)
     for name, run in engines():
         s = run(ParticleParams(dt=dt, normal_damping=1e4, **CAVITY)).summary
         assert abs(s["cavity_speed_error"] - startup) <= 1e-5, (name, s["cavity_speed_error"])
@@ -291,7 +291,7 @@ def test_bent_friction_of_a_non_associated_map_has_no_theory():
     toward B v and the cavity's speed leaves exp(-mu psi) by 7 % (measured 7.3e-2); no theory. Just
     inside: the exact map on the same B meets the oracle as with isotropic B (start-up term + 1e-5)."""
     kw = dict(CAVITY, adhesion="orthotropic", eps_1=1e5, eps_2=1e4, net_angle=30.0)
-    startup = oracles.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, 5e-4)
+    startup = point_on_surface.startup_impulse_error("cavity", 0.3, 0.5, 0.0, 2.0, 5e-4)
     s = simulate_particle(ParticleParams(dt=5e-4, return_map="exact", **kw)).summary
     assert abs(s["cavity_speed_error"] - startup) <= 1e-5, s["cavity_speed_error"]
     s = simulate_particle(ParticleParams(dt=5e-4, return_map="radial", **kw)).summary

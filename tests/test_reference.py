@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from exu_aniso.law.oracles import orthotropic_heading
+from exu_aniso.scenes.block import orthotropic_heading
 from exu_aniso.engines.reference import jacobian_check
 from exu_aniso.scenes import block as block_scene
 from exu_aniso.scenes import screw as screw_scene

@@ -9,7 +9,7 @@ from exu_aniso.catalog import SCENES
 
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_parameter_set_is_its_table(name):
-    P = SCENES[name].params
+    P = SCENES[name].Params
     fields = dataclasses.fields(P)
     assert [f.name for f in fields] == list(P.TABLE)
     assert all(f.default == P.TABLE[f.name][0] for f in fields)
@@ -35,7 +35,7 @@ def test_one_default_return_map():
                     (return_maps.return_map_point, "method"), (return_maps.return_map_batch, "method")):
         assert inspect.signature(f).parameters[name].default == DEFAULT_RETURN_MAP, f
     for name, scene in SCENES.items():
-        default, _, text = scene.params.TABLE["return_map"][:3]
+        default, _, text = scene.Params.TABLE["return_map"][:3]
         if name in ("block", "screw", "fe_block", "fe_screw"):
             assert default == "radial" and "default is exact" in text and "steer" in text, name
         else:

@@ -90,7 +90,7 @@ def test_every_null_in_a_short_runs_summary_says_why(scene):
         pytest.importorskip("skfem")
     from exu_aniso import cli
     from exu_aniso.catalog import SCENES
-    defaults = SCENES[scene].params()
+    defaults = SCENES[scene].Params()
     factor = 20 * defaults.dt / defaults.t_end
     sets = {name: repr(getattr(defaults, name) * factor) for name, (_, unit, _, _) in defaults.TABLE.items()
             if unit == "s" and name != "dt"}

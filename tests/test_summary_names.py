@@ -10,7 +10,7 @@ import warnings
 
 import pytest
 
-from exu_aniso.catalog import SCENES
+from exu_aniso.catalog import MODELS
 from exu_aniso.engines.energy import EnergyWarning
 
 # (scene, parameter overrides, whether every *_theory of the run is defined)
@@ -39,8 +39,8 @@ def summaries():
     with warnings.catch_warnings():      # the short runs' ledgers may not close to 1 %: not what is checked here
         warnings.simplefilter("ignore", EnergyWarning)
         for name, kw, defined in RUNS:
-            scene = SCENES[name]
-            out.append((name, kw, defined, scene.run(scene.params(**kw)).summary))
+            model = MODELS[name]
+            out.append((name, kw, defined, model.run(model.scene.Params(**kw)).summary))
     return out
 
 

@@ -34,12 +34,11 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigi
 from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.scenes.block import (BlockParams, block_contact_law, block_energy, block_points, block_summary,
-                                   planar_motion)
+from exu_aniso.scenes.block import SCENE, BlockParams, block_contact_law, block_points, planar_motion
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
-                                                     HistoryOutputs, RunScene, SensorMotion,
-                                                     SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
+                                                     HistoryOutputs, ModelScript, SensorMotion,
+                                                     SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.util.validation import check_instance
 
 
@@ -186,31 +185,29 @@ def BlockMotion(model, traj):
     return SensorMotion(model) if model["params"].model == "full" else planar_motion(traj)
 
 
-def RunBlock(p: BlockParams = None, progress=False, snapshot=None, solutionFile=None, **options):
-    """Build and solve the block scene; returns exu_aniso.engines.result.Result (trajectory with the
-    reference's keys, summary = scenes.block_summary, params, info). options: see BuildBlock.
+def ReadBlock(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildBlock model: the trajectory, the summary's
+    inputs (none) and, for a completed run, the ledger's (the block's motion, the contact law and
+    its history)."""
+    history = HistoryOutputs(model["mbs"], model["contact"])
+    traj = BlockTrajectory(model, history)
+    if not complete:
+        return traj, {}, None
+    return traj, {}, dict(motion=BlockMotion(model, traj), law=model["contact"]["law"], H=history[2])
 
-    progress: show the progress of a run longer than about 2 s on stderr (True, or an
-    exu_aniso.util.progress.Progress; see SolveTimed); snapshot: file name of a PNG of the final state
-    (``WriteSnapshot``: raytraced, no display needed; written only when the run completes);
-    solutionFile: let Exudyn write its solution there, to be played back with
-    ``ViewSolution(BuildBlock(p, **options), solutionFile)``."""
-    p = BlockParams() if p is None else p
-    model = BuildBlock(p, **options)
 
-    def partial(failure):
-        traj = BlockTrajectory(model)
-        return traj, block_summary(traj, float("nan"), failure.steps, failure.newton_iterations)
+def BlockInfo(model):
+    """The block's entries of a run's info: the model and its node type."""
+    p = model["params"]
+    return dict(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D")
 
-    def complete(wall, steps, iters, info):
-        history = HistoryOutputs(model["mbs"], model["contact"])
-        traj = BlockTrajectory(model, history)
-        summary = block_summary(traj, wall, steps, iters)
-        summary.update(block_energy(p, traj, BlockMotion(model, traj), model["contact"]["law"], history[2]))
-        info.update(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "RigidBody2D",
-                    **SettingsInfo(model["simulationSettings"], [model["contact"]]))
-        return traj, summary
-    return RunScene(model, p, "block", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
+
+MODEL = ModelScript(SCENE, BuildBlock, ReadBlock, info=BlockInfo)
+
+RunBlock = MODEL.run
+"""Build (``BuildBlock(p, **options)``) and solve the block scene: ``ModelScript.run``, which returns
+an ``exu_aniso.engines.result.Result`` with the reference's trajectory keys, the summary
+(``scenes.block.block_summary``) and the energy ledger."""
 
 
 if __name__ == "__main__":

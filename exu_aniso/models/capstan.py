@@ -34,10 +34,9 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.law.history import HISTORY_FIELDS
 from exu_aniso.engines.energy import work_trapezoid
 from exu_aniso.engines.exudyn_adapter.slaves import hermite_shape_functions
-from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor,
-                                                     SceneView)
-from exu_aniso.scenes.capstan import (CapstanParams, capstan_contact_law, capstan_energy, capstan_summary,
-                                     element_length, tension_in, tension_out)
+from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, ModelScript, SimulationSettingsFor, SceneView
+from exu_aniso.scenes.capstan import (SCENE, CapstanParams, capstan_contact_law, element_length, element_points,
+                                     tension_in, tension_out)
 from exu_aniso.util.validation import check_instance
 
 _STATUS = HISTORY_FIELDS.index("status")
@@ -144,13 +143,12 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
             els = [e for e, Le in zip(elements, lengths) if abs(Le - L) < 1e-14]
             contacts.append(mbs.CreateAnisotropicContact(
                 name=f"drum{len(contacts)}", bodyNumber=els,
-                localPoints=[[(i + 0.5) * L / p.points, 0.0, 0.0] for i in range(p.points)],
+                localPoints=element_points(p, L).tolist(),
                 contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show,
                 storeHistory=True))
     else:
         contacts = [mbs.CreateAnisotropicContact(
-            name="drum", bodyNumber=elements, localPoints=[[(i + 0.5) * L_arc / p.points, 0.0, 0.0]
-                                                           for i in range(p.points)],
+            name="drum", bodyNumber=elements, localPoints=element_points(p, L_arc).tolist(),
             contactLaw=capstan_contact_law(p), jacobian=jacobian, implementation=implementation, show=show,
             storeHistory=True)]
     # no KineticEnergy sensor on the elements (RopeKineticEnergy): Exudyn's KineticEnergy output of an ANCF
@@ -258,11 +256,13 @@ def RopeKineticEnergy(model, qt):
     return kinetic
 
 
-def CapstanLedger(model, traj, q, qt, H):
-    """Energy-ledger summary entries (and the ledger columns added to traj), see scenes.capstan."""
+def CapstanLedgerInputs(model, traj, q, qt, H):
+    """The inputs of the capstan's energy ledger (``scenes.capstan.capstan_energy``) from the solved
+    model: the contact law, the contact points' positions and velocities X, V and their histories H
+    (every set's, side by side), the rope's kinetic and strain energy, the end forces' work and the
+    end dashpots' dissipation, per sample."""
     mbs, p, S = model["mbs"], model["params"], model["sensors"]
     d_in, d_out = model["directions"]
-    t = traj["t"]
     kinetic = RopeKineticEnergy(model, qt)
     potential = sum(mbs.GetSensorStoredData(s)[:, 1] for s in S["sPotential"])
     nc = 4
@@ -281,8 +281,9 @@ def CapstanLedger(model, traj, q, qt, H):
         cols = np.concatenate([order.index(nd) * nc + np.arange(nc) for nd in cs.slave.nodes])
         Xs.append(c0[None] + np.einsum("kij,nj->nki", Jp, cs.slave.ref[None] + q[:, cols]))
         Vs.append(np.einsum("kij,nj->nki", Jp, qt[:, cols]))
-    X, V, Hall = np.concatenate(Xs, axis=1), np.concatenate(Vs, axis=1), np.concatenate(H, axis=1)
-    return capstan_energy(traj, model["contact"]["law"], X, V, Hall, kinetic, potential, work, end_diss)
+    return dict(law=model["contact"]["law"], X=np.concatenate(Xs, axis=1), V=np.concatenate(Vs, axis=1),
+                H=np.concatenate(H, axis=1), kinetic=kinetic, potential=potential, work_in=work,
+                end_dissipation=end_diss)
 
 
 def _contact_set(mbs, contact):
@@ -292,24 +293,20 @@ def _contact_set(mbs, contact):
     raise KeyError("contact set not found")
 
 
-def RunCapstan(p: CapstanParams = None, progress=False, snapshot=None, solutionFile=None, **options):
-    """Build and solve the capstan scene; returns exu_aniso.engines.result.Result (trajectory with
-    scenes.capstan.COLUMNS, summary = scenes.capstan.capstan_summary + the energy ledger, params,
-    info). options: see BuildCapstan. progress, snapshot, solutionFile: as RunBlock."""
-    p = CapstanParams() if p is None else p
-    model = BuildCapstan(p, **options)
+def ReadCapstan(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildCapstan model: the trajectory, the summary's
+    inputs (none) and, for a completed run, the ledger's (``CapstanLedgerInputs``)."""
+    traj, q, qt, H = CapstanTrajectory(model)
+    return traj, {}, CapstanLedgerInputs(model, traj, q, qt, H) if complete else None
 
-    def partial(failure):
-        traj = CapstanTrajectory(model)[0]
-        return traj, capstan_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
 
-    def complete(wall, steps, iters, info):
-        traj, q, qt, H = CapstanTrajectory(model)
-        summary = capstan_summary(traj, p, wall, steps, iters)
-        summary.update(CapstanLedger(model, traj, q, qt, H))
-        info.update(elements=len(model["elements"]), **SettingsInfo(model["simulationSettings"], model["contacts"]))
-        return traj, summary
-    return RunScene(model, p, "capstan", model["contacts"], partial, complete, progress, snapshot, solutionFile)
+MODEL = ModelScript(SCENE, BuildCapstan, ReadCapstan, contacts=lambda model: model["contacts"],
+                    info=lambda model: dict(elements=len(model["elements"])))
+
+RunCapstan = MODEL.run
+"""Build (``BuildCapstan(p, **options)``) and solve the capstan scene: ``ModelScript.run``, which returns
+an ``exu_aniso.engines.result.Result`` with ``scenes.capstan.COLUMNS``, the summary
+(``scenes.capstan.capstan_summary``) and the energy ledger."""
 
 
 if __name__ == "__main__":

@@ -25,12 +25,12 @@ from exudyn.utilities import InertiaCuboid
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.law.history import H_DISSIPATED
-from exu_aniso.law import oracles
-from exu_aniso.engines.exudyn_adapter.runner import (SceneView, NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, RunScene,
-                                                     SettingsInfo, SimulationSettingsFor, Unwrap)
-from exu_aniso.scenes.fastening import (FasteningParams, bolt_inertia, contact_torques, fastening_energy,
-                                       fastening_summary, head_contact_law, head_points, head_z, joint_damping, lead,
-                                       part_top_z, thread_contact_law, thread_points)
+from exu_aniso.scenes import threads
+from exu_aniso.engines.exudyn_adapter.runner import (SceneView, NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, ModelScript,
+                                                     SimulationSettingsFor, Unwrap)
+from exu_aniso.scenes.fastening import (SCENE, FasteningParams, bolt_inertia, contact_torques, head_contact_law,
+                                       head_points, head_z, joint_damping, lead, part_top_z, thread_contact_law,
+                                       thread_points)
 from exu_aniso.util.validation import check_instance
 
 # Newton's relative and absolute tolerance. The residual of this scene stalls at ~4e-7 (1.6e-8 of the first
@@ -55,7 +55,7 @@ def StaticPenetration(p):
     that every thread point starts in contact."""
     if p.thread == "net" or not p.axial_load:
         return 0.0
-    k = oracles.thread_axial_stiffness(p.thread_stiffness, p.d2, p.pitch, math.radians(p.flank_angle), 0.0)
+    k = threads.thread_axial_stiffness(p.thread_stiffness, p.d2, p.pitch, math.radians(p.flank_angle), 0.0)
     return p.axial_load / k
 
 
@@ -163,27 +163,21 @@ def FasteningTrajectory(model):
     return traj, extras
 
 
-def RunFastening(p: FasteningParams = None, progress=False, snapshot=None, solutionFile=None, **options):
-    """Build and solve the fastening scene; returns exu_aniso.engines.result.Result (trajectory with the
-    columns of scenes.fastening.COLUMNS, summary = scenes.fastening.fastening_summary with the energy
-    ledger). options: see BuildFastening. progress, snapshot, solutionFile: as RunBlock."""
-    p = FasteningParams() if p is None else p
-    model = BuildFastening(p, **options)
-    contacts = list(model["contacts"].values())
+def ReadFastening(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildFastening model: the trajectory, the summary's
+    inputs (none) and the ledger's (``FasteningTrajectory``'s extras)."""
+    traj, extras = FasteningTrajectory(model)
+    return traj, {}, extras
 
-    def partial(failure):
-        traj = FasteningTrajectory(model)[0]
-        return traj, fastening_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
 
-    def complete(wall, steps, iters, info):
-        traj, ex = FasteningTrajectory(model)
-        summary = fastening_summary(traj, p, wall, steps, iters)
-        summary.update(fastening_energy(p, traj, ex["bolt"], ex["part_z"], ex["part_vz"], ex["laws"], ex["X"],
-                                        ex["V"], ex["H"]))
-        info.update(thread_law=repr(contacts[0]["law"]), **SettingsInfo(model["simulationSettings"], contacts))
-        return traj, summary
-    return RunScene(model, p, "fastening", contacts, partial, complete, progress, snapshot, solutionFile,
+MODEL = ModelScript(SCENE, BuildFastening, ReadFastening, contacts=lambda model: list(model["contacts"].values()),
+                    info=lambda model: dict(thread_law=repr(model["contacts"]["thread"]["law"])),
                     snapshotOptions=dict(modelRotation=SNAPSHOT_VIEW))
+
+RunFastening = MODEL.run
+"""Build (``BuildFastening(p, **options)``) and solve the fastening scene: ``ModelScript.run``, which
+returns an ``exu_aniso.engines.result.Result`` with ``scenes.fastening.COLUMNS``, the summary
+(``scenes.fastening.fastening_summary``) and the energy ledger."""
 
 
 if __name__ == "__main__":

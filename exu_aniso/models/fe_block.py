@@ -23,12 +23,12 @@ from exudyn.itemInterface import MarkerNodeCoordinate, NodePointGround, ObjectCo
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf, FloatingFrameMotion
-from exu_aniso.engines.exudyn_adapter.runner import (AddSpringDrive, HistoryOutputs, RunScene, SceneView,
-                                                     SettingsInfo, SimulationSettingsFor)
+from exu_aniso.engines.exudyn_adapter.runner import (AddSpringDrive, HistoryOutputs, ModelScript, SceneView,
+                                                     SimulationSettingsFor)
 from exu_aniso.engines.timing import driver_travel
-from exu_aniso.scenes.fe_block import (FeBlockParams, contact_columns, contact_compliance, drive_direction, drive_speed, drive_stretch,
-                                      fe_block_basis, fe_block_contact_law, fe_block_energy, fe_block_mesh,
-                                      fe_block_summary, press_depth)
+from exu_aniso.scenes.fe_block import (SCENE, FeBlockParams, contact_columns, contact_compliance, drive_direction,
+                                      drive_speed, drive_stretch, fe_block_basis, fe_block_contact_law, fe_block_mesh,
+                                      press_depth)
 from exu_aniso.util.validation import check_instance
 
 
@@ -123,25 +123,23 @@ def FeBlockTrajectory(model):
     return traj, Xb, m.V[:, bottom], H, work_in
 
 
-def RunFeBlock(p: FeBlockParams = None, progress=False, snapshot=None, solutionFile=None, **options):
-    """Build and solve the fe_block scene; returns exu_aniso.engines.result.Result (trajectory,
-    summary = scenes.fe_block.fe_block_summary with the energy ledger, params, info). options: see
-    BuildFeBlock. progress, snapshot, solutionFile: as RunBlock."""
-    p = FeBlockParams() if p is None else p
-    model = BuildFeBlock(p, **options)
+def ReadFeBlock(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildFeBlock model: the trajectory, the summary's
+    inputs (a completed run's basis compliance, which warns below its floor) and, for a completed run,
+    the ledger's (``FeBlockTrajectory``'s bottom nodes, history and work in)."""
+    traj, Xb, Vb, H, work_in = FeBlockTrajectory(model)
+    if not complete:
+        return traj, {}, None
+    compliance = contact_compliance(model["params"], model["mesh"], model["body"]["basis"])
+    return traj, dict(compliance=compliance), dict(Xb=Xb, Vb=Vb, H=H, work_in=work_in)
 
-    def partial(failure):
-        traj = FeBlockTrajectory(model)[0]
-        return traj, fe_block_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
 
-    def complete(wall, steps, iters, info):
-        traj, Xb, Vb, H, work_in = FeBlockTrajectory(model)
-        summary = fe_block_summary(traj, p, wall, steps, iters)
-        summary.update(contact_compliance(p, model["mesh"], model["body"]["basis"]))
-        summary.update(fe_block_energy(p, traj, Xb, Vb, H, work_in))
-        info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
-        return traj, summary
-    return RunScene(model, p, "fe_block", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
+MODEL = ModelScript(SCENE, BuildFeBlock, ReadFeBlock)
+
+RunFeBlock = MODEL.run
+"""Build (``BuildFeBlock(p, **options)``) and solve the fe_block scene: ``ModelScript.run``, which returns
+an ``exu_aniso.engines.result.Result`` with ``scenes.fe_block.COLUMNS``, the summary
+(``scenes.fe_block.fe_block_summary``) with the basis's compliance entries, and the energy ledger."""
 
 
 if __name__ == "__main__":

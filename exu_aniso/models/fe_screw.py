@@ -20,11 +20,10 @@ from exudyn.itemInterface import LoadForceVector, MarkerNodePosition, SensorNode
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
 from exu_aniso.engines.exudyn_adapter.fem import FEMinterfaceOf, FloatingFrameMotion
-from exu_aniso.engines.exudyn_adapter.runner import (AddYawDrive, HistoryOutputs, RunScene, SceneView, SettingsInfo,
+from exu_aniso.engines.exudyn_adapter.runner import (AddYawDrive, HistoryOutputs, ModelScript, SceneView,
                                                      SimulationSettingsFor, Unwrap)
-from exu_aniso.scenes.fe_screw import (FeScrewParams, contact_compliance, fe_screw_basis, fe_screw_columns,
-                                      fe_screw_contact_law, fe_screw_energy, fe_screw_mesh, fe_screw_summary, press_fit,
-                                      ring_twist)
+from exu_aniso.scenes.fe_screw import (SCENE, FeScrewParams, contact_compliance, fe_screw_basis, fe_screw_columns,
+                                      fe_screw_contact_law, fe_screw_mesh, press_fit, ring_twist)
 from exu_aniso.util.validation import check_instance
 
 
@@ -101,28 +100,24 @@ def FeScrewTrajectory(model):
     return traj, m.X[:, thread], m.V[:, thread], H
 
 
-def RunFeScrew(p: FeScrewParams = None, progress=False, snapshot=None, solutionFile=None, **options):
-    """Build and solve the fe_screw scene; returns exu_aniso.engines.result.Result (trajectory,
-    summary = scenes.fe_screw.fe_screw_summary with the energy ledger and the basis's
-    contact_compliance_share and basis_warning (a BasisWarning when it is not None), params, info). options: see
-    BuildFeScrew. progress, snapshot, solutionFile: as RunBlock."""
-    p = FeScrewParams() if p is None else p
-    model = BuildFeScrew(p, **options)
+def ReadFeScrew(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildFeScrew model: the trajectory, the summary's
+    inputs (the basis's compliance: a completed run's warns below its floor) and, for a completed run,
+    the ledger's (the thread nodes' X, V and history H)."""
+    traj, X, V, H = FeScrewTrajectory(model)
+    if not complete:
+        return traj, dict(compliance=model["compliance"]), None
+    compliance = contact_compliance(model["params"], model["mesh"], model["body"]["basis"])
+    return traj, dict(compliance=compliance), dict(X=X, V=V, H=H)
 
-    def partial(failure):
-        traj = FeScrewTrajectory(model)[0]
-        summary = fe_screw_summary(p, traj, float("nan"), failure.steps, failure.newton_iterations)
-        summary.update(model["compliance"])
-        return traj, summary
 
-    def complete(wall, steps, iters, info):
-        traj, X, V, H = FeScrewTrajectory(model)
-        summary = fe_screw_summary(p, traj, wall, steps, iters)
-        summary.update(fe_screw_energy(p, traj, X, V, H))
-        summary.update(contact_compliance(p, model["mesh"], model["body"]["basis"]))      # warns below the floor
-        info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
-        return traj, summary
-    return RunScene(model, p, "fe_screw", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
+MODEL = ModelScript(SCENE, BuildFeScrew, ReadFeScrew)
+
+RunFeScrew = MODEL.run
+"""Build (``BuildFeScrew(p, **options)``) and solve the fe_screw scene: ``ModelScript.run``, which returns
+an ``exu_aniso.engines.result.Result`` with ``scenes.fe_screw.COLUMNS``, the summary
+(``scenes.fe_screw.fe_screw_summary``) with the basis's contact_compliance_share and basis_warning (a
+BasisWarning when it is not None), and the energy ledger."""
 
 
 if __name__ == "__main__":

@@ -25,10 +25,9 @@ from exudyn.utilities import InertiaCuboid
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines import energy
-from exu_aniso.engines.exudyn_adapter.runner import (RunScene, SettingsInfo, SimulationSettingsFor,
-                                                     SceneView)
-from exu_aniso.scenes.feeder import (FeederParams, feeder_contact_law, feeder_energy, feeder_summary,
-                                    finish_trajectory, part_inertia, part_points, part_positions, throw_direction)
+from exu_aniso.engines.exudyn_adapter.runner import ModelScript, SimulationSettingsFor, SceneView
+from exu_aniso.scenes.feeder import (SCENE, FeederParams, feeder_contact_law, finish_trajectory, part_inertia,
+                                    part_points, part_positions, throw_direction)
 from exu_aniso.engines.timing import time_step
 from exu_aniso.util.validation import check_instance
 
@@ -121,27 +120,25 @@ def FeederTrajectory(model):
     return traj, P, yaw, motions, forces, H, plate
 
 
-def RunFeeder(p: FeederParams = None, progress=False, snapshot=None, solutionFile=None, **options):
-    """Build and solve the feeder scene; returns exu_aniso.engines.result.Result (trajectory with the
-    columns of scenes.feeder.COLUMNS, summary = scenes.feeder.feeder_summary with the energy ledger of
-    the parts). options: see BuildFeeder. progress, snapshot, solutionFile: as RunBlock."""
-    p = FeederParams() if p is None else p
-    model = BuildFeeder(p, **options)
+def ReadFeeder(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildFeeder model: the trajectory, the summary's
+    inputs (the parts' positions and yaws; a completed run's nominal steps, beyond which Exudyn's
+    accepted steps are extra, as the reference engine counts them) and, for a completed run, the
+    ledger's (``scenes.feeder.feeder_energy``)."""
+    traj, P, yaw, motions, forces, H, plate = FeederTrajectory(model)
+    if not complete:
+        return traj, dict(P=P, yaw=yaw, extra_steps=None), None
+    nominal = int(model["simulationSettings"].timeIntegration.numberOfSteps)
+    return (traj, dict(P=P, yaw=yaw, nominal_steps=nominal),
+            dict(motions=motions, forces=forces, law=model["contacts"][0]["law"], H=H, plate=plate))
 
-    def partial(failure):
-        traj, P, yaw = FeederTrajectory(model)[:3]
-        return traj, feeder_summary(traj, P, yaw, p, float("nan"), failure.steps, failure.newton_iterations,
-                                    extra_steps=None)
 
-    def complete(wall, steps, iters, info):
-        traj, P, yaw, motions, forces, H, plate = FeederTrajectory(model)
-        # steps: the nominal steps of the run, as the reference engine counts them; Exudyn's step reductions apart
-        extra = max(0, steps - info["nominal_steps"])
-        summary = feeder_summary(traj, P, yaw, p, wall, steps - extra, iters, extra_steps=extra)
-        summary.update(feeder_energy(p, traj, motions, forces, model["contacts"][0]["law"], H, plate))
-        info.update(**SettingsInfo(model["simulationSettings"], model["contacts"]))
-        return traj, summary
-    return RunScene(model, p, "feeder", model["contacts"], partial, complete, progress, snapshot, solutionFile)
+MODEL = ModelScript(SCENE, BuildFeeder, ReadFeeder, contacts=lambda model: model["contacts"])
+
+RunFeeder = MODEL.run
+"""Build (``BuildFeeder(p, **options)``) and solve the feeder scene: ``ModelScript.run``, which returns
+an ``exu_aniso.engines.result.Result`` with ``scenes.feeder.COLUMNS``, the summary
+(``scenes.feeder.feeder_summary``) and the energy ledger of the parts."""
 
 
 if __name__ == "__main__":

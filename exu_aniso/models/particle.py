@@ -18,10 +18,9 @@ from exudyn import graphics
 from exudyn.itemInterface import SensorNode
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.exudyn_adapter.runner import (HistoryOutputs, RunScene, SettingsInfo, SimulationSettingsFor,
-                                                     SceneView)
-from exu_aniso.scenes.particle import (ParticleParams, finish_trajectory, gravity_vector, initial_state,
-                                      particle_contact_law, particle_energy, particle_summary)
+from exu_aniso.engines.exudyn_adapter.runner import HistoryOutputs, ModelScript, SimulationSettingsFor, SceneView
+from exu_aniso.scenes.particle import (SCENE, ParticleParams, finish_trajectory, gravity_vector, initial_state,
+                                      particle_contact_law)
 from exu_aniso.util.validation import check_instance
 
 
@@ -60,7 +59,8 @@ def BuildParticle(p: ParticleParams, jacobian="analytic", solverType=None, rhoIn
 
 
 def ParticleTrajectory(model):
-    """Trajectory dict (reference keys) from the stored sensors of a solved BuildParticle model."""
+    """Trajectory dict (reference keys) from the stored sensors of a solved BuildParticle model, and
+    the contact's history H."""
     mbs, S = model["mbs"], model["sensors"]
     P = mbs.GetSensorStoredData(S["sPosition"])
     V = mbs.GetSensorStoredData(S["sVelocity"])
@@ -70,25 +70,19 @@ def ParticleTrajectory(model):
     return finish_trajectory(traj, model["contact"]["law"], H), H
 
 
-def RunParticle(p: ParticleParams = None, progress=False, snapshot=None, solutionFile=None, **options):
-    """Build and solve the particle scene; returns exu_aniso.engines.result.Result (trajectory with the
-    reference's keys, summary = scenes.particle.particle_summary with the energy ledger, params,
-    info). options: see BuildParticle. progress, snapshot, solutionFile: as RunBlock."""
-    p = ParticleParams() if p is None else p
-    model = BuildParticle(p, **options)
+def ReadParticle(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildParticle model: the trajectory, the summary's
+    inputs (none) and the ledger's (the contact law and its history)."""
+    traj, H = ParticleTrajectory(model)
+    return traj, {}, dict(law=model["contact"]["law"], H=H)
 
-    def partial(failure):
-        traj, _ = ParticleTrajectory(model)
-        return traj, particle_summary(traj, p, float("nan"), failure.steps, failure.newton_iterations)
 
-    def complete(wall, steps, iters, info):
-        traj, H = ParticleTrajectory(model)
-        summary = particle_summary(traj, p, wall, steps, iters)
-        summary.update(particle_energy(p, traj, model["contact"]["law"], H))
-        info.update(**SettingsInfo(model["simulationSettings"], [model["contact"]]))
-        return traj, summary
-    return RunScene(model, p, "particle", [model["contact"]], partial, complete, progress, snapshot,
-                    solutionFile)
+MODEL = ModelScript(SCENE, BuildParticle, ReadParticle)
+
+RunParticle = MODEL.run
+"""Build (``BuildParticle(p, **options)``) and solve the particle scene: ``ModelScript.run``, which
+returns an ``exu_aniso.engines.result.Result`` with the reference's trajectory keys, the summary
+(``scenes.particle.particle_summary``) and the energy ledger."""
 
 
 if __name__ == "__main__":

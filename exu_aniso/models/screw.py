@@ -34,10 +34,9 @@ from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
-                                                     AddYawDrive, HistoryOutputs, RunScene, SensorMotion,
-                                                     SettingsInfo, SimulationSettingsFor, SolveTimed, Unwrap)
-from exu_aniso.scenes.screw import (ScrewParams, reduced_motion, screw_contact_law, screw_energy, screw_points,
-                                    screw_summary)
+                                                     AddYawDrive, HistoryOutputs, ModelScript, SensorMotion,
+                                                     SimulationSettingsFor, SolveTimed, Unwrap)
+from exu_aniso.scenes.screw import SCENE, ScrewParams, reduced_motion, screw_contact_law, screw_points
 from exu_aniso.util.validation import check_bool, check_instance
 
 
@@ -78,7 +77,8 @@ def _ReducedScrewGraphics(p, nScrew):
 
 
 def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
-               newtonTolerance=1e-10, implementation="auto", symmetry=True, contactBuilder=None, newton="modified"):
+               newtonTolerance=1e-10, implementation="auto", symmetry=True, contactBuilder=None, newton="modified",
+               contactOutputs=True):
     """Build the screw scene; returns dict with SC, mbs, simulationSettings, solverType, params,
     nScrew, oScrew, contact (dict of CreateAnisotropicContact), sensors (dict), oDrive (or None).
     Options as for exu_aniso.models.block.BuildBlock (contactBuilder gets the evaluated points), and
@@ -89,10 +89,12 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     Their summed generalized force equals that of one point with the total stiffnesses, because
     the return maps are positively homogeneous in (B, N). The two give the same trajectory to
     round-off (tests/test_fastpath.py). False -> every point of the rings x points_per_ring
-    layout is evaluated."""
+    layout is evaluated. contactOutputs: a completed run's trajectory also holds the contact's torque
+    and axial force (``ScrewTrajectory``)."""
     if nodeType not in NODE_TYPES:
         raise ValueError(f"nodeType must be one of {tuple(NODE_TYPES)}; got {nodeType!r}")
     check_instance("p", p, ScrewParams)
+    check_bool("contactOutputs", contactOutputs)
     if p.model == "full" and p.points_per_ring < 3:
         raise ValueError(f"points_per_ring must be >= 3 for model='full' (radial centring); got {p.points_per_ring}")
     SC = SceneView(exu.SystemContainer())
@@ -156,7 +158,7 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, solverType=solverType,
                                    newton=newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, nScrew=nScrew, oScrew=oScrew,
-                contact=contact, sensors=sensors, oDrive=oDrive, nodeType=nodeType)
+                contact=contact, sensors=sensors, oDrive=oDrive, nodeType=nodeType, contactOutputs=contactOutputs)
 
 
 def ScrewTrajectory(model, contactOutputs=True, history=None):
@@ -220,29 +222,31 @@ def ScrewMotion(model, traj):
     return SensorMotion(model) if model["params"].model == "full" else reduced_motion(traj)
 
 
-def RunScrew(p: ScrewParams = None, contactOutputs=True, progress=False, snapshot=None, solutionFile=None,
-             **options):
-    """Build and solve the screw scene; returns exu_aniso.engines.result.Result (trajectory with the
-    reference's keys, summary = scenes.screw_summary, params, info). options: see BuildScrew.
-    progress, snapshot, solutionFile: as for exu_aniso.models.block.RunBlock."""
-    p = ScrewParams() if p is None else p
-    check_bool("contactOutputs", contactOutputs)
-    model = BuildScrew(p, **options)
+def ReadScrew(model, complete):
+    """What ``ModelScript.run`` reads from a solved BuildScrew model: the trajectory (with the
+    contact's outputs when the model was built with contactOutputs and the run completed), the
+    summary's inputs (none) and, for a completed run, the ledger's (the screw's motion, the evaluated
+    points, the contact law and its history)."""
+    if not complete:
+        return ScrewTrajectory(model, contactOutputs=False), {}, None
+    history = HistoryOutputs(model["mbs"], model["contact"])
+    traj = ScrewTrajectory(model, model["contactOutputs"], history)
+    return traj, {}, dict(motion=ScrewMotion(model, traj), points=np.asarray(model["contact"]["points"]),
+                          law=model["contact"]["law"], H=history[2])
 
-    def partial(failure):
-        traj = ScrewTrajectory(model, contactOutputs=False)
-        return traj, screw_summary(traj, float("nan"), failure.steps, failure.newton_iterations, p)
 
-    def complete(wall, steps, iters, info):
-        history = HistoryOutputs(model["mbs"], model["contact"])
-        traj = ScrewTrajectory(model, contactOutputs, history)
-        summary = screw_summary(traj, wall, steps, iters, p)
-        summary.update(screw_energy(p, traj, ScrewMotion(model, traj), np.asarray(model["contact"]["points"]),
-                                    model["contact"]["law"], history[2]))
-        info.update(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "GenericODE2",
-                    **SettingsInfo(model["simulationSettings"], [model["contact"]]))
-        return traj, summary
-    return RunScene(model, p, "screw", [model["contact"]], partial, complete, progress, snapshot, solutionFile)
+def ScrewInfo(model):
+    """The screw's entries of a run's info: the model and its node type."""
+    p = model["params"]
+    return dict(model=p.model, nodeType=model["nodeType"] if p.model == "full" else "GenericODE2")
+
+
+MODEL = ModelScript(SCENE, BuildScrew, ReadScrew, info=ScrewInfo)
+
+RunScrew = MODEL.run
+"""Build (``BuildScrew(p, **options)``) and solve the screw scene: ``ModelScript.run``, which returns
+an ``exu_aniso.engines.result.Result`` with the reference's trajectory keys, the summary
+(``scenes.screw.screw_summary``) and the energy ledger."""
 
 
 if __name__ == "__main__":

@@ -408,6 +408,7 @@ def summary_float(summary, key):
 
 
 ENERGY_COLUMNS = tuple("energy_" + k for k in energy.LEDGER_KEYS)
+LEDGER_COLUMNS = {k: "J" for k in ENERGY_COLUMNS}
 LEDGER_TERM_COLUMNS = ("kinetic_energy", "contact_stored_energy", "contact_dissipated_energy")
 """trajectory.csv columns [J] of a ledger's terms that the file's state alone cannot recompute (a
 flexible body's kinetic energy needs every coordinate, the contact's every point): the kinetic energy

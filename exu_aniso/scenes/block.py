@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.optimize import brentq
 
 from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
@@ -39,8 +40,9 @@ from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import (HEADING_V_ABS, _POINTS_RULE, SOLVERS, energy_ledger, SceneParams,
+from exu_aniso.scenes.base import (HEADING_V_ABS, LEDGER_COLUMNS, _POINTS_RULE, SOLVERS, energy_ledger, SceneParams,
                                    scene_parameters, solver_advice)
+from exu_aniso.scenes.scene import Scene
 
 
 POSITION_LIMIT = 1e6     # block: |x0|, |y0| <= POSITION_LIMIT * size
@@ -225,12 +227,13 @@ def block_energy(p, traj, motion, law, H, extra_work=None):
                    traj, "block run", solver_advice(p))
 
 
-def block_summary(traj, wall_s, steps, newton_iterations):
+def block_summary(traj, p, wall_s, steps, newton_iterations):
     """Summary of a block trajectory (dict of arrays with t, x, y, theta, vx, vy, slip_distance,
     dissipated_energy): end state, heading of the final velocity [deg], distance of the centre
     from the origin along the path (min, max, mean) [m], cost figures. ``heading_deg`` is None
     when the block is at rest at the end (see ``_undefined_heading``); ``undefined`` maps every
-    None value to its reason."""
+    None value to its reason. p: the parameters (the scenes' summaries take them; the block's reads
+    none)."""
     x, y = traj["x"], traj["y"]
     r = np.hypot(x, y)
     vx, vy = np.asarray(traj["vx"], float), np.asarray(traj["vy"], float)
@@ -383,9 +386,77 @@ def simulate_block(params=None, **options):
     check_keywords("simulate_block", options, RUN_OPTIONS + ("law",))
     model, floor = reference_model(p, options.pop("law", None))
     traj, wall, iters, steps, info, motion, H = run(model, p, floor=floor, **options)
-    summary = block_summary(traj, wall, steps, iters)
+    summary = block_summary(traj, p, wall, steps, iters)
     summary.update(block_energy(p, traj, motion, model.law, H))
     return Result(traj, summary, p, info)
+
+
+# ----------------------------------------------------------------------------------------------
+# closed forms
+
+def orthotropic_heading(pull_angle, pull, normal_force, mu_1, mu_2):
+    """Heading [rad] of the steady sliding of a body pulled from rest by a constant force
+    ``pull`` [N] at ``pull_angle`` [rad] from e_1 on a plane with orthotropic Coulomb friction
+    (coefficient mu_1 along e_1, mu_2 along e_2) and the associated (maximum-dissipation) law,
+    under the normal force ``normal_force`` [N].
+
+    The friction force for the sliding direction v is -|N| F^-1 v / sqrt(v.F^-1 v),
+    F^-1 = diag(mu_1^2, mu_2^2); the heading is the v where pull + friction is parallel to v
+    (then the body accelerates along v and the direction stays constant). Solved with brentq in
+    the quadrant of the pull (the problem is symmetric under reflections of either axis). Raises
+    ValueError when the pull lies inside the friction ellipse (the body sticks) or an input is
+    not finite / not positive."""
+    for name, v in (("pull", pull), ("normal_force", normal_force), ("mu_1", mu_1), ("mu_2", mu_2)):
+        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"orthotropic_heading: {name} must be a finite number > 0; got {v!r}")
+    if not math.isfinite(pull_angle):
+        raise ValueError(f"orthotropic_heading: pull_angle must be finite; got {pull_angle!r}")
+    px, py = pull * math.cos(pull_angle), pull * math.sin(pull_angle)
+    if (px / (mu_1 * normal_force)) ** 2 + (py / (mu_2 * normal_force)) ** 2 <= 1.0:
+        raise ValueError(f"orthotropic_heading: the pull ({px:.6g}, {py:.6g}) N lies inside the friction ellipse "
+                         f"(mu_1 |N|, mu_2 |N|) = ({mu_1 * normal_force:.6g}, {mu_2 * normal_force:.6g}) N: "
+                         "the body sticks, there is no sliding heading")
+    ax, ay = abs(px), abs(py)
+    if ay <= 1e-15 * pull:
+        phi = 0.0
+    elif ax <= 1e-15 * pull:
+        phi = 0.5 * math.pi
+    else:
+        m1, m2 = mu_1 ** 2, mu_2 ** 2
+
+        def cross(phi):              # (pull + friction(phi)) x v
+            c, s = math.cos(phi), math.sin(phi)
+            k = normal_force / math.sqrt(m1 * c * c + m2 * s * s)
+            return (ax - k * m1 * c) * s - (ay - k * m2 * s) * c
+
+        phi = brentq(cross, 0.0, 0.5 * math.pi, xtol=1e-15, maxiter=200)
+    return math.atan2(math.copysign(math.sin(phi), py), math.copysign(math.cos(phi), px))
+
+
+def block_closed_forms(p):
+    """The block's closed forms for p: ``heading_deg_theory``, the heading [deg] of the steady
+    sliding under the constant force drive on a field of constant direction (isotropic or
+    orthotropic friction at ``friction_angle``; ``orthotropic_heading`` with the whole normal load),
+    for a block that does not turn (the corners' or the grid's symmetric layout on a constant field).
+    None, with its reason under ``undefined``, for a displacement drive (its spring acts along the
+    drive direction only), a polar friction net (no closed form) and a pull inside the friction
+    ellipse (the block sticks)."""
+    undefined = {}
+    heading = None
+    if p.drive != "force":
+        undefined["heading_deg_theory"] = ("drive 'displacement': the spring pulls along the drive direction only; "
+                                           "the closed form is for a constant force")
+    elif p.friction == "polar":
+        undefined["heading_deg_theory"] = "friction 'polar': no closed form of the heading on a polar net"
+    else:
+        mu_2 = p.mu_1 if p.friction == "isotropic" else p.mu_2
+        angle = 0.0 if p.friction == "isotropic" else p.friction_angle
+        try:
+            heading = angle + math.degrees(orthotropic_heading(math.radians(p.drive_angle - angle), p.force,
+                                                               p.normal_load, p.mu_1, mu_2))
+        except ValueError as e:
+            undefined["heading_deg_theory"] = f"force, normal_load, mu_1, mu_2: {e}"
+    return dict(heading_deg_theory=heading, undefined=undefined)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -458,3 +529,30 @@ def PlotBlockPath(traj, params, ax=None):
 def PlotBlock(traj, params, fig):
     """trajectory.png of the block on the matplotlib Figure fig: PlotBlockPath."""
     PlotBlockPath(traj, params, ax=fig.add_subplot(1, 1, 1))
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class BlockScene(Scene):
+    """The block scene (the module docstring); the summary takes no inputs, the ledger
+    ``block_energy``'s (motion, law, H)."""
+
+    name = "block"
+    Params = BlockParams
+    columns = {"t": "s", "x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
+               "slip_distance": "m", "dissipated_energy": "J", "drive_force": "N",
+               # the full model's other motions (the planar model holds z and has no vz, tilt, omega_x, omega_y)
+               "z": "m", "vz": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s", **LEDGER_COLUMNS}
+    title_keys = ("heading_deg", "r_mean")
+    figsize = (5.5, 5.0)
+    law = staticmethod(block_contact_law)
+    points = staticmethod(block_points)
+    closed_forms = staticmethod(block_closed_forms)
+    summary = staticmethod(block_summary)
+    ledger = staticmethod(block_energy)
+    plot = staticmethod(PlotBlock)
+    reference = staticmethod(simulate_block)
+
+
+SCENE = BlockScene()

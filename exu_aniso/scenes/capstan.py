@@ -73,8 +73,9 @@ from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cylinder
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
-from exu_aniso.scenes.base import (ENERGY_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, energy_ledger, SceneParams,
+from exu_aniso.scenes.base import (LEDGER_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, energy_ledger, SceneParams,
                                    scene_parameters)
+from exu_aniso.scenes.scene import Scene
 
 CAPSTAN_PARAMS = {
     "radius": (0.1, "m", "drum radius", "> 0"),
@@ -137,7 +138,7 @@ COLUMNS = {"t": "s", "force_in": "N", "force_out": "N", "tension_in": "N", "tens
            "x_out": "m", "y_out": "m", "vx_out": "m/s", "vy_out": "m/s",
            "slip_fraction": "-", "contact_fraction": "-", "dissipated_energy": "J",
            **{k: "J" for k in LEDGER_TERM_COLUMNS}, "strain_energy": "J", "end_dissipated_energy": "J",
-           **{k: "J" for k in ENERGY_COLUMNS}}
+           **LEDGER_COLUMNS}
 """trajectory.csv: the applied end forces (force_in, force_out: along ``end_directions(p)``) and the
 tensions at the rope's ends (less the end dashpots), their ratio, the ends' travel along the forces
 (u_in towards the drum from t_load on, u_out away from it), the end nodes' positions (x, y) and
@@ -227,6 +228,12 @@ def element_length(p):
     return p.radius * math.radians(p.wrap_angle) / p.elements, p.tail_length / p.tail_elements
 
 
+def element_points(p, length):
+    """The contact points of an element of ``length`` [m] in its local frame: ``points`` points at
+    (i + 1/2) length / points along its axis [m], (points, 3)."""
+    return np.array([[(i + 0.5) * length / p.points, 0.0, 0.0] for i in range(p.points)])
+
+
 def point_spacing(p):
     """Rope length per contact point on the arc [m] (the share of the distributed stiffnesses)."""
     return element_length(p)[0] / p.points
@@ -311,9 +318,10 @@ def capstan_summary(traj, p, wall_s, steps, newton_iterations):
                 undefined=undefined)
 
 
-def capstan_energy(traj, law, X, V, H, kinetic, potential, work_in, end_dissipation):
+def capstan_energy(p, traj, law, X, V, H, kinetic, potential, work_in, end_dissipation):
     """Energy ledger of a capstan run: adds the ENERGY_COLUMNS and its terms' columns to traj and
-    returns the summary entries (energy, energy_ok, energy_tolerance). X, V (n, K, 3): contact points; H (n, K, 9)
+    returns the summary entries (energy, energy_ok, energy_tolerance). p: the parameters (the scenes'
+    ledgers take them; the capstan's reads none); X, V (n, K, 3): contact points; H (n, K, 9)
     history; kinetic, potential: the cable's (Exudyn's KineticEnergy, PotentialEnergy summed over
     the elements) per sample; work_in: cumulative work of the end forces; end_dissipation:
     cumulative dissipation of the end dashpots."""
@@ -357,3 +365,35 @@ def PlotCapstan(traj, params, fig):
     a2.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper left")
     return a1, a2
 
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class CapstanScene(Scene):
+    """The capstan scene (the module docstring); no reference-engine model of the rope (the oracle
+    is Euler-Eytelwein's); the summary takes no inputs, the ledger ``capstan_energy``'s (law, X, V,
+    H, kinetic, potential, work_in, end_dissipation)."""
+
+    name = "capstan"
+    Params = CapstanParams
+    columns = COLUMNS
+    title_keys = TITLE_KEYS
+    figsize = (6.0, 6.5)
+    law = staticmethod(capstan_contact_law)
+    summary = staticmethod(capstan_summary)
+    ledger = staticmethod(capstan_energy)
+    plot = staticmethod(PlotCapstan)
+
+    def points(self, p):
+        """The contact points of an arc element in its local frame [m] (``element_points``)."""
+        return element_points(p, element_length(p)[0])
+
+    def closed_forms(self, p):
+        """Euler-Eytelwein's ``tension_ratio_theory`` = exp(mu_1 phi) [-] (``capstan_theory``), None with
+        the reason under ``undefined`` outside its assumptions."""
+        value, why = capstan_theory(p)
+        return dict(tension_ratio_theory=value, undefined={"tension_ratio_theory": why} if why else {})
+
+
+SCENE = CapstanScene()

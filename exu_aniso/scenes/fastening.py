@@ -27,7 +27,7 @@ the thread and head torques (the contact forces' moments about the axis, as the 
 them) and the clamp force (the head's axial contact force). In the tightening phase (clamp force
 above TIGHTENING_FROM of its end value) least squares give T/F, T_thread/F, T_head/F and dF/dangle,
 and the seating (snug) angle where that line of clamp force over angle reaches zero force; the theory
-is ISO 16047 / VDI 2230's (``exu_aniso.law.oracles``; the seating angle: ``seating_angle_rad``), reported
+is ISO 16047 / VDI 2230's (``exu_aniso.scenes.threads``; the seating angle: ``seating_angle_rad``), reported
 only inside its assumptions (else None with a reason under "undefined"), and the ISO 16047 evaluation
 backs friction values out of the simulated torques. solver=trapezoidal and spectral_radius above
 MAX_SPECTRAL_RADIUS are refused (the unresolved contact vibrations must be damped numerically).
@@ -40,13 +40,14 @@ import math
 import numpy as np
 
 from exu_aniso.engines import energy
-from exu_aniso.law import oracles
+from exu_aniso.scenes import threads
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cylinder, Helicoid, Plane
 from exu_aniso.geometry.helicoid import lead_angle
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
-from exu_aniso.scenes.base import ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters
+from exu_aniso.scenes.base import LEDGER_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters
+from exu_aniso.scenes.scene import Scene
 from exu_aniso.util.validation import ParameterError
 
 FASTENING_PARAMS = {
@@ -148,7 +149,7 @@ class FasteningParams(SceneParams):
                              "0.8 and above stop within 25 ms, 0.7 cuts the step to dt/4); got "
                              f"{self.spectral_radius!r}. Use the default 0 (quasi-static tightening)")
         # the thread must slide (not lock) under the tightening torque
-        oracles.thread_torque_per_force(self.d2, self.pitch, math.radians(self.flank_angle), self.mu_thread)
+        threads.thread_torque_per_force(self.d2, self.pitch, math.radians(self.flank_angle), self.mu_thread)
         if self.thread == "net" and not self.net_mu_along:
             calibrate_net(self)        # ParameterError now (17 ms, closed form) rather than after the model is built
 
@@ -157,7 +158,7 @@ COLUMNS = {"t": "s", "angle": "rad", "z": "m", "torque": "N m", "thread_torque":
            "clamp_force": "N", "part_displacement": "m", "tilt": "rad", "lateral": "m",
            "vx": "m/s", "vy": "m/s", "vz": "m/s", "omega_x": "rad/s", "omega_y": "rad/s", "omega_z": "rad/s",
            "omega_axial": "rad/s", "part_velocity": "m/s", "dissipated_energy": "J",
-           **{k: "J" for k in ENERGY_COLUMNS}}
+           **LEDGER_COLUMNS}
 """trajectory.csv: the bolt's angle (unwrapped yaw) and axial advance, the drive torque, the thread and
 head torques about the axis (what the drive supplies to each), the clamp force, the clamped part's
 displacement, the bolt's tilt and lateral offset of its axis (wobble), the bolt's velocity and angular
@@ -250,7 +251,7 @@ def calibrate_net(p):
     from exu_aniso.scenes.screw import steady_sliding
     from exu_aniso.scenes.screw import ScrewParams
     Fa = calibration_force(p)
-    target = oracles.thread_torque_per_force(p.d2, p.pitch, math.radians(p.flank_angle), p.mu_thread) * Fa
+    target = threads.thread_torque_per_force(p.d2, p.pitch, math.radians(p.flank_angle), p.mu_thread) * Fa
     base = ScrewParams(radius=0.5 * p.d2, helix_angle=math.degrees(lead_angle(p.pitch, 0.5 * p.d2)),
                        interference=net_interference(p), eps_n=p.thread_stiffness, adhesion="isotropic",
                        eps_1=p.sticking_stiffness, friction="spiral", mu_2=p.net_mu_across, return_map="exact",
@@ -337,7 +338,7 @@ def theory(p):
     net = ("thread=net: the formula is a flank's (normal force from the load); the net's normal force is the "
            "interference fit's, so it matches only at calibration_force, not as a slope")
     # an orthotropic flank slides along its direction 1 (the helix), where the associated law's friction is mu_thread
-    thread = oracles.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
+    thread = threads.thread_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
     if p.thread == "net":
         thread = None
         undefined["thread_torque_per_clamp_force_theory"] = net
@@ -345,12 +346,12 @@ def theory(p):
         thread = None
         undefined["thread_torque_per_clamp_force_theory"] = (f"orthotropic flank under the {p.return_map!r} map: "
                                                              "the formula is checked for the exact map")
-    k_thread = (oracles.thread_axial_stiffness(p.thread_stiffness, p.d2, p.pitch, beta, p.mu_thread)
+    k_thread = (threads.thread_axial_stiffness(p.thread_stiffness, p.d2, p.pitch, beta, p.mu_thread)
                 if p.thread == "flank" else None)
     if p.head_net == "isotropic":
         head = p.mu_head * p.head_radius
     elif p.return_map == "exact":      # at the start orientation; fastening_summary follows the ring as it turns
-        head = p.head_radius * oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2,
+        head = p.head_radius * threads.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2,
                                                                       math.radians(p.head_net_angle), p.head_points)
     else:
         head = None
@@ -361,14 +362,14 @@ def theory(p):
     out["torque_per_clamp_force_theory"] = None if thread is None or head is None else thread + head
     if out["torque_per_clamp_force_theory"] is None:
         undefined["torque_per_clamp_force_theory"] = "a term has no theory (see its entry)"
-    out["torque_per_clamp_force_vdi2230"] = (oracles.torque_per_clamp_force_vdi2230(p.d2, p.pitch, p.mu_thread,
+    out["torque_per_clamp_force_vdi2230"] = (threads.torque_per_clamp_force_vdi2230(p.d2, p.pitch, p.mu_thread,
                                                                                    p.mu_head, p.head_radius)
                                              if p.head_net == "isotropic" and thread is not None else None)
     if out["torque_per_clamp_force_vdi2230"] is None:
         undefined["torque_per_clamp_force_vdi2230"] = ("VDI 2230's formula is for an isotropic head bearing and "
                                                        "flank" + (f" ({net})" if p.thread == "net" else ""))
     comp = [1.0 / p.head_stiffness] + ([1.0 / k_thread] if k_thread else [])
-    S = oracles.clamp_force_per_angle(p.joint_stiffness, p.pitch, comp) if k_thread else None
+    S = threads.clamp_force_per_angle(p.joint_stiffness, p.pitch, comp) if k_thread else None
     out["clamp_force_per_angle_theory"] = S
     out["seating_angle_theory"] = None if S is None else math.degrees(seating_angle_rad(p, k_thread, S,
                                                                                        out["torque_per_clamp_force_theory"]))
@@ -430,11 +431,11 @@ def tightening(clamp_force):
 
 
 def head_ring_factor(p, angle):
-    """The orthotropic head ring's torque factor (oracles.orthotropic_ring_torque_factor) at the bolt
+    """The orthotropic head ring's torque factor (threads.orthotropic_ring_torque_factor) at the bolt
     angles ``angle`` [rad]: the ring turns with the bolt while the lay stays with the part, so the lay
     lies at head_net_angle - angle from the ring's points."""
     lay = math.radians(p.head_net_angle)
-    return np.array([oracles.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2, lay - a, p.head_points)
+    return np.array([threads.orthotropic_ring_torque_factor(p.mu_head, p.mu_head_2, lay - a, p.head_points)
                      for a in np.atleast_1d(angle)])
 
 
@@ -501,8 +502,8 @@ def fastening_summary(traj, p, wall_s, steps, newton_iterations):
             s["torque_per_clamp_force_theory"] = (s["thread_torque_per_clamp_force_theory"]
                                                   + s["head_torque_per_clamp_force_theory"])
     beta = math.radians(p.flank_angle)
-    s["mu_thread_iso16047"] = oracles.mu_thread_iso16047(s["thread_torque_per_clamp_force"], p.d2, p.pitch, beta)
-    s["mu_head_iso16047"] = oracles.mu_head_iso16047(s["head_torque_per_clamp_force"], p.head_radius)
+    s["mu_thread_iso16047"] = threads.mu_thread_iso16047(s["thread_torque_per_clamp_force"], p.d2, p.pitch, beta)
+    s["mu_head_iso16047"] = threads.mu_head_iso16047(s["head_torque_per_clamp_force"], p.head_radius)
     s["mu_total_iso16047"] = ((s["torque_per_clamp_force"] - p.pitch / (2.0 * math.pi))
                               / (0.5 * p.d2 / math.cos(0.5 * beta) + p.head_radius))
     s["undefined"] = undefined
@@ -572,3 +573,38 @@ def PlotFastening(traj, params, fig):
     a2.grid(True, alpha=0.3)
     a2.legend(fontsize=7)
     return a1, a2
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class FasteningScene(Scene):
+    """The fastening scene (the module docstring); no reference-engine model (the oracles are
+    ISO 16047 / VDI 2230's closed forms, ``theory``); two contacts, ``thread`` and ``head``; the summary
+    takes no inputs, the ledger ``fastening_energy``'s (bolt, part_z, part_vz, laws, X, V, H)."""
+
+    name = "fastening"
+    Params = FasteningParams
+    columns = COLUMNS
+    title_keys = TITLE_KEYS
+    figsize = (7.0, 7.0)
+    summary = staticmethod(fastening_summary)
+    ledger = staticmethod(fastening_energy)
+    plot = staticmethod(PlotFastening)
+
+    def closed_forms(self, p):
+        """ISO 16047 / VDI 2230's closed forms for p (``theory``), None with the reason under
+        ``undefined`` where they do not apply."""
+        out, undefined = theory(p)
+        return dict(out, undefined=undefined)
+
+    def law(self, p):
+        """The thread's and the head's contact laws, by contact name."""
+        return dict(thread=thread_contact_law(p), head=head_contact_law(p))
+
+    def points(self, p):
+        """The thread's and the head's contact points in the bolt's frame [m], by contact name."""
+        return dict(thread=thread_points(p), head=head_points(p))
+
+
+SCENE = FasteningScene()

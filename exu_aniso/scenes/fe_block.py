@@ -58,8 +58,9 @@ from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.law.history import HISTORY_FIELDS, SLIP, STICK
 from exu_aniso.law.return_maps import RETURN_MAPS
 from exu_aniso.scenes.block import BlockParams, simulate_block
-from exu_aniso.scenes.base import (ENERGY_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, SceneParams, basis_compliance,
+from exu_aniso.scenes.base import (LEDGER_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, SceneParams, basis_compliance,
                                    energy_ledger, scene_parameters)
+from exu_aniso.scenes.scene import Scene
 
 FE_BLOCK_PARAMS = {
     "model": ("reduced", "-", "the elastic body in its floating frame (the top face's motion): full (every coordinate "
@@ -250,7 +251,7 @@ COLUMNS = {"t": "s", "x_top": "m", "y_top": "m", "z_top": "m", "yaw_top": "rad",
            "z_bottom": "m", "drive_force": "N", "force_x": "N", "force_y": "N", "force_z": "N", "drive_stretch": "m",
            "stick_fraction": "-", "slip_fraction": "-", "strain_energy": "J", "dissipated_energy": "J",
            **{k: "J" for k in LEDGER_TERM_COLUMNS}, "drive_spring_energy": "J", "rayleigh_dissipated_energy": "J",
-           "drive_dashpot_dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
+           "drive_dashpot_dissipated_energy": "J", **LEDGER_COLUMNS}
 TITLE_KEYS = ("steer_end", "force_ratio_end")
 
 _STATUS = HISTORY_FIELDS.index("status")
@@ -278,13 +279,14 @@ def fe_block_energy(p, traj, Xb, Vb, H, work_in):
                          "fe_block run", "reduce dt, or raise stiffness_damping (a quasi-static run)")
 
 
-def fe_block_summary(traj, p, wall_s, steps, newton_iterations):
+def fe_block_summary(traj, p, wall_s, steps, newton_iterations, compliance=None):
     """Summary of a run: where the bottom face's centre ends, its offset across the drive direction
     from its start (steer_end [m]: the steering by the net; positive to the left of the drive, towards
     the origin on the defaults) and along it (advance_end [m]), its distance from the origin, the
     plate's rotation about the vertical (yaw_end [rad]), the drive spring's force and the plate's
     force on the top face at the end and the ratio of the latter's horizontal part to its vertical
-    one, the contact state."""
+    one, the contact state; compliance: the basis's entries (``contact_compliance``) of a completed
+    run, added after them."""
     d = drive_direction(p)
     n = np.array([-d[1], d[0]])
     u = np.array([traj["x_bottom"][-1] - p.x0, traj["y_bottom"][-1] - p.y0])
@@ -303,7 +305,8 @@ def fe_block_summary(traj, p, wall_s, steps, newton_iterations):
                 stick_fraction_end=float(traj["stick_fraction"][-1]), slip_fraction_end=float(traj["slip_fraction"][-1]),
                 strain_energy_end=float(traj["strain_energy"][-1]),
                 dissipated_energy=float(traj["dissipated_energy"][-1]),
-                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations), undefined=undefined)
+                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations), undefined=undefined,
+                **(compliance or {}))
 
 
 def rigid_block(p):
@@ -375,3 +378,35 @@ def PlotFeBlock(traj, params, fig):
     a2.legend(fontsize=7, loc="upper left")
     a2b.legend(fontsize=7, loc="lower right")
     a2.grid(alpha=0.3)
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class FeBlockScene(Scene):
+    """The fe_block scene (the module docstring); no reference-engine model of the elastic body (its
+    limit is the rigid block, ``rigid_limit``); the summary's input: the basis's compliance entries,
+    the ledger ``fe_block_energy``'s (Xb, Vb, H, work_in)."""
+
+    name = "fe_block"
+    Params = FeBlockParams
+    columns = COLUMNS
+    title_keys = TITLE_KEYS
+    figsize = (11.0, 4.8)
+    law = staticmethod(fe_block_contact_law)
+    summary = staticmethod(fe_block_summary)
+    ledger = staticmethod(fe_block_energy)
+    plot = staticmethod(PlotFeBlock)
+
+    def points(self, p):
+        """The bottom face's mesh nodes in the body's reference configuration [m]."""
+        mesh = fe_block_mesh(p)
+        return mesh.nodes[mesh.node_sets["bottom"]]
+
+    def closed_forms(self, p):
+        """None: the elastic block's limit is a run, the rigid block's (``rigid_limit``), not a closed
+        form."""
+        return dict(undefined={})
+
+
+SCENE = FeBlockScene()

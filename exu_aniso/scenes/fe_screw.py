@@ -54,10 +54,12 @@ from exu_aniso.engines import energy
 from exu_aniso.fe import cost as fe_cost
 from exu_aniso.fe import shank_mesh
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import (ENERGY_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, SceneParams, basis_compliance,
+from exu_aniso.scenes.base import (LEDGER_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS, SceneParams, basis_compliance,
                                    energy_ledger, scene_parameters, solver_advice)
+from exu_aniso.scenes.scene import Scene
 from exu_aniso.scenes.fe_block import contact_columns
-from exu_aniso.scenes.screw import SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewParams, screw_contact_law, screw_summary
+from exu_aniso.scenes.screw import (SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewParams, screw_closed_forms, screw_contact_law,
+                                    screw_summary)
 
 FE_SCREW_PARAMS = {
     "model": ("reduced", "-", "the elastic body in its floating frame: full (every coordinate of the nodes off the "
@@ -282,19 +284,19 @@ def static_twist(p, torque, mesh=None):
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m", "axial_force": "N",
            "twist_tip": "rad", "strain_energy": "J", "stick_fraction": "-", "slip_fraction": "-",
            "dissipated_energy": "J", **{k: "J" for k in LEDGER_TERM_COLUMNS}, "rayleigh_dissipated_energy": "J",
-           **{k: "J" for k in ENERGY_COLUMNS}}
+           **LEDGER_COLUMNS}
 TITLE_KEYS = ("advance_per_rev", "twist_tip")
 
 
-def fe_screw_summary(p, traj, wall_s, steps, newton_iterations):
+def fe_screw_summary(traj, p, wall_s, steps, newton_iterations, compliance=None):
     """The screw's summary (advance per revolution, mean torque and axial force over the last half,
     with the rigid screw's closed-form steady sliding beside them: ``exu_aniso.scenes.screw.screw_summary``
     of ``rigid_screw``) and the twist: every ring's rotation relative to the
     head averaged over the last half (twist_profile, tip first) against twist_closed_form of the
     mean torque (twist_profile_theory), their tip values (twist_tip, twist_tip_theory; from
     traj["twist_rings"] (n, rings): the rotations) and the ratio (twist_ratio: 1 for a shaft of the
-    closed form's section)."""
-    s = screw_summary(traj, wall_s, steps, newton_iterations, params=rigid_screw(p, 1.0))
+    closed form's section); compliance: the basis's entries (``contact_compliance``), added last."""
+    s = screw_summary(traj, rigid_screw(p, 1.0), wall_s, steps, newton_iterations)
     late = np.asarray(traj["t"]) >= 0.5 * traj["t"][-1]
     profile = np.asarray(traj["twist_rings"])[late].mean(axis=0)
     theory = twist_closed_form(p, s["torque_mean"])
@@ -306,7 +308,7 @@ def fe_screw_summary(p, traj, wall_s, steps, newton_iterations):
     s.update(twist_profile=profile.tolist(), twist_profile_theory=theory.tolist(), twist_tip=float(profile[0]),
              twist_tip_theory=float(theory[0]), twist_ratio=ratio,
              strain_energy_end=float(traj["strain_energy"][-1]),
-             slip_fraction_end=float(traj["slip_fraction"][-1]))
+             slip_fraction_end=float(traj["slip_fraction"][-1]), **(compliance or {}))
     return s
 
 
@@ -365,3 +367,42 @@ def PlotFeScrew(traj, params, fig):
     a3.set_title(f"mean torque {torque:.3g} N m over the last half", fontsize=9)
     a3.legend(fontsize=7)
     a3.grid(alpha=0.3)
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class FeScrewScene(Scene):
+    """The fe_screw scene (the module docstring); no reference-engine model of the elastic shank (its
+    limit is the screw scene's rigid screw, ``rigid_screw``); the summary's input: the basis's
+    compliance entries, the ledger ``fe_screw_energy``'s (X, V, H)."""
+
+    name = "fe_screw"
+    Params = FeScrewParams
+    columns = COLUMNS
+    title_keys = TITLE_KEYS
+    figsize = (13.0, 4.8)
+    law = staticmethod(fe_screw_contact_law)
+    summary = staticmethod(fe_screw_summary)
+    ledger = staticmethod(fe_screw_energy)
+    plot = staticmethod(PlotFeScrew)
+
+    def points(self, p):
+        """The thread's mesh nodes in the shank's reference configuration [m]."""
+        mesh = fe_screw_mesh(p)
+        return mesh.nodes[mesh.node_sets["thread"]]
+
+    def closed_forms(self, p):
+        """The rigid screw's steady sliding (``screw_closed_forms`` of ``rigid_screw``: advance per
+        revolution [m], torque [N m]) and the tip's twist [rad] under that torque
+        (``twist_closed_form``), None with the reason under ``undefined`` where the steady sliding
+        does not apply."""
+        out = screw_closed_forms(rigid_screw(p, 1.0))
+        torque = out["torque_mean_theory"]
+        out["twist_tip_theory"] = None if torque is None else float(twist_closed_form(p, torque)[0])
+        if torque is None:
+            out["undefined"]["twist_tip_theory"] = out["undefined"]["torque_mean_theory"]
+        return out
+
+
+SCENE = FeScrewScene()

@@ -23,7 +23,7 @@ its own).
 Measured (every engine; ``feeder_summary``): over the whole periods in the second half of the run,
 every part's mean transport velocity (vx, vy), their mean, its direction and the spread between
 parts (largest minus smallest x velocity); every part's yaw at the end (its orientation). Theory:
-the one-dimensional stick-slip analysis of vibratory conveying, ``oracles.conveying_velocity``
+the one-dimensional stick-slip analysis of vibratory conveying, ``conveying_velocity``
 (the part on the track, the net isotropic or aligned with the track, so no force across it).
 """
 from __future__ import annotations
@@ -31,19 +31,20 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.optimize import brentq
 
 from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.engines.timing import time_grid
-from exu_aniso.law import oracles
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
 from exu_aniso.util.validation import check_keywords
-from exu_aniso.scenes.base import (ENERGY_COLUMNS, HEADING_V_ABS, SOLVERS, energy_ledger, SceneParams,
+from exu_aniso.scenes.base import (LEDGER_COLUMNS, HEADING_V_ABS, SOLVERS, energy_ledger, SceneParams,
                                    scene_parameters, solver_advice)
+from exu_aniso.scenes.scene import Scene
 
 FEEDER_PARAMS = {
     "parts": (3, "-", "number of parts, in a row across the track", "int >= 1"),
@@ -106,7 +107,7 @@ COLUMNS = {"t": "s", "plate_u": "m", "plate_x": "m", "plate_y": "m", "plate_z": 
            "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "yaw": "rad",
            "mean_x": "m", "mean_y": "m", "mean_z": "m", "spread_x": "m",
            "force_x": "N", "force_y": "N", "force_z": "N", "sum_v2": "m^2/s^2", "sum_omega2": "1/s^2",
-           "dissipated_energy": "J", **{k: "J" for k in ENERGY_COLUMNS}}
+           "dissipated_energy": "J", **LEDGER_COLUMNS}
 """trajectory.csv: the plate's displacement along the throw direction (plate_u) and in the world
 (plate_x, _y, _z), part 0's position, velocity and yaw, the parts' mean position and the spread of
 their x (largest minus smallest), the track's total contact force on the parts (force_x, _y, _z),
@@ -223,9 +224,122 @@ def stick_frequency(p):
     return math.sqrt(eps / p.part_mass) / (2.0 * math.pi)
 
 
+def conveying_velocity(amplitude, frequency, throw_angle, mu, gravity=9.81, periods=2000, samples=2000,
+                       tolerance=1e-7, period_means=False):
+    """Mean transport velocity [m/s] of a part on a linear vibratory conveyor, by the one-dimensional
+    stick-slip analysis of Coulomb friction (the classic model of vibratory conveying).
+
+    The track moves harmonically along the throw direction, ``amplitude`` A [m] at ``frequency`` f
+    [Hz] and ``throw_angle`` beta [rad] from the track plane: u(t) = A sin(w t) (cos beta, sin beta)
+    (tangential, normal), w = 2 pi f. The part stays on the track (throw number
+    Gamma = A w^2 sin(beta) / g < 1), so its normal force per mass is n(t) = g - A w^2 sin(beta)
+    sin(w t) > 0; along the track (friction coefficient ``mu`` in that direction, the track's
+    direction of a principal axis of an orthotropic net, so no force across it) it
+    * sticks, v = A w cos(beta) cos(w t), while the track's tangential acceleration can be carried:
+      A w^2 cos(beta) |sin(w t)| <= mu n(t);
+    * slides otherwise: dv/dt = -mu n(t) sign(v - w_t(t)), in closed form between events,
+      v(t) = v0 - s mu (g (t - t0) + A w sin(beta) (cos(w t) - cos(w t0))), s = sign(v - w_t).
+    Events (the relative velocity's zero; the stick limit) are located by scanning ``samples`` points
+    per period and refining with brentq. The part starts at rest at t = 0 (the track at u = 0,
+    moving); the result is the mean velocity over the first period after which two successive
+    periods' means differ by less than ``tolerance`` times the track's velocity amplitude (at most
+    ``periods`` periods; ValueError if not settled). With ``period_means`` it returns (that velocity,
+    the list of every period's mean velocity from the start): the transient from rest, which a
+    measurement over a finite window sees.
+
+    Assumptions (the domain a simulation must lie in to be compared with it): a point mass (no
+    rocking: the friction force's moment about the centre of mass must not lift an edge), rigid
+    contact (stick means moving with the track exactly; no normal or tangential compliance or
+    dashpot), one dimension (friction along the track only), the track's motion prescribed
+    (unaffected by the part), Gamma < 1 (no flight phase), the periodic state reached."""
+    for name, v in (("amplitude", amplitude), ("frequency", frequency), ("mu", mu), ("gravity", gravity)):
+        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"conveying_velocity: {name} must be a finite number > 0; got {v!r}")
+    if not (math.isfinite(throw_angle) and 0.0 <= throw_angle < 0.5 * math.pi):
+        raise ValueError(f"conveying_velocity: throw_angle must lie in [0, pi/2) rad; got {throw_angle!r}")
+    w = 2.0 * math.pi * frequency
+    a_t, a_n = amplitude * w * w * math.cos(throw_angle), amplitude * w * w * math.sin(throw_angle)
+    if a_n >= gravity:
+        raise ValueError(f"conveying_velocity: the part leaves the track (throw number A w^2 sin(beta) / g = "
+                         f"{a_n / gravity:.4g} >= 1); the analysis needs it on the track")
+    V = amplitude * w * math.cos(throw_angle)          # track's tangential velocity amplitude
+    T = 1.0 / frequency
+    dt = T / samples
+
+    def track_v(t):
+        return V * math.cos(w * t)
+
+    def carried(t):                                     # > 0 while sticking is possible
+        return mu * (gravity - a_n * math.sin(w * t)) - a_t * abs(math.sin(w * t))
+
+    def slide_v(t, t0, v0, s):
+        return v0 - s * mu * (gravity * (t - t0) + a_n / w * (math.cos(w * t) - math.cos(w * t0)))
+
+    def first_root(f, t0, t_max):
+        """First t in (t0 + 1e-9 T, t_max] where f changes sign (an event right at t0 is the one that
+        started the phase: skipped, so every phase advances the time)."""
+        ta = min(t0 + 1e-9 * T, t_max)
+        fa = f(ta)
+        while ta < t_max:
+            tb = min(ta + dt, t_max)
+            fb = f(tb)
+            if fa == 0.0:
+                return ta
+            if fa * fb <= 0.0:
+                return brentq(f, ta, tb, xtol=1e-15 * T, rtol=1e-15)
+            ta, fa = tb, fb
+        return None
+
+    # piecewise motion: phases (kind, t0, v0, s); the mean velocity per period integrates v exactly
+    t, v = 0.0, 0.0
+    mode = "slip"
+    s = 1.0 if v - track_v(0.0) > 0 else -1.0
+    means, horizon = [], periods * T
+    x_period, period_end = 0.0, T
+
+    def slide_x(t1, t0, v0, s):   # integral of slide_v from t0 to t1
+        return (v0 * (t1 - t0) - s * mu * (0.5 * gravity * (t1 - t0) ** 2
+                + a_n / w * (math.sin(w * t1) / w - math.sin(w * t0) / w - math.cos(w * t0) * (t1 - t0))))
+
+    def stick_x(t1, t0):
+        return amplitude * math.cos(throw_angle) * (math.sin(w * t1) - math.sin(w * t0))
+
+    phases = 0
+    while t < horizon:
+        phases += 1
+        if phases > 100 * periods:
+            raise RuntimeError(f"conveying_velocity: more than {100 * periods} stick/slip phases in {periods} periods "
+                               f"(t = {t:.6g} s): the event search does not advance")
+        if mode == "slip":
+            t0, v0 = t, v
+            t_end = first_root(lambda tt: slide_v(tt, t0, v0, s) - track_v(tt), t0, period_end)
+        else:
+            t0 = t
+            t_end = first_root(carried, t0, period_end)
+        t_next = period_end if t_end is None else t_end
+        x_period += slide_x(t_next, t0, v0, s) if mode == "slip" else stick_x(t_next, t0)
+        v = slide_v(t_next, t0, v0, s) if mode == "slip" else track_v(t_next)
+        t = t_next
+        if t_end is not None:                            # an event: decide the next phase
+            eps = 1e-9 * T
+            if mode == "slip" and carried(t + eps) > 0.0:
+                mode, v = "stick", track_v(t)
+            else:                                        # (re)start sliding: the direction of the relative motion
+                mode = "slip"
+                acc_track = -a_t * math.sin(w * t)
+                s = -1.0 if acc_track > 0.0 else 1.0     # the track runs away from the part: v - w_t turns negative
+        if t >= period_end - 1e-12 * T:
+            means.append(x_period / T)
+            x_period, period_end = 0.0, period_end + T
+            if len(means) >= 3 and abs(means[-1] - means[-2]) < tolerance * V:
+                return (means[-1], list(means)) if period_means else means[-1]
+    raise ValueError(f"conveying_velocity: no periodic state within {periods} periods (last means "
+                     f"{means[-3:]}); raise periods")
+
+
 def feeder_theory(p, t0=None, t1=None):
     """(transport velocity of the 1D theory, None) where it applies to the scene, else (None, reason
-    naming the parameter that breaks it). ``oracles.conveying_velocity`` assumes, and the scene meets:
+    naming the parameter that breaks it). ``conveying_velocity`` assumes, and the scene meets:
 
     * one dimension: the net isotropic or with a principal axis along the track (net_angle 0 or 90
       mod 180; ``theory_mu``);
@@ -259,7 +373,7 @@ def feeder_theory(p, t0=None, t1=None):
     if m > MASS_RATIO_MAX:
         return None, (f"plate_mass: parts part_mass / plate_mass = {m:.3g} > {MASS_RATIO_MAX:g}: the parts move the "
                       "track, whose motion the theory prescribes")
-    v, means = oracles.conveying_velocity(p.amplitude, p.frequency, math.radians(p.throw_angle), mu, p.gravity,
+    v, means = conveying_velocity(p.amplitude, p.frequency, math.radians(p.throw_angle), mu, p.gravity,
                                           period_means=True)
     if t0 is not None and t1 is not None:
         k0, k1 = int(round(t0 * p.frequency)), int(round(t1 * p.frequency))
@@ -297,15 +411,20 @@ def _at(t, y, tq):
     return np.array([np.interp(tq, t, y[:, i]) for i in range(y.shape[1])])
 
 
-def feeder_summary(traj, P, yaw, params, wall_s, steps, newton_iterations, extra_steps=0):
+def feeder_summary(traj, p, wall_s, steps, newton_iterations, P, yaw, extra_steps=0, nominal_steps=None):
     """Summary of a feeder run (any engine): per part mean velocity over measure_window, their mean,
     direction and spread, yaws at the end, the theory (``feeder_theory``: None outside its domain) and
     cost. ``steps``: the nominal time steps of the run (the whole system's, the same on both engines);
     ``extra_steps``: accepted steps beyond them (step reductions, halvings); ``newton_iterations``:
     of the whole system (the reference engine, which integrates every part on its own, counts per
     step the most any part took). transport_direction_deg is None when the transport is noise:
-    |v| <= max(scenes.HEADING_V_ABS, TRANSPORT_V_REL x the largest speed of part 0 in the run)."""
-    p = params
+    |v| <= max(scenes.HEADING_V_ABS, TRANSPORT_V_REL x the largest speed of part 0 in the run).
+    P, yaw (n, parts, 3) and (n, parts): the parts' positions [m] and yaws [rad] per sample;
+    nominal_steps: when given, ``steps`` counts every accepted step (Exudyn's count), and those
+    beyond the nominal ones are the extra steps."""
+    if nominal_steps is not None:
+        extra_steps = max(0, steps - nominal_steps)
+        steps -= extra_steps
     t = np.asarray(traj["t"], dtype=float)
     t0, t1 = measure_window(p, t)
     vx = (_at(t, P[:, :, 0], t1) - _at(t, P[:, :, 0], t0)) / (t1 - t0)
@@ -476,8 +595,38 @@ def simulate_feeder(params=None, **options):
     u, ud = plate_motion(p, grid)
     out = dict(t=grid, plate_u=u @ throw_direction(p))
     finish_trajectory(out, P, V, yaw, H[:, :, :, 5].sum(axis=(1, 2)))
-    summary = feeder_summary(out, P, yaw, p, wall, steps, iters, extra_steps=extra)
+    summary = feeder_summary(out, p, wall, steps, iters, P, yaw, extra_steps=extra)
     summary.update(feeder_energy(p, out, motions, forces, law, H, (u, ud)))
     info.update(engine="reference", K=4 * p.parts, part_steps=part_steps, part_newton_iterations=part_iters,
                 part_rejected_steps=part_rejected)
     return Result(out, summary, p, info)
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class FeederScene(Scene):
+    """The feeder scene (the module docstring); the summary's inputs: the parts' positions P and
+    yaws (and the step counts, ``feeder_summary``), the ledger's ``feeder_energy``'s (motions, forces,
+    law, H, plate)."""
+
+    name = "feeder"
+    Params = FeederParams
+    columns = COLUMNS
+    title_keys = TITLE_KEYS
+    figsize = (7.5, 6.5)
+    law = staticmethod(feeder_contact_law)
+    points = staticmethod(part_points)
+    summary = staticmethod(feeder_summary)
+    ledger = staticmethod(feeder_energy)
+    plot = staticmethod(PlotFeeder)
+    reference = staticmethod(simulate_feeder)
+
+    def closed_forms(self, p):
+        """The conveying theory's ``transport_velocity_theory`` [m/s] over the default measuring window
+        (``feeder_theory``), None with the reason under ``undefined`` outside its assumptions."""
+        value, why = feeder_theory(p)
+        return dict(transport_velocity_theory=value, undefined={"transport_velocity_theory": why} if why else {})
+
+
+SCENE = FeederScene()

@@ -34,12 +34,12 @@ Cases (``case``)
   and quadratic after, that linear interpolation misses by a share of a step, and the penalty's
   normal vibration rides on it; the fit averages both out.) The point must have left for good: the
   gap stays >= 0 after that sample and exceeds 1e-4 radius at the end. Theory:
-  ``oracles.departure_angle`` with mu along the path (mu_1: the path runs along the xi1 lines).
+  ``point_on_surface.departure_angle`` with mu along the path (mu_1: the path runs along the xi1 lines).
 * ``cavity``: a point coasts inside a spherical cavity (side inside) without gravity (gravity 0):
   it starts at (0, radius + m speed^2 / (radius eps_n), 0) with velocity (0, 0, speed), along a
   great circle of the y-z plane. Measured: the speed ratio v_end / speed and the largest relative
   deviation of |v| from speed exp(-mu psi) over the run, psi = the unwrapped angle atan2(z, y)
-  turned; theory: exp(-mu psi_end) (``oracles.coasting_speed``).
+  turned; theory: exp(-mu psi_end) (``point_on_surface.coasting_speed``).
 * ``incline``: a point slides down the top line of the cylinder (side outside) whose axis is
   inclined by ``tilt``: it starts at (0, 0, radius - m g cos(tilt) / eps_n) with velocity
   (speed, 0, 0) down the slope. Measured: the slope of a straight-line fit of vx against t over the
@@ -49,7 +49,7 @@ Cases (``case``)
 In the oracle cases x0 ... vz0 must keep their defaults (the case sets the initial state from
 ``speed``); in the free case ``speed`` must. Each theory is reported only inside its domain
 (``theory_domain``: one mu along the path, no tangential dashpot; the incline's point presses and
-slides toward +x; ``oracles.departure_angle``: friction does not stop the point), else it is None
+slides toward +x; ``point_on_surface.departure_angle``: friction does not stop the point), else it is None
 with the reason under ``undefined``.
 
 Summary (every engine): end state, ``speed_end``, ``contact_fraction`` (share of samples in
@@ -70,15 +70,16 @@ import numpy as np
 from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, run
 from exu_aniso.engines.result import Result
-from exu_aniso.law import oracles
+from exu_aniso.scenes import point_on_surface
 from exu_aniso.law.history import HISTORY_FIELDS, SLIP
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cone, Cylinder, ParametricSurface, Plane, Sphere, SurfaceOfRevolution, Torus
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
 from exu_aniso.util.validation import check_instance, check_keywords
-from exu_aniso.scenes.base import (ENERGY_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters,
+from exu_aniso.scenes.base import (LEDGER_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters,
                                    solver_advice)
+from exu_aniso.scenes.scene import Scene
 
 SURFACES = ("plane", "cylinder", "cone", "sphere", "torus", "revolution", "parametric")
 SPHERES = ("sphere", "revolution", "parametric")
@@ -168,7 +169,7 @@ class ParticleParams(SceneParams):
 # trajectory columns (csv) -> SI unit
 COLUMNS = {"t": "s", "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s", "gap": "m",
            "normal_force": "N", "status": "-", "slip_distance": "m", "dissipated_energy": "J",
-           **{k: "J" for k in ENERGY_COLUMNS}}
+           **LEDGER_COLUMNS}
 TITLE_KEYS = ("oracle", "oracle_theory")
 ORACLE_KEYS = {"departure": ("departure_angle_deg", "departure_angle_deg_theory"),
                "cavity": ("cavity_speed_ratio", "cavity_speed_ratio_theory"),
@@ -299,7 +300,7 @@ def theory_domain(p):
     * incline: gravity > 0 (else N = 0: no contact, nothing slides), and a point that starts at rest
       (speed 0) must slide toward +x: tan(tilt) > mu (with tan|tilt| <= mu it sticks, with tilt < 0 it
       slides toward -x, outside the formula's sense);
-    * departure: ``oracles.departure_angle`` refuses a point that friction stops (OutsideDomain),
+    * departure: ``point_on_surface.departure_angle`` refuses a point that friction stops (OutsideDomain),
       e.g. speed 0, or mu above about 0.231 at the default speed 0.5 m/s, radius 0.5 m.
     The cavity's other assumptions (gravity 0, side inside, speed > 0) are parameter rules of the case."""
     if p.case == "free":
@@ -330,7 +331,7 @@ def theory_domain(p):
 
 def particle_theory(p, psi=None):
     """(theory, None) or (None, reason) of the case's oracle (see theory_domain): departure: the angle
-    [deg] of ``oracles.departure_angle``; cavity: v / v0 = exp(-mu psi) [-] at the turned angles psi
+    [deg] of ``point_on_surface.departure_angle``; cavity: v / v0 = exp(-mu psi) [-] at the turned angles psi
     [rad] (an array); incline: the acceleration [m/s^2]."""
     why = theory_domain(p)
     if why:
@@ -338,12 +339,29 @@ def particle_theory(p, psi=None):
     name, mu = _path_mu_name(p)
     if p.case == "departure":
         try:
-            return math.degrees(oracles.departure_angle(mu, p.radius, p.gravity, p.speed)), None
-        except oracles.OutsideDomain as e:       # the message names mu, speed and the sticking rule
+            return math.degrees(point_on_surface.departure_angle(mu, p.radius, p.gravity, p.speed)), None
+        except point_on_surface.OutsideDomain as e:       # the message names mu, speed and the sticking rule
             return None, f"{str(e).split(': ', 1)[1]} ({name} is mu along the path)"
     if p.case == "cavity":
-        return oracles.coasting_speed(p.speed, mu, psi) / p.speed, None
-    return oracles.incline_acceleration(mu, math.radians(p.tilt), p.gravity), None
+        return point_on_surface.coasting_speed(p.speed, mu, psi) / p.speed, None
+    return point_on_surface.incline_acceleration(mu, math.radians(p.tilt), p.gravity), None
+
+
+def particle_closed_forms(p):
+    """The particle's closed form for p, under the case's theory key (``ORACLE_KEYS``): departure:
+    ``departure_angle_deg_theory`` [deg]; incline: ``incline_acceleration_theory`` [m/s^2]; cavity:
+    ``cavity_speed_decay_per_rad`` [1/rad], mu along the path, of v / v0 = exp(-mu psi) (its ratio
+    at the run's end is the summary's ``cavity_speed_ratio_theory``). None, with the reason under
+    ``undefined``, outside the theory's domain (``theory_domain``); the free case has none."""
+    if p.case == "free":
+        return dict(undefined={})
+    key = "cavity_speed_decay_per_rad" if p.case == "cavity" else ORACLE_KEYS[p.case][1]
+    if p.case == "cavity":
+        why = theory_domain(p)
+        value = None if why else _path_mu_name(p)[1]
+    else:
+        value, why = particle_theory(p)
+    return {key: value, "undefined": {key: why} if why else {}}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -599,3 +617,30 @@ def simulate_particle(params=None, **options):
     summary.update(particle_energy(p, traj, model.law, H))
     info.update(engine="reference")
     return Result(traj, summary, p, info)
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class ParticleScene(Scene):
+    """The particle scene (the module docstring); the summary takes no inputs, the ledger
+    ``particle_energy``'s (law, H)."""
+
+    name = "particle"
+    Params = ParticleParams
+    columns = COLUMNS
+    title_keys = TITLE_KEYS
+    figsize = (6.0, 6.5)
+    law = staticmethod(particle_contact_law)
+    closed_forms = staticmethod(particle_closed_forms)
+    summary = staticmethod(particle_summary)
+    ledger = staticmethod(particle_energy)
+    plot = staticmethod(PlotParticle)
+    reference = staticmethod(simulate_particle)
+
+    def points(self, p):
+        """The one contact point: the mass point itself."""
+        return np.zeros((1, 3))
+
+
+SCENE = ParticleScene()

@@ -62,7 +62,8 @@ from exu_aniso.util.validation import check_instance, check_keywords
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Cone, Cylinder
 from exu_aniso.law.return_maps import RETURN_MAPS
-from exu_aniso.scenes.base import SOLVERS, energy_ledger, SceneParams, scene_parameters, solver_advice
+from exu_aniso.scenes.base import LEDGER_COLUMNS, SOLVERS, energy_ledger, SceneParams, scene_parameters, solver_advice
+from exu_aniso.scenes.scene import Scene
 
 
 TURN_ANGLE_MIN = 1e-6    # rad: a net rotation over the last half at or below this is no turning
@@ -264,15 +265,16 @@ def _not_steady_sliding(t, ang, torque, diss):
     return None
 
 
-def screw_summary(traj, wall_s, steps, newton_iterations, params=None):
+def screw_summary(traj, p, wall_s, steps, newton_iterations):
     """Summary of a screw trajectory (t, angle, z, torque, axial_force, dissipated_energy):
     advance per revolution = 2 pi dz/dangle fitted over the last half of the run (signed; None
     when the screw does not turn there, see ``_undefined_advance``), mean drive torque and axial
     force over the last half; ``undefined`` maps every None value to its reason.
 
-    params (ScrewParams): also the closed-form steady sliding beside them, advance_per_rev_theory
+    p (ScrewParams): also the closed-form steady sliding beside them, advance_per_rev_theory
     and torque_mean_theory (``screw_theory``), where it applies to the parameters and the run
-    slides steadily over the last half (``_not_steady_sliding``); else None with the reason."""
+    slides steadily over the last half (``_not_steady_sliding``); else None with the reason. (p
+    None: the summary without the closed form.)"""
     t = np.asarray(traj["t"], float)
     late = t >= 0.5 * t[-1]
     ang, z = np.asarray(traj["angle"], float)[late], np.asarray(traj["z"], float)[late]
@@ -288,8 +290,8 @@ def screw_summary(traj, wall_s, steps, newton_iterations, params=None):
                dissipated_energy=float(traj["dissipated_energy"][-1]),
                wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
                undefined=undefined)
-    if params is not None:
-        theory, why = screw_theory(params)
+    if p is not None:
+        theory, why = screw_theory(p)
         if why is None:
             why = _not_steady_sliding(t[late], ang, np.asarray(traj["torque"], float)[late],
                                       np.asarray(traj["dissipated_energy"], float)[late])
@@ -414,7 +416,7 @@ def simulate_screw(params=None, **options):
     check_keywords("simulate_screw", options, RUN_OPTIONS)
     model, floor = reference_model(p)
     traj, wall, iters, steps, info, motion, H = run(model, p, floor=floor, **options)
-    summary = screw_summary(traj, wall, steps, iters, p)
+    summary = screw_summary(traj, p, wall, steps, iters)
     summary.update(screw_energy(p, traj, motion, model.s, model.law, H))
     return Result(traj, summary, p, info)
 
@@ -523,6 +525,18 @@ def screw_theory(p):
         return steady_sliding(p), None
     except ValueError as e:
         return None, str(e)
+
+
+def screw_closed_forms(p):
+    """The screw's closed forms for p: the steady sliding's ``advance_per_rev_theory`` [m] and
+    ``torque_mean_theory`` [N m] (``screw_theory``), None with the reason under ``undefined`` where
+    the closed form does not apply to p (whether a run reaches the steady sliding is the summary's
+    check)."""
+    theory, why = screw_theory(p)
+    if why is not None:
+        return dict(advance_per_rev_theory=None, torque_mean_theory=None,
+                    undefined=dict(advance_per_rev_theory=why, torque_mean_theory=why))
+    return dict(advance_per_rev_theory=theory.advance_per_rev, torque_mean_theory=theory.torque, undefined={})
 
 
 def sliding_growth_rate(p: ScrewParams) -> float:
@@ -642,3 +656,31 @@ def PlotScrew(traj, params, fig):
     """trajectory.png of the screw on the matplotlib Figure fig: PlotScrewAdvance over PlotScrewTorque."""
     PlotScrewAdvance(traj, params, ax=fig.add_subplot(2, 1, 1))
     PlotScrewTorque(traj, params, ax=fig.add_subplot(2, 1, 2))
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene, as every engine and the command line see it
+
+class ScrewScene(Scene):
+    """The screw scene (the module docstring); the summary takes no inputs, the ledger
+    ``screw_energy``'s (motion, points, law, H)."""
+
+    name = "screw"
+    Params = ScrewParams
+    columns = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "torque": "N m",
+               "axial_force": "N", "dissipated_energy": "J",
+               # the full model's other motions (axis_*: the screw's axis in the world)
+               "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s",
+               "axis_x": "-", "axis_y": "-", "axis_z": "-", **LEDGER_COLUMNS}
+    title_keys = ("advance_per_rev", "torque_mean")
+    figsize = (6.0, 6.5)
+    law = staticmethod(screw_contact_law)
+    points = staticmethod(screw_points)
+    closed_forms = staticmethod(screw_closed_forms)
+    summary = staticmethod(screw_summary)
+    ledger = staticmethod(screw_energy)
+    plot = staticmethod(PlotScrew)
+    reference = staticmethod(simulate_screw)
+
+
+SCENE = ScrewScene()

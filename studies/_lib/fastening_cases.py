@@ -46,7 +46,7 @@ def clamp_force_at_torque_theory(p, target):
 def ring_check(p, traj):
     """The head torque per clamp force against the ring formula at the ring's *current* orientation:
     the head's points turn with the bolt while the lay stays with the part, so at the bolt angle a the
-    lay lies at head_net_angle - a from the ring's points (oracles.orthotropic_ring_torque_factor).
+    lay lies at head_net_angle - a from the ring's points (threads.orthotropic_ring_torque_factor).
     Over the tightening phase (scenes.fastening.tightening): the largest relative error, the range
     of the formula, the bolt angles, and a thinned trace (relative lay angle [deg], simulated, formula)."""
     from exu_aniso.scenes.fastening import head_ring_factor, tightening
@@ -160,11 +160,11 @@ def pitch_for_lead(lead_deg, d2):
 
 def vdi_thread_error(lead_deg, flank_deg, mu, d2):
     """Relative error of VDI 2230's thread term 0.16 P + 0.58 d2 mu_G against the exact one
-    (oracles.thread_torque_per_force) at this lead angle [deg], full flank angle [deg] and mu_G."""
-    from exu_aniso.law import oracles
+    (threads.thread_torque_per_force) at this lead angle [deg], full flank angle [deg] and mu_G."""
+    from exu_aniso.scenes import threads
     P = pitch_for_lead(lead_deg, d2)
-    exact = oracles.thread_torque_per_force(d2, P, math.radians(flank_deg), mu)
-    return oracles.torque_per_clamp_force_vdi2230(d2, P, mu, 0.0, 0.0) / exact - 1.0
+    exact = threads.thread_torque_per_force(d2, P, math.radians(flank_deg), mu)
+    return threads.torque_per_clamp_force_vdi2230(d2, P, mu, 0.0, 0.0) / exact - 1.0
 
 
 def vdi_band(lead_deg, mu, d2, tol, flank_range=(0.0, 90.0)):

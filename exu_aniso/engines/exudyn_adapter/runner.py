@@ -14,6 +14,7 @@ import os
 import re
 import sys
 import time
+from dataclasses import dataclass, field
 
 import exudyn as exu
 import exudyn.solver
@@ -260,37 +261,71 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     return wall, steps, int(it.newtonStepsCount), info
 
 
-def RunScene(model, p, name, contacts, partial, complete, progress=False, snapshot=None, solutionFile=None,
-             snapshotOptions=None):
-    """What every scene's Run function does with its built model: solve it (``SolveTimed``) and
-    return an ``exu_aniso.engines.result.Result``.
+@dataclass(frozen=True)
+class ModelScript:
+    """A scene's Exudyn model script as one object: ``run`` is what every scene's Run function does
+    with it, written once.
 
-    model: the Build function's dict; p: the scene's parameters; name: the scene's name (progress
-    line); contacts: the dicts of CreateAnisotropicContact (failure reports);
-    partial(failure) -> (trajectory, summary) of a run that failed, up to the failure (the Result
-    goes to ``failure.partial``, then the failure is raised on);
-    complete(wall, steps, iterations, info) -> (trajectory, summary) of a completed run, the energy
-    ledger in the summary; it adds its scene's entries to info (after ``engine``); info["post_cpu_s"]:
-    its process CPU time [s] (the trajectory from the sensors and the ledger);
-    progress, snapshot (a PNG of the final state, ``WriteSnapshot`` with snapshotOptions),
-    solutionFile (Exudyn's solution file, ``StoreSolution``): as the scenes' Run functions say."""
-    if solutionFile is not None:
-        StoreSolution(model["simulationSettings"], solutionFile)
-    try:
-        wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
-                                              contacts=contacts, progress=make_progress(progress, name))
-    except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
-        traj, summary = partial(failure)
-        failure.partial = Result(traj, summary, p, dict(engine="exudyn", complete=False,
-                                                        time_reached=failure.time_reached))
-        raise
-    info["engine"] = "exudyn"
-    c0 = time.process_time()
-    traj, summary = complete(wall, steps, iters, info)
-    info["post_cpu_s"] = time.process_time() - c0
-    if snapshot is not None:
-        info["snapshot"] = WriteSnapshot(model, snapshot, **(snapshotOptions or {}))
-    return Result(traj, summary, p, info)
+    scene: the scene (``exu_aniso.scenes.scene.Scene``: its ``name``, ``Params``, ``summary`` and
+    ``ledger``); build: ``Build<Model>(p, **options)`` -> the model dict (``mbs``,
+    ``simulationSettings``, ``solverType``, ...); read(model, complete) -> (trajectory, summary
+    inputs, ledger inputs): the trajectory from the solved model's sensors and the keyword arguments
+    of the scene's ``summary`` and ``ledger`` (read after a failure with complete False: the ledger's
+    inputs are then not used); contacts(model): the dicts of CreateAnisotropicContact (failure
+    reports, ``SettingsInfo``); info(model): the scene's entries of a completed run's info (before
+    the settings of ``SettingsInfo``); snapshotOptions: of ``WriteSnapshot``."""
+
+    scene: object
+    build: object
+    read: object
+    contacts: object = None
+    info: object = None
+    snapshotOptions: dict = field(default_factory=dict)
+
+    def model_contacts(self, model):
+        """The model's contacts: ``contacts(model)``, or the one ``model["contact"]``."""
+        return [model["contact"]] if self.contacts is None else self.contacts(model)
+
+    def run(self, p=None, progress=False, snapshot=None, solutionFile=None, **options):
+        """Build and solve the scene with parameters p (the scene's defaults if None); returns an
+        ``exu_aniso.engines.result.Result``: the trajectory with the scene's columns, the summary
+        (``scene.summary``) with the energy ledger (``scene.ledger``), p and info. options: of the
+        build function.
+
+        progress: show the progress of a run longer than about 2 s on stderr (True, or an
+        exu_aniso.util.progress.Progress; see SolveTimed); snapshot: file name of a PNG of the final
+        state (``WriteSnapshot``: raytraced, no display needed; written only when the run completes);
+        solutionFile: let Exudyn write its solution there, to be played back with
+        ``ViewSolution(build(p, **options), solutionFile)``. A run that fails raises its
+        ``SimulationFailure`` with the trajectory and summary up to the failure in ``failure.partial``
+        (a ``Result``, info["complete"] False). info["post_cpu_s"]: the process CPU time [s] of
+        reading the trajectory and the ledger."""
+        scene = self.scene
+        p = scene.Params() if p is None else p
+        model = self.build(p, **options)
+        contacts = self.model_contacts(model)
+        if solutionFile is not None:
+            StoreSolution(model["simulationSettings"], solutionFile)
+        try:
+            wall, steps, iters, info = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"],
+                                                  contacts=contacts, progress=make_progress(progress, scene.name))
+        except SimulationFailure as failure:        # keep what was computed: the trajectory up to the failure
+            traj, inputs, _ = self.read(model, False)
+            summary = scene.summary(traj, p, float("nan"), failure.steps, failure.newton_iterations, **inputs)
+            failure.partial = Result(traj, summary, p, dict(engine="exudyn", complete=False,
+                                                            time_reached=failure.time_reached))
+            raise
+        info["engine"] = "exudyn"
+        c0 = time.process_time()
+        traj, inputs, ledger_inputs = self.read(model, True)
+        summary = scene.summary(traj, p, wall, steps, iters, **inputs)
+        summary.update(scene.ledger(p, traj, **ledger_inputs))
+        info.update(**({} if self.info is None else self.info(model)),
+                    **SettingsInfo(model["simulationSettings"], contacts))
+        info["post_cpu_s"] = time.process_time() - c0
+        if snapshot is not None:
+            info["snapshot"] = WriteSnapshot(model, snapshot, **self.snapshotOptions)
+        return Result(traj, summary, p, info)
 
 
 def SettingsInfo(simulationSettings, contacts):

@@ -1,0 +1,89 @@
+"""Closed forms of a threaded joint: the torque and tension of a screw thread that slides under
+Coulomb friction (ISO 16047, VDI 2230), the ring of a head's bearing face, the thread's axial
+stiffness and the joint's tightening slope. numpy only; independent of the contact-law code (force
+balances of Coulomb friction, not return maps). The fastening scene is held to them.
+
+Angles in rad; lengths in m; ``d2`` the thread's pitch diameter, ``pitch`` its lead per turn (one
+start), ``flank_angle`` the full thread angle beta (metric: pi/3).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from exu_aniso.geometry.helicoid import lead_angle, normal_flank_angle
+
+
+def _check_thread(d2, pitch, flank_angle):
+    for name, v in (("d2", d2), ("pitch", pitch)):
+        if not (math.isfinite(v) and v > 0.0):
+            raise ValueError(f"{name} must be a finite number > 0; got {v!r}")
+    if not (math.isfinite(flank_angle) and 0.0 <= flank_angle < math.pi):
+        raise ValueError(f"flank_angle must lie in [0, pi) rad; got {flank_angle!r}")
+
+
+def thread_torque_per_force(d2, pitch, flank_angle, mu_thread):
+    """Thread torque per axial force [m] while the thread slides in tightening (ISO 16047 / VDI 2230):
+    (d2/2) (tan phi + mu / cos beta_n) / (1 - mu tan phi / cos beta_n). The force balance of a point
+    on the flank at the pitch radius under Coulomb friction along the helix; flank_angle is the full
+    thread angle beta [rad] (metric: pi/3)."""
+    _check_thread(d2, pitch, flank_angle)
+    lead = lead_angle(pitch, 0.5 * d2)
+    t = math.tan(lead)
+    m = mu_thread / math.cos(normal_flank_angle(flank_angle, lead))
+    if not m * t < 1.0:
+        names = "d2, pitch" if t > 1.0 else "mu_thread"      # a lead angle past 45 deg is the geometry's fault
+        raise ValueError(f"{names}: the thread locks under any tightening torque: mu_thread tan(phi) / cos(beta_n) "
+                         f"= {m * t:.3g} must be < 1, with the lead angle phi = atan(pitch / (pi d2)) = "
+                         f"{math.degrees(lead):.6g} deg; got mu_thread={mu_thread!r}, d2={d2!r} m, pitch={pitch!r} m")
+    return 0.5 * d2 * (t + m) / (1.0 - m * t)
+
+
+def torque_per_clamp_force_vdi2230(d2, pitch, mu_thread, mu_head, head_radius):
+    """VDI 2230's linearization of T/F for metric threads (60 deg): 0.16 P + 0.58 d2 mu_G + mu_K r_K."""
+    return 0.16 * pitch + 0.58 * d2 * mu_thread + mu_head * head_radius
+
+
+def mu_thread_iso16047(thread_torque_per_force_, d2, pitch, flank_angle):
+    """Thread friction that ISO 16047's evaluation backs out of a thread torque per clamp force [m]:
+    mu_th = (T_th/F - P/(2 pi)) / (d2 / (2 cos(beta/2))) (for 60 deg the standard's 0.577 d2)."""
+    _check_thread(d2, pitch, flank_angle)
+    return (thread_torque_per_force_ - pitch / (2.0 * math.pi)) * 2.0 * math.cos(0.5 * flank_angle) / d2
+
+
+def mu_head_iso16047(head_torque_per_force, head_radius):
+    """Head (bearing) friction of ISO 16047's evaluation: mu_b = T_b / (F r_K), r_K the mean bearing radius."""
+    return head_torque_per_force / head_radius
+
+
+def orthotropic_ring_torque_factor(mu_1, mu_2, lay_angle, n_points):
+    """Head torque per clamp force per unit radius [-] of a ring of n_points equally loaded points at
+    angles 2 pi k / n, each sliding along the circle (direction e_phi), on an orthotropic Coulomb
+    surface (mu_1 along the lay at lay_angle [rad], mu_2 across) under the associated law: the friction
+    force for slip direction s is N F s / sqrt(s.F s), F = diag(mu_1^2, mu_2^2) in the lay's frame, so
+    its work per slip is N sqrt(mu_1^2 cos^2 a + mu_2^2 sin^2 a), a the angle of s from the lay. Returns
+    the mean of sqrt(...) over the ring (= mu for mu_1 = mu_2 = mu)."""
+    k = np.arange(int(n_points))
+    a = 2.0 * math.pi * k / n_points + 0.5 * math.pi - lay_angle
+    return float(np.mean(np.sqrt((mu_1 * np.cos(a)) ** 2 + (mu_2 * np.sin(a)) ** 2)))
+
+
+def thread_axial_stiffness(normal_stiffness, d2, pitch, flank_angle, mu_thread):
+    """Axial stiffness [N/m] of a flank contact (penalty ``normal_stiffness`` [N/m], total) while it
+    slides along the helix in tightening: an axial offset delta of the bolt from the flank opens the
+    normal gap delta n_z, and the force on the bolt, N (n - mu t) with N = eps_N delta n_z, has the
+    axial part eps_N n_z (n_z - mu t_z). At the pitch radius r with h = P / (2 pi) and c = tan(beta/2):
+    the flank's normal n = (-r c, -h, r) / W (cylindrical e_r, e_phi, e_z), W^2 = r^2 (1 + c^2) + h^2,
+    the helix tangent t = (0, r, h) / sqrt(r^2 + h^2)."""
+    _check_thread(d2, pitch, flank_angle)
+    r, h, c = 0.5 * d2, pitch / (2.0 * math.pi), math.tan(0.5 * flank_angle)
+    nz = r / math.sqrt(r * r * (1.0 + c * c) + h * h)
+    tz = h / math.hypot(r, h)
+    return normal_stiffness * nz * (nz - mu_thread * tz)
+
+
+def clamp_force_per_angle(joint_stiffness, pitch, compliances=()):
+    """Tightening slope dF/dangle [N/rad]: the lead P / (2 pi) over the joint's compliance and the
+    contact compliances in series, (P / 2 pi) / (1/k_joint + sum c_i)."""
+    return pitch / (2.0 * math.pi) / (1.0 / joint_stiffness + sum(compliances))
