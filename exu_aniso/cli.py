@@ -443,7 +443,7 @@ def _parallel(jobs, a):
     """True when the jobs run in worker processes, one per scene: several Exudyn jobs whose contact
     kernels are not compiled yet (the first run on a machine), on more than one core. Each scene
     compiles its own kernels (its surface and fields), so on 2 cores the first ``run all`` takes
-    the longer compile, not the sum: 51 -> 28 s measured (empty NUMBA_CACHE_DIR, this machine). The
+    the longer compile, not the sum (docs/guide/command_line.md). The
     last job runs in this process, the others in workers started before it (one process start
     and its imports fewer, and the screw, which compiles longest, starts first). Warm runs stay in
     this process (a worker's start costs more than the runs)."""

@@ -98,7 +98,7 @@ def BuildCapstan(p: CapstanParams, jacobian="analytic", implementation="auto", n
     jacobian: contact Jacobian "analytic" | "numerical"; implementation: contact kernel "auto" |
     "compiled" | "numpy"; newtonTolerance: Newton relative and absolute tolerance (1e-8: the rope's
     residual has a round-off floor near 1e-9 with fine elements, where a tighter tolerance makes
-    Newton fail and Exudyn cut the step again and again: 48 elements, 1e-10, measured); rhoInf: spectral
+    Newton fail and Exudyn cut the step again and again); rhoInf: spectral
     radius of generalized-alpha (solver="generalized_alpha"); newton: "modified" | "full"
     (exu_aniso.engines.exudyn_adapter.runner.SimulationSettingsFor); stop: stop the run at
     stop_displacement (pre-step function); show: renderer graphics of the drum and the contact points

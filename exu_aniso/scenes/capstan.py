@@ -37,11 +37,10 @@ is established. Flickers of "all slip"
 before (e.g. while the rope settles) do not count. ``tension_ratio`` = T_out / T_in there, with
 the tensions at the rope's ends: the applied force less the end dashpot's force (columns
 ``tension_in``, ``tension_out``; the applied forces are ``force_in``, ``force_out``: measured
-by them the ratio is late by the dashpot's share, +0.25 % on the defaults). The error against
-exp(mu_1 phi) is the time resolution of the ramp (the ratio rises by ramp_rate dt = 1e-3 per step,
-4e-4 of the ratio at 180 deg and mu 0.3) and the quasi-static lag of the ramp, which shows at fast
-ramps (measured on the defaults: -1.2e-4 at ramp_rate 1/s, -1.1e-4 at 2, +4.7e-4 at 4 with dt
-scaled to keep ramp_rate dt; tests/test_capstan.py).
+by them the ratio is late by the dashpot's share). The error against exp(mu_1 phi) is the time
+resolution of the ramp (the ratio rises by ramp_rate dt per step) and the quasi-static lag of the
+ramp, which shows at fast ramps (tests/test_capstan.py::test_ratio_as_the_ramp_slows; the figures:
+docs/guide/scenes.md).
 ``tension_ratio_displacement`` is a cross-check with a different criterion: T_out / T_in when the
 in-end has moved ``slip_displacement`` towards the drum (late by the time the rope needs to
 accelerate; it is an upper bound).
@@ -161,19 +160,17 @@ def end_directions(p):
     return np.array([-math.cos(h), -math.sin(h)]), np.array([math.cos(h), -math.sin(h)])
 
 
-# the domain of Euler-Eytelwein (capstan_theory): measured on the defaults (180 deg, mu 0.3,
-# tests/test_capstan.py), relative error of the slip-onset ratio against exp(mu_1 phi)
+# the domain of Euler-Eytelwein (capstan_theory): where the slip-onset ratio stays within 1e-3 of
+# exp(mu_1 phi) (tests/test_capstan.py holds both edges; the figures: docs/guide/scenes.md)
 BENDING_NUMBER_MAX = 2e-3
 """Largest EI / (T_in R^2) (bending_stiffness over tension_in radius^2) for which the rope counts as
-perfectly flexible: the ratio falls with it by about 0.3 times the number (measured: -1.2e-4 at
-1e-3, -3.8e-4 at 2e-3, -1.1e-3 at 3e-3, -3.3e-3 at 1e-2, -2.8e-2 at 0.1; +3.2e-4 at 2e-3 and 90 deg)."""
+perfectly flexible: the ratio falls with it by about 0.3 times the number."""
 QUASI_STATIC_MAX = 6.6e-3
 """Largest ramp_rate * L sqrt(mass_per_length / axial_stiffness) (the ramp's relative rise while an
 axial wave crosses the rope of length L = radius phi + 2 tail_length) for which the loading counts
 as quasi-static (a massless rope). Above it the rope rings at the slip onset and the ratio's error
 swings with the ringing's phase, beyond RATIO_RTOL of tests/test_capstan.py (1e-3) at some rates
-(measured with dt = 2.5e-4 / ramp_rate, which keeps the ramp's own resolution apart: within 4.6e-4
-up to 8.1e-3; -1.6e-3 at 8.5e-3, +1.9e-3 at 8.9e-3, -6.8e-4 at 1.0e-2; the test holds the edge)."""
+(tests/test_capstan.py::test_theory_domain_edge_quasi_static holds the edge)."""
 
 
 def bending_number(p):
@@ -201,7 +198,7 @@ def capstan_theory(p):
       ``quasi_static_number(p)`` <= QUASI_STATIC_MAX (else ramp_rate and mass_per_length);
     * Coulomb friction mu_1 along the rope: the rope slides along e1 (circumference) only, a
       principal axis of the net (the scene's nets are never turned), so mu_2 and the return map change
-      nothing (measured: seed, exact and radial maps equal to 1e-13 with mu_2 0.8);
+      nothing (tests/test_capstan.py::test_cross_friction_mu2_does_not_change_the_ratio);
     * the rope conforms to the drum (pressure T / R per length): the penalty's penetration
       T / (eps_n_per_length R) is 1e-5 m on the defaults, and the contact points' polygon is refined away
       (tests/test_capstan.py: 6 to 48 elements within 1e-3);

@@ -100,11 +100,9 @@ MAX_SPECTRAL_RADIUS = 0.6
 """Largest generalized-alpha rho_inf the scene accepts. Its contact and drive vibrations (thread and head
 penalty modes ~4e5 rad/s, the drive spring's ~7e4 rad/s at the defaults) are far from resolved at any
 practical dt and must be damped numerically: left undamped they grow through the contact nonlinearity
-(stick and slip do not matter: mu_thread 1e-4 does the same). Measured at the defaults, dt 1 ms, t_end
-0.7 s (run-down and seating): rho_inf 0, 0.5, 0.6 run at dt; 0.7 reduces the step to dt/4; 0.8 and
-0.9 stop within 25 ms (the step at its floor); 1, and the trapezoidal rule (the same undamped rule:
-identical steps), tilt the bolt 1.4 deg and clamp 134 kN within 50 ms of run-down, the step down to
-4e-6 s, ledger residual 1.0 (the full run had not finished after 200 s)."""
+(stick and slip do not matter: a nearly frictionless thread does the same). At the defaults up to 0.6
+runs at dt; above it the step shrinks, then the run stops at the step's floor, and the undamped rule
+(1, or the trapezoidal rule) tilts the bolt and clamps it far beyond the joint within the run-down."""
 TRAPEZOIDAL_REFUSED = (
     "solver='trapezoidal' is not available for the fastening scene: the rule is that its stiff contact and drive "
     "vibrations (not resolved at any practical dt) must be damped numerically, and the trapezoidal rule does not "

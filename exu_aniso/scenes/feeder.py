@@ -194,28 +194,25 @@ def theory_mu(p):
                   "the parts across the track, the one-dimensional theory does not apply")
 
 
-# the domain of the 1D conveying theory (feeder_theory); measured with parts=1, isotropic net, the
-# defaults otherwise (tests/test_feeder.py), relative error of the part's transport velocity
+# the domain of the 1D conveying theory (feeder_theory), relative error of the part's transport
+# velocity; tests/test_feeder.py holds its edges, docs/guide/scenes.md quotes the figures
 THEORY_RTOL = 0.2
 """How far the scene may lie from the rigid-stick theory inside its domain: the elastic stick's bias
-(the part lags the track while it sticks), about -2.5 f / f_stick at mu 0.3 (measured: -12.4 % at
-f_stick / f = 20.1, the defaults; -40 % at 6.4; -3.9 % at 64), smaller at larger mu (-0.3 % at mu 0.9)."""
+(the part lags the track while it sticks), about -2.5 f / f_stick at mu 0.3, smaller at larger mu."""
 STICK_FREQUENCY_MIN = 15.0
 """Least f_stick / frequency, f_stick = sqrt(eps_1 / part_mass) / (2 pi) (eps_2 across, for a net turned
 by 90 deg): the bias 2.5 f / f_stick stays within THEORY_RTOL."""
 MASS_RATIO_MAX = 1e-3
 """Largest parts part_mass / plate_mass: the parts' reaction moves the plate by that ratio (the Exudyn
-engine's plate is free on springs; the reference engine prescribes it). Measured (one part): +56 % at
-2e-2; see feeder_theory."""
+engine's plate is free on springs; the reference engine prescribes it); see feeder_theory."""
 TRANSIENT_RTOL = 5e-2
 """Largest relative difference between the 1D model's own mean velocity over the measuring window
 (from rest at t = 0) and its periodic state (a quarter of THEORY_RTOL): beyond it the window still sees
-the start transient (the defaults: 12 % at t_end 0.1 s, 1.4 % at 0.2 s)."""
+the start transient (tests/test_feeder.py::test_theory_domain_plate_mass_and_transient)."""
 TRANSPORT_V_REL = 1e-4
 """A transport velocity at or below this fraction of the run's largest speed of a part (or at or
-below scenes.HEADING_V_ABS) is noise: no direction (measured: throw_angle 0, where the theory is 0,
-over the second half of 0.6 s: 1.2e-7 m/s Exudyn, 1.3e-8 m/s reference, at most 8e-6 of the largest
-speed, 0.0159 m/s; over 0.2 s both engines measure -2.7e-5 m/s, the start transient's real drift)."""
+below scenes.HEADING_V_ABS) is noise: no direction (throw_angle 0, where the theory is 0:
+tests/test_feeder.py::test_transport_direction_undefined_at_noise_level)."""
 
 
 def stick_frequency(p):
@@ -345,13 +342,13 @@ def feeder_theory(p, t0=None, t1=None):
       mod 180; ``theory_mu``);
     * a point mass: a part does not rock. The friction force at the bottom, mu N, tips a cube about
       its edge when mu (part_size / 2) >= N (part_size / 2), so mu along the track < 1 (else the
-      reason names mu_1 or mu_2; measured: mu 0.9 -0.3 %, 1.1 +33.5 %);
+      reason names mu_1 or mu_2; tests/test_feeder.py::test_theory_domain_edge_rocking);
     * rigid stick: stick_frequency / frequency >= STICK_FREQUENCY_MIN (else eps_1, eps_2); the scene's
       bias stays within THEORY_RTOL;
     * rigid normal contact without dashpots: the normal penalty and dashpot change the result by less
-      than the stick's bias (measured normal_damping_ratio 0, 0.5, 2: -16.5 %, -12.4 %, -11.8 %; the
-      limit eps_1 -> oo meets the theory to 1.8e-4 at the default eps_n); no tangential dashpot (the
-      scene has none);
+      than the stick's bias, and the limit eps_1 -> oo meets the theory
+      (tests/test_feeder.py::test_scene_converges_to_the_rigid_stick_theory); no tangential dashpot
+      (the scene has none);
     * the track's motion prescribed: parts part_mass / plate_mass <= MASS_RATIO_MAX (plate_mass);
     * throw number < 1 (no flight): FeederParams refuses larger ones;
     * the periodic state: when the measuring window (t0, t1) is given, the 1D model's own mean over

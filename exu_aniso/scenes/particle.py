@@ -280,23 +280,19 @@ def _path_mu_name(p):
 
 def theory_domain(p):
     """None when the case's textbook oracle applies to p, else the one-sentence reason naming the
-    parameter that breaks its assumptions. Rules (measured with the reference engine, dt 5e-4, on the
-    tests' cases):
+    parameter that breaks its assumptions. Rules (each held by tests/test_particle_scene.py; the
+    departures from the oracles outside them: docs/guide/scenes.md):
 
     * friction: one mu along the path (isotropic, or orthotropic at a multiple of 90 deg: ``path_mu``);
       the return map does not matter there (seed, exact, radial: the same angle to 2e-9 deg), unless
       the adhesion B is orthotropic off the axes (eps_1 != eps_2, net_angle not a multiple of 90 deg): the
-      non-associated maps (seed, radial) then slide with T along B v, not v, which bends the path (eps_2
-      = eps_1 / 10 at 30 deg: departure -3.83 deg radial, -4.87 deg seed; cavity speed error 7.3 %;
-      incline 2.652 against 2.356 m/s^2); the exact map stays on the oracle (departure error 2.59e-3
-      deg as with isotropic B, incline 9e-9 relative), so only seed and radial are refused there;
+      non-associated maps (seed, radial) then slide with T along B v, not v, which bends the path; the
+      exact map stays on the oracle, so only seed and radial are refused there;
     * tangential_damping must be 0: the dashpot acts with friction while the point slides (all three
-      oracles slide), so the sliding law is no longer Coulomb's (cavity at d_T 1e-3 N s/m: speed
-      ratio 0.62258 against 0.62552; incline: 2.3500 against 2.3563 m/s^2; departure +0.041 deg);
+      oracles slide), so the sliding law is no longer Coulomb's;
     * normal_damping is allowed at any value: along the oracles' paths n.v follows only the penalty's
-      own penetration rate, so the dashpot takes a share of N but not its value (measured changes:
-      cavity speed error 3.03e-4 -> 3.02e-4 at 1 ... 1e6 N s/m, departure angle < 3e-4 deg at 1 ...
-      1e6 N s/m, i.e. within the oracles' error budget; incline 1e-14 at 1e4);
+      own penetration rate, so the dashpot takes a share of N but not its value (the oracles' errors
+      stay within their budget);
     * incline: gravity > 0 (else N = 0: no contact, nothing slides), and a point that starts at rest
       (speed 0) must slide toward +x: tan(tilt) > mu (with tan|tilt| <= mu it sticks, with tilt < 0 it
       slides toward -x, outside the formula's sense);
