@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -107,6 +108,16 @@ CLAIMS = ([Claim(SPEED, "benchmarks", "targets.csv", "scene [-]", r, "ratio [-]"
              for kind in ("python", "native")])
 
 _FASTENING = ("fastening",)
+_QUASI_STATIC = [("capstan", "--set", f"ramp_rate={r}", "--set", f"dt=2.5e-4/{r}", "--set", f"t_end={t}")
+                 for r, t in (("5.5", "0.7"), ("12.4", "0.4"))]
+_OFF_AXIS_B = ("particle", "--set", "adhesion=orthotropic", "--set", "eps_2=1e4", "--set", "net_angle=30", "--set")
+
+
+def _feeder_error(s):
+    """The feeder's transport velocity off its theory [%]."""
+    return 100 * (s["transport_velocity"] / s["transport_velocity_theory"] - 1)
+
+
 RUNS = [
     RunClaim("docs/guide/conventions.md", ("block", "--set", "return_map=exact"), "heading {} deg against", "90",
              lambda s: s["heading_deg"], "{:.0f}"),
@@ -152,6 +163,29 @@ RUNS = [
              lambda s: s["steps"], "{:d}"),
     RunClaim("docs/guide/command_line.md", ("capstan",), "steps where {} were planned; `exu-aniso run capstan`", "1946",
              lambda s: s["nominal_steps"], "{:d}"),
+    # where the closed forms hold: runs just outside their domains
+    RunClaim("docs/guide/scenes.md", ("capstan", "--set", "bending_stiffness=3e-4"), "misses exp(0.3 pi) by {}e-3",
+             "-1.11", lambda s: 1e3 * (s["tension_ratio"] / math.exp(0.3 * math.pi) - 1), "{:.2f}"),
+    RunClaim("docs/guide/scenes.md", _QUASI_STATIC[0], "t_end=0.7` misses it by {}e-3", "+1.94",
+             lambda s: 1e3 * (s["tension_ratio"] / math.exp(0.3 * math.pi) - 1), "{:+.2f}"),
+    RunClaim("docs/guide/scenes.md", _QUASI_STATIC[1], "t_end=0.4` by {}e-3", "+2.44",
+             lambda s: 1e3 * (s["tension_ratio"] / math.exp(0.3 * math.pi) - 1), "{:+.2f}"),
+    RunClaim("docs/guide/scenes.md", ("feeder", "--set", "eps_1=8.1e6"), "(f_stick / f = 64) lies {} % off", "-3.84",
+             _feeder_error, "{:.2f}"),
+    RunClaim("docs/guide/scenes.md", ("feeder", "--set", "mu_1=0.9"), "mu_1=0.9`: {} %)", "-0.29", _feeder_error,
+             "{:.2f}"),
+    RunClaim("docs/guide/scenes.md", ("feeder", "--set", "normal_damping_ratio=2"), "lies {} % off; without it",
+             "-11.7", _feeder_error, "{:.1f}"),
+    RunClaim("docs/guide/scenes.md", ("feeder", "--set", "normal_damping_ratio=0"), "normal_damping_ratio=0`: {} %)",
+             "-17.3", _feeder_error, "{:.1f}"),
+    RunClaim("docs/guide/surfaces_and_fields.md", _OFF_AXIS_B + ("return_map=radial",), "leaves the sphere at {} deg",
+             "47.61", lambda s: s["departure_angle_deg"], "{:.2f}"),
+    RunClaim("docs/guide/surfaces_and_fields.md", _OFF_AXIS_B + ("return_map=seed",), "the seed map at {} deg",
+             "46.58", lambda s: s["departure_angle_deg"], "{:.2f}"),
+    RunClaim("docs/guide/surfaces_and_fields.md", ("particle",), "against the oracle's {} deg", "51.45",
+             lambda s: s["departure_angle_deg_theory"], "{:.2f}"),
+    RunClaim("docs/guide/surfaces_and_fields.md", ("particle", "--set", "tangential_damping=1e-3"),
+             "tangential_damping=1e-3` leaves at {} deg", "51.497", lambda s: s["departure_angle_deg"], "{:.3f}"),
 ]
 
 

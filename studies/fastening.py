@@ -611,7 +611,7 @@ rigid 6-DOF bolt turned at {p.rotation_speed:g} rad/s through a torsional spring
 {p.head_radius * 1e3:g} mm) landing after {p.rundown_angle:g} deg on a clamped part on a spring of
 {p.joint_stiffness:g} N/m, {p.axial_load:g} N pulling the bolt onto its flank. T/F and the other slopes are least
 squares over the tightening phase (clamp force above 20 % of its end value); the formula is ISO 16047 / VDI 2230's
-exact form (`exu_aniso.law.oracles`). {n_runs} runs in the sweep (equal cases run once) plus the timed runs of (4).
+exact form (`exu_aniso.scenes.threads`). {n_runs} runs in the sweep (equal cases run once) plus the timed runs of (4).
 
 ### (1) Torque-tension scatter over mu_G and mu_K
 

@@ -281,7 +281,7 @@ def _path_mu_name(p):
 def theory_domain(p):
     """None when the case's textbook oracle applies to p, else the one-sentence reason naming the
     parameter that breaks its assumptions. Rules (each held by tests/test_particle_scene.py; the
-    departures from the oracles outside them: docs/guide/scenes.md):
+    departures from the oracles outside them: docs/guide/surfaces_and_fields.md):
 
     * friction: one mu along the path (isotropic, or orthotropic at a multiple of 90 deg: ``path_mu``);
       the return map does not matter there (seed, exact, radial: the same angle to 2e-9 deg), unless

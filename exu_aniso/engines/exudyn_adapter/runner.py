@@ -1,10 +1,12 @@
-"""The runner library of the package's Exudyn models (and of a user's own): settings
+"""The runner library of the package's Exudyn models (and of a user's own): a scene's model script as
+one object whose ``run`` builds, solves, reads back and summarises (``ModelScript``), settings
 (``SimulationSettingsFor``), drives (``AddNodeDrive``, ``AddYawDrive``, ``AddSpringDrive``), the timed
 solve with its allocation check, progress and failure report (``SolveTimed``), the contact history as
 sensors (``HistoryOutputs``), snapshots and the SolutionViewer (``WriteSnapshot``, ``StoreSolution``,
 ``ViewSolution``), a 3D body's motion for the energy ledger (``SensorMotion``) and the progress hook of a
-running solve (``exudyn_pre_step``). It knows no scene: a scene's model script passes its parameters
-(anything with t_end, dt and solver) and its model dict."""
+running solve (``exudyn_pre_step``). It knows no scene: a scene's model script passes its scene
+(through the interface of ``exu_aniso.scenes.scene``), its parameters (anything with t_end, dt and
+solver) and its model dict."""
 from __future__ import annotations
 
 import contextlib
