@@ -62,7 +62,7 @@ def case(name, **spec):
 for m, et, en in (("seed", 0.3, 0.15), ("exact", 0.05, 0.02), ("radial", 0.05, 0.02)):
     case(f"oblique_stick_slip_{m}", scene="block", map=m, params=dict(OBLIQUE, return_map=m), t_end=1.0, t_quick=0.25,
          err_tol=et, energy_tol=en, known=SEED_KNOWN if m == "seed" else None,
-         note="cartesian B (ratio 100 at 30 deg) and F (0.2/0.6), drive at 45 deg: stick, then slip")
+         note="orthotropic B (ratio 100 at 30 deg) and F (0.2/0.6), drive at 45 deg: stick, then slip")
 case("adhesion_ratio_1e4_radial", scene="block", map="radial", params=dict(eps_1=1e6, eps_2=1e2), t_end=2.0,
      t_quick=0.25, energy_tol=0.05, note="polar B, eps_r / eps_phi = 1e4 (hypo-elastic: polar B has no potential)")
 case("adhesion_ratio_1e4_seed", scene="block", map="seed", params=dict(eps_1=1e6, eps_2=1e2, return_map="seed"),
