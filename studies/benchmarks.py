@@ -20,7 +20,7 @@ least disturbed measure, which the test of linear growth uses).
 Settings: a *setting* is (implementation, factor variation); an implementation is a name ->
 (engine, dict of Build*/simulate_* keyword options) in ``IMPLEMENTATIONS``
 (``studies/_lib/implementations.py``), and a variation is a dict of BlockParams/ScrewParams
-overrides plus a dict of keyword options. Another implementation of the glue is one more line in
+overrides plus a dict of keyword options. Another implementation of the adapter is one more line in
 ``IMPLEMENTATIONS`` (as "exudyn-numpy" is).
 
 Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one row per setting),

@@ -203,7 +203,7 @@ def test_screw_isotropic_torque_does_not_advance():
 
 def test_history_unchanged_by_forced_step_rejections():
     """Nominal step 2h; every attempt larger than h is rejected (PostNewton returns a large
-    discontinuous error and recommends h, EXUDYN_NOTES 2.4) after the glue has written its history
+    discontinuous error and recommends h, EXUDYN_NOTES 2.4) after the adapter has written its history
     candidate, so all accepted steps have size h, as in the plain run at h. The history (read at
     StartOfStep, candidate in Current, committed on acceptance) must make both runs agree."""
     from exu_aniso.engines.exudyn_adapter.commit import post_newton
@@ -218,7 +218,7 @@ def test_history_unchanged_by_forced_step_rejections():
     attempts = [0]
 
     def post_newton_rejecting(mbs, t):
-        post_newton(mbs, t)                   # the glue's commit of the history candidate
+        post_newton(mbs, t)                   # the adapter's commit of the history candidate
         if t - mbs.systemData.GetTime(exudyn.ConfigurationType.StartOfStep) > 1.5 * h:
             return [1e10, h]
         return [0.0, -1.0]

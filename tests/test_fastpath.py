@@ -3,7 +3,7 @@
 Three levels: the compiled point kernel (exu_aniso.kernel.point.contact_point) against its plain-Python
 twin (the same source run by the interpreter: force, tangent, history) over surfaces, fields,
 maps and random states; a whole compiled contact set (exu_aniso.kernel.sets.evaluate_set) on every
-node kind against the numpy glue (generalized force, Jacobian, history candidate); and whole
+node kind against the numpy route (generalized force, Jacobian, history candidate); and whole
 Exudyn runs of both scenes with implementation="compiled" against implementation="numpy".
 """
 import math
@@ -99,7 +99,7 @@ def test_compiled_point_kernel_equals_its_plain_python_source(name, law):
     assert statuses >= {1, 2} or statuses >= {0, 2}, f"{name}: states did not cover stick/slip: {statuses}"
 
 
-# --- whole contact sets on every node kind, against the numpy glue ------------------------------
+# --- whole contact sets on every node kind, against the numpy route ------------------------------
 
 exu = pytest.importorskip("exudyn")
 
@@ -137,7 +137,7 @@ KIND_CASES = [
 
 
 @pytest.mark.parametrize("node_kind,lawname,q0,v0", KIND_CASES, ids=[f"{c[0]}-{c[1]}" for c in KIND_CASES])
-def test_set_kernel_equals_numpy_glue(node_kind, lawname, q0, v0):
+def test_set_kernel_equals_numpy_route(node_kind, lawname, q0, v0):
     """Generalized force, Jacobian (with its geometric term) and history candidate of the
     compiled set equal the numpy set, at perturbed states with an active history."""
     from exu_aniso.engines.exudyn_adapter import create_contact
@@ -174,7 +174,7 @@ def test_set_kernel_equals_numpy_glue(node_kind, lawname, q0, v0):
         np.testing.assert_allclose(comp.pk.Q, Q_plain, rtol=0, atol=1e-9 * max(1.0, np.abs(Q_plain).max()))
         comp.pk.evaluate(2, q, qt, 0.0, 0.0, 0.0)
         np.testing.assert_allclose(comp.pk.Hn, st_p[0].history, rtol=1e-9, atol=1e-12)
-        # Jacobian through the numpy glue's own method (it reads the history from the mbs, so
+        # Jacobian through the numpy route's own method (it reads the history from the mbs, so
         # compare through a state with that history): use plain.jacobian's formula directly
         Kq = np.einsum("kia,kij,kjb->ab", st_p[1], st_p[0].stiffness, st_p[4].dx)
         Dq = np.einsum("kia,kij,kjb->ab", st_p[1], st_p[0].damping, st_p[1])

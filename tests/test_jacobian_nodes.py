@@ -2,7 +2,7 @@
 
 1. Finite differences: for every slave node type (NodeRigidBody2D, screw-joint NodeGenericODE2,
    mass points, the mesh nodes of a linear FE body,
-   NodeRigidBodyRotVecLG, NodeRigidBodyEP), both routes (numpy glue, compiled kernel), every return
+   NodeRigidBodyRotVecLG, NodeRigidBodyEP), both routes (numpy route, compiled kernel), every return
    map, with and without normal damping, the matrix returned by the contact's jacobianUserFunction
    equals central differences of the generalized force returned by its forceUserFunction:
    -dQ/dq (fODE2 = 1, fODE2_t = 0) and -dQ/dq_t (0, 1), at a random state with points sticking
@@ -155,7 +155,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
     scale = np.where(np.arange(K) % 2 == 0, 0.02, 3.0)[:, None] * N[:, None]
     H[:, 0:2] = scale * d
     H[:, 2:4] += rng.normal(scale=1e-7, size=(K, 2))
-    status = _glue_state(cs, mbs, q, qt, H).status
+    status = _adapter_state(cs, mbs, q, qt, H).status
     assert set(status) == {1, 2}, f"{node_kind}: want sticking and sliding points; got status {status}"
     assert cs.slave.n == len(q) == len(qt)
     data = np.asarray(mbs.systemData.GetDataCoordinates(configuration=SOS), dtype=float)
@@ -165,7 +165,7 @@ def _scene(node_kind, implementation, return_map, d_N, seed=3):
     return mbs, cs, q, qt, H
 
 
-def _glue_state(cs, mbs, q, qt, H):
+def _adapter_state(cs, mbs, q, qt, H):
     return contact_set.ContactSet.state(cs, mbs, q, qt, H, tangent=False)[0]
 
 
@@ -199,13 +199,13 @@ def _fd_jacobians(cs, mbs, q, qt, H):
     def Q(qq, vv):
         return np.array(cs.force(mbs, 0.0, 0, qq, vv), dtype=float)
 
-    status0 = _glue_state(cs, mbs, q, qt, H).status
+    status0 = _adapter_state(cs, mbs, q, qt, H).status
     n = len(q)
     Jq, Jv = np.zeros((n, n)), np.zeros((n, n))
     for c, h in enumerate(_steps(cs)):
         qp, qm = _perturbed(cs, q, c, h), _perturbed(cs, q, c, -h)
         for qq in (qp, qm):                 # no stick/slip or contact switch inside the stencil
-            np.testing.assert_array_equal(_glue_state(cs, mbs, qq, qt, H).status, status0)
+            np.testing.assert_array_equal(_adapter_state(cs, mbs, qq, qt, H).status, status0)
         Jq[:, c] = -(Q(qp, qt) - Q(qm, qt)) / (2.0 * h)
         hv = h * (H_VELOCITY / H_LENGTH)    # rates of angles: H_VELOCITY / ARM
         vp, vm = qt.copy(), qt.copy()
@@ -228,7 +228,7 @@ def _noise(cs, mbs, q, qt, h):
 
 
 # every node kind on both routes and with both dampings, every map on both routes in the default run (the
-# compiled kernels the exact map's: test_compiled_jacobian_equals_numpy_glue's); the product -m slow
+# compiled kernels the exact map's: test_compiled_jacobian_equals_numpy_route's); the product -m slow
 JACOBIAN_CASES = [(node, impl, m, d_N) for node in NODE_KINDS for impl in ("numpy", "compiled")
                   for m in ("exact", "seed", "radial") for d_N in (0.0, 40.0)]
 
@@ -260,7 +260,7 @@ def test_jacobian_equals_finite_differences(node_kind, implementation, return_ma
 
 @pytest.mark.parametrize("node_kind", NODE_KINDS)
 @pytest.mark.parametrize("d_N", [0.0, 40.0], ids=["undamped", "damped"])
-def test_compiled_jacobian_equals_numpy_glue(node_kind, d_N):
+def test_compiled_jacobian_equals_numpy_route(node_kind, d_N):
     """Both routes return the same complete Jacobian (fODE2 and fODE2_t mixed as in a solver)."""
     out = {}
     for impl in ("numpy", "compiled"):

@@ -200,7 +200,7 @@ COVERING = covering(CASES, [0, 1, 2], ids=IDS, prefer=lambda case: case[:2] in D
 def test_force_and_history_equal_the_numpy_route(slave_kind, master_kind, lawname):
     """Mode 0 against ContactSet.force (read from the mbs's converged history), mode 2 against the
     numpy state's history candidate, at three perturbed states and with the branch prediction on
-    (dt = 1e-3 s) and off; and the compiled glue's callbacks give the packed kernel's numbers."""
+    (dt = 1e-3 s) and off; and the adapter's compiled callbacks give the packed kernel's numbers."""
     mbs, P, C, q0, qt0, H = _scene(slave_kind, master_kind, lawname)
     rng = np.random.default_rng(11)
     n = len(q0)
@@ -226,7 +226,7 @@ def test_force_and_history_equal_the_numpy_route(slave_kind, master_kind, lawnam
         assert 3 in set(ref.status)
         assert C.pk.evaluate(0, q, qt, 0.0, 0.0, 10.0) == -1
         np.testing.assert_array_equal(C.pk.Hn[:, 7], ref.status)
-    # the glue's user functions (history read from the mbs) give the packed kernel's results
+    # the adapter's user functions (history read from the mbs) give the packed kernel's results
     np.testing.assert_allclose(np.array(C.force(mbs, 1e-3, 0, q, qt)), Q_numpy, rtol=0, atol=1e-10 * scale)
     C.pk.evaluate(1, q, qt, 0.7, 0.3, 1e-3)
     J = C.pk.J.copy()

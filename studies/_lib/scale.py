@@ -132,7 +132,7 @@ def _solve(model):
 
 def count_callbacks(M, contact, t_end, dt):
     """(force callbacks, Jacobian callbacks, Newton iterations, steps) of one untimed run: the force
-    calls as the glue counts them (``contact_force_calls``: Python and native calls), the Jacobian
+    calls as the adapter counts them (``contact_force_calls``: Python and native calls), the Jacobian
     user functions the contact classes give Exudyn (numpy route: jacobian; compiled:
     jacobian_in_place) wrapped with counters while the model is built, plus the native ones
     (``native_jacobians``: Exudyn calls the kernel without Python)."""
