@@ -47,7 +47,8 @@ The default, ``DEFAULT_RETURN_MAP``, is ``"exact"`` everywhere a map can be left
 scenes choose ``"radial"`` and say so in their parameter table: the block and the screw, the papers'
 examples, whose point is sliding steered by the adhesion net (the polar block's curved path, the
 screw's advance along the thread); under ``"exact"`` with an isotropic friction the block slides
-straight along its push (heading 90 deg against 112.9 deg, ``exu-aniso run block --set return_map=exact``).
+straight along its push (``exu-aniso run block --set return_map=exact``; the two headings:
+docs/guide/conventions.md).
 
 Each map returns the derivative of T with respect to the nine law inputs
 ``p = (T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22)`` (a symmetric component enters both
