@@ -87,7 +87,7 @@ def point_motion(motion, b):
     arm = np.matmul(motion.rotation, np.asarray(b, dtype=float).T).transpose(0, 2, 1)    # A b per sample
     X = motion.position[:, None, :] + arm
     w = motion.omega[:, None, :]
-    V = np.empty_like(arm)                   # v + omega x arm, written out: np.cross is 4x slower here
+    V = np.empty_like(arm)                   # v + omega x arm, written out: np.cross is slower here
     V[..., 0] = w[..., 1] * arm[..., 2] - w[..., 2] * arm[..., 1]
     V[..., 1] = w[..., 2] * arm[..., 0] - w[..., 0] * arm[..., 2]
     V[..., 2] = w[..., 0] * arm[..., 1] - w[..., 1] * arm[..., 0]
