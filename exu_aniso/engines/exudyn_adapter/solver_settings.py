@@ -101,7 +101,8 @@ def RecommendedSimulationSettings(endTime, stepSize, newton="modified", newtonTo
     else:
         solverType = check_instance(f"{_WHERE}: solver", solver, exu.DynamicSolverType,
                                     "solver name (str) or exudyn.DynamicSolverType")
-    steps = max(1, int(round(endTime / stepSize)))   # >= 1 (stepSize <= endTime); as scenes.step_count
+    # >= 1 (stepSize <= endTime); as exu_aniso.engines.timing.step_count
+    steps = max(1, int(round(endTime / stepSize)))
     ss = exu.SimulationSettings()
     ti = ss.timeIntegration
     ti.numberOfSteps = steps
