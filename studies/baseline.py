@@ -28,7 +28,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib import baseline, targets  # noqa: E402
+from _lib import baseline, target_tables, target_timing  # noqa: E402
 from _lib.studylib import Timer, finish, markdown_table, parse_args, sweep, table  # noqa: E402
 
 NAME = "baseline"
@@ -46,13 +46,13 @@ def main(argv=None):
     if reps < 1:
         raise SystemExit(f"{NAME}: --repeats must be >= 1; got {reps}")
     if args.targets:
-        res = targets.measure(args.quick, reps)
-        table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS,
-              targets.target_table_rows(res.rows))
-        table(os.path.join(args.out, "force_call.csv"), targets.FORCE_CALL_COLUMNS,
-              targets.force_call_table_rows(res.calls))
-        targets.print_targets(res.rows)
-        finish(args, timer, targets.markdown(res), "Speed targets: ours / a cube on C++ springs")
+        res = target_timing.measure(args.quick, reps)
+        table(os.path.join(args.out, "targets.csv"), target_tables.TARGET_COLUMNS,
+              target_tables.target_table_rows(res.rows))
+        table(os.path.join(args.out, "force_call.csv"), target_tables.FORCE_CALL_COLUMNS,
+              target_tables.force_call_table_rows(res.calls))
+        target_tables.print_targets(res.rows)
+        finish(args, timer, target_tables.markdown(res), "Speed targets: ours / a cube on C++ springs")
         return 0
     opts = {} if args.implementation is None else {"implementation": args.implementation}
     rows = sweep(baseline.ratio_case, baseline.ratio_cases(args.quick, reps, opts), args)

@@ -43,7 +43,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib import baseline, scale, studylib, targets  # noqa: E402
+from _lib import baseline, scale, studylib, target_tables, target_timing  # noqa: E402
 from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
 from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table, write_json  # noqa: E402
 
@@ -315,11 +315,12 @@ def main(argv=None):
 
     # 4. the speed targets: each scene against a cube on as many C++ springs, the floors, the compiled
     # call (studies/_lib/targets.py), all in interleaved repeats
-    tres = targets.measure(args.quick, reps)
-    table(os.path.join(args.out, "targets.csv"), targets.TARGET_COLUMNS, targets.target_table_rows(tres.rows))
+    tres = target_timing.measure(args.quick, reps)
+    table(os.path.join(args.out, "targets.csv"), target_tables.TARGET_COLUMNS,
+          target_tables.target_table_rows(tres.rows))
     fres = tres.calls
-    table(os.path.join(args.out, "force_call.csv"), targets.FORCE_CALL_COLUMNS,
-          targets.force_call_table_rows(fres))
+    table(os.path.join(args.out, "force_call.csv"), target_tables.FORCE_CALL_COLUMNS,
+          target_tables.force_call_table_rows(fres))
 
     # 5. scale with the model: M cubes, one set each or one group, against C++ springs; peak memory
     sres = scale.scale_rows(args.quick, reps)
@@ -376,7 +377,7 @@ def main(argv=None):
     baseline.print_ratio_table(bres)
     print("\nspeed targets (ours at the package's settings / a cube on as many C++ springs at Exudyn's "
           "defaults):")
-    targets.print_targets(tres.rows)
+    target_tables.print_targets(tres.rows)
     print("\none force call of the full block's contact set (CPU time, median over repeats):")
     for r in fres:
         print(f"  {r['points']:8s} K={r['K']:3d} Python callback {r['callback_us']:7.2f} us, "
@@ -441,7 +442,7 @@ the screw's torque load (0.02 N m) keeps it sticking, where our law is the basel
                  "Newton/step C++", "ours/C++ per Newton it."], base_rows)}
 ### Speed targets
 
-{targets.markdown(tres)}
+{target_tables.markdown(tres)}
 ### Scale with the model
 
 {scale.scale_markdown(sres, reps)}

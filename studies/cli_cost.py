@@ -7,7 +7,7 @@ What the command line does for ``run SCENE`` (``exu_aniso.cli.simulate``, then
 ``exu_aniso.cli.write_outputs``: trajectory.csv, trajectory.png, summary.json) is run in this process
 at two simulated lengths, and so is the yardstick: a rigid cube on as many C++
 ``CartesianSpringDamper`` as the scene has contact points, at Exudyn's defaults
-(``studies/_lib/targets.py``, ``BuildCube``). Every repeat runs each case's short and long run and
+(``studies/_lib/yardstick.py``, ``BuildCube``). Every repeat runs each case's short and long run and
 the yardstick's, interleaved; a per-step figure is the process CPU time of the long run minus the
 short one over the difference of their steps: start-up, compilation (cached), model building and
 the fixed part of the output cancel. One process, not one per run: a fresh process's own start-up
@@ -35,7 +35,8 @@ if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
 from _lib.studylib import Timer, finish, markdown_table, table, timing_args  # noqa: E402
-from _lib.targets import DT, BuildCube, _solve  # noqa: E402
+from _lib.target_timing import DT, _solve  # noqa: E402
+from _lib.yardstick import BuildCube  # noqa: E402
 
 from exu_aniso import cli  # noqa: E402
 

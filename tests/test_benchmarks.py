@@ -87,23 +87,23 @@ def test_benchmark_timings_positive_and_finite(bench_out):
 
 
 def test_target_yardstick_is_a_cube_on_springs():
-    """The yardstick of the speed targets (studies/_lib/targets.py) is the model it claims: a cube on
+    """The yardstick of the speed targets (studies/_lib/yardstick.py) is the model it claims: a cube on
     K C++ springs (eps_1/K in x, y, eps_n/K in z) carrying the normal load N, under a constant force
     (P, P/2, -N) and gravity, released from the position where the springs carry N. It sinks by
     m g / eps_n on average (released, it swings between 0 and twice that); in the plane it sways
     about a displacement of the order of P/eps_1 (the force acts above the springs, so the cube also
     tilts: measured mean 1.14 P/eps_1 in x), proportional to P up to the geometric stiffness of the
     preload (twice P: twice the sway to 5 %)."""
-    from _lib import targets
+    from _lib import yardstick
     from exu_aniso.scenes.block import BlockParams
     p = BlockParams(model="full")
     for K in (4, 24, 64):
-        pts = targets.cube_points(K, p.size)
+        pts = yardstick.cube_points(K, p.size)
         assert pts.shape == (K, 3) and len({tuple(b) for b in pts}) == K
         assert np.all(np.abs(pts[:, :2]) <= 0.5 * p.size + 1e-15) and np.all(pts[:, 2] == -0.5 * p.size)
     runs = []
     for P in (p.force, 2 * p.force):
-        m = targets.BuildCube(24, 0.2, 1e-3, p.with_overrides(force=P))
+        m = yardstick.BuildCube(24, 0.2, 1e-3, p.with_overrides(force=P))
         assert m["mbs"].SolveDynamic(m["simulationSettings"], solverType=m["solverType"])
         runs.append(m["mbs"].GetSensorStoredData(0))
     u1, u2 = (X[:, 1:3] - [p.x0, p.y0] for X in runs)

@@ -1,4 +1,5 @@
-"""The speed-target machinery (studies/_lib/targets.py, ``python studies/baseline.py --targets``): the
+"""The speed-target machinery (studies/_lib/targets.py, timed by target_timing.py, tabled by
+target_tables.py, its user's body in target_models.py; ``python studies/baseline.py --targets``): the
 table has one row per declared target with its spread, ratios formed repeat by repeat, and the
 compiled call's fit over its point layouts. Structure only: no speed is checked (timings flake on a
 busy machine)."""
@@ -57,42 +58,42 @@ def test_targets_declared():
 def test_row_ratio_formed_repeat_by_repeat():
     """A ratio is the median of ours_i / yardstick_i (not the ratio of medians), with min and max;
     per-body rows divide by the bodies; met compares the median ratio with the target."""
-    from _lib import targets
+    from _lib import target_tables, target_timing, targets
     a = targets.Run("a", None, floor=targets.Run("fa", None), cube=targets.Run("c", None))
     b = targets.Run("b", None, bodies=8)
     big = targets.Run("a64", None, bodies=64)
     T = {"a": [1.0, 2.0, 10.0], "b": [1.0, 4.0, 2.0], "fa": [0.5, 0.5, 0.5], "c": [0.25, 0.25, 0.25],
          "a64": [8.0, 16.0, 8.0]}
     T = {k: np.column_stack([v, v, [10] * 3, [30, 30, 40]]) for k, v in T.items()}
-    row = targets._row(targets.Target("x", a, b, 2.0), T, 10, 0.01, 3, None)
+    row = target_timing._row(targets.Target("x", a, b, 2.0), T, 10, 0.01, 3, None)
     assert row["ratio"] == pytest.approx(1.0) and (row["ratio_min"], row["ratio_max"]) == (0.5, 5.0)
     assert row["ours_us"] == pytest.approx(2e5) and row["yardstick_us"] == pytest.approx(2e5)
     assert row["met"] and row["ours_newton"] == 3.0
     assert row["ours_minus_floor_us"] == pytest.approx(1.5e5)
     assert row["floor_minus_cube_us"] == pytest.approx(2.5e4)
     # per body: (8, 16, 8) / 64 over (1, 4, 2) / 8 = 1, 0.5, 0.5
-    per = targets._row(targets.Target("y", big, targets.PerBody(b), 1.2), T, 10, 0.01, 3, None)
+    per = target_timing._row(targets.Target("y", big, targets.PerBody(b), 1.2), T, 10, 0.01, 3, None)
     assert per["unit"] == "us/body/step" and per["ratio"] == pytest.approx(0.5)
     assert per["ratio_max"] == pytest.approx(1.0) and per["ours_us"] == pytest.approx(8.0 / 64 / 10 * 1e6)
     # a row without a target: the same figures, "met" neither yes nor no
-    plain = targets._row(targets.Target("z", a, b, None), T, 10, 0.01, 3, None)
+    plain = target_timing._row(targets.Target("z", a, b, None), T, 10, 0.01, 3, None)
     assert plain["met"] is None and math.isnan(plain["target"]) and plain["ratio"] == pytest.approx(1.0)
-    assert targets._cells(plain)[5:7] == ["-", "-"]
+    assert target_tables._cells(plain)[5:7] == ["-", "-"]
 
 
 def test_user_body_rests_on_four_corners():
     """The user's box starts with its 4 corners at the static penetration m g / (4 eps_N) on the
     sphere's inside and the cone's inside (each corner's distance to the surface)."""
-    from _lib import targets
-    pen = targets.USER_MASS * 9.81 / (4 * targets.USER_NORMAL_STIFFNESS)
+    from _lib import target_models
+    pen = target_models.USER_MASS * 9.81 / (4 * target_models.USER_NORMAL_STIFFNESS)
     for surface in ("sphere", "cone"):
-        x0, A, local, surf = targets.user_body_pose(surface)
+        x0, A, local, surf = target_models.user_body_pose(surface)
         X = np.asarray(x0) + local @ np.asarray(A).T
         if surface == "sphere":
-            C = np.array([0.0, 0.0, targets.BOWL_RADIUS])
-            depth = np.linalg.norm(X - C, axis=1) - targets.BOWL_RADIUS
+            C = np.array([0.0, 0.0, target_models.BOWL_RADIUS])
+            depth = np.linalg.norm(X - C, axis=1) - target_models.BOWL_RADIUS
         else:
-            ha, R0 = targets.TROUGH_HALF_ANGLE, targets.TROUGH_RADIUS
+            ha, R0 = target_models.TROUGH_HALF_ANGLE, target_models.TROUGH_RADIUS
             rho = np.hypot(X[:, 1], X[:, 2] - R0)
             depth = (rho - (R0 + X[:, 0] * math.tan(ha))) * math.cos(ha)
         np.testing.assert_allclose(depth, pen, rtol=1e-6)

@@ -21,7 +21,7 @@ residual measures the contact law and its bookkeeping, not the quadrature:
   displacements.
 
 What the residual may contain besides round-off (the tolerance ``ENERGY_TOLERANCE`` is set above
-these for the scenes' defaults; docs/RESULTS.md quotes the measured values):
+these for the scenes' defaults; docs/guide/energy_ledger.md quotes the measured values):
 
 * a position-dependent B (polar orthotropy) has no stored-energy potential (hypo-elastic rate
   form): T . C^-1 T / 2 at the anchor differs from the work done on the adhesion spring at second
@@ -29,10 +29,10 @@ these for the scenes' defaults; docs/RESULTS.md quotes the measured values):
 * rotations: the trapezoidal rule is not exactly energy-consistent for rigid rotation (Euler
   parameters, rotation vectors), and on a curved surface the normal turns within a step;
 * generalized-alpha dissipates high frequencies numerically (rho_inf < 1): that energy is real
-  numerical loss and shows up as a positive residual that falls with dt. The reduced screw under
-  a constant torque (stick vibration) loses 24 % of the drive work at rho_inf 0.8, dt 1e-3 (1.9 %
-  at dt 2.5e-4, 3e-14 at rho_inf 1), and the warning is meant for exactly that case: the run's
-  motion differs from the undamped one.
+  numerical loss and shows up as a positive residual that falls with dt and vanishes at rho_inf 1.
+  The reduced screw under a constant torque (stick vibration) loses a large share of the drive
+  work this way at rho_inf 0.8 (docs/guide/energy_ledger.md), and the warning is meant for exactly
+  that case: the run's motion differs from the undamped one.
 """
 from __future__ import annotations
 
@@ -87,7 +87,7 @@ def point_motion(motion, b):
     arm = np.matmul(motion.rotation, np.asarray(b, dtype=float).T).transpose(0, 2, 1)    # A b per sample
     X = motion.position[:, None, :] + arm
     w = motion.omega[:, None, :]
-    V = np.empty_like(arm)                   # v + omega x arm, written out: np.cross is 4x slower here
+    V = np.empty_like(arm)                   # v + omega x arm, written out: np.cross is slower here
     V[..., 0] = w[..., 1] * arm[..., 2] - w[..., 2] * arm[..., 1]
     V[..., 1] = w[..., 2] * arm[..., 0] - w[..., 0] * arm[..., 2]
     V[..., 2] = w[..., 0] * arm[..., 1] - w[..., 1] * arm[..., 0]

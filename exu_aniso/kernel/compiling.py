@@ -103,10 +103,10 @@ def compiled_address(fn, sig, args):
 def entry_point(fn, args):
     """The compiled function of the numba dispatcher fn for the types of args, called directly.
 
-    numba's type dispatch of every call costs ~2 us here (measured: 2 us of dispatch against 0.4 us of
-    the compiled call's entry); the types of a set's arguments never change (the caller passes
-    C-contiguous float64 arrays, floats and ints), so the dispatch is done once. Falls back to the
-    dispatcher if numba's API for it is not there."""
+    numba's type dispatch of every call costs more than the compiled call's entry itself; the types
+    of a set's arguments never change (the caller passes C-contiguous float64 arrays, floats and
+    ints), so the dispatch is done once. Falls back to the dispatcher if numba's API for it is not
+    there."""
     from numba import typeof
     try:
         sig = tuple(typeof(a) for a in args)

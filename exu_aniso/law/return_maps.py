@@ -47,7 +47,8 @@ The default, ``DEFAULT_RETURN_MAP``, is ``"exact"`` everywhere a map can be left
 scenes choose ``"radial"`` and say so in their parameter table: the block and the screw, the papers'
 examples, whose point is sliding steered by the adhesion net (the polar block's curved path, the
 screw's advance along the thread); under ``"exact"`` with an isotropic friction the block slides
-straight along its push (heading 90 deg against 112.9 deg, ``exu-aniso run block --set return_map=exact``).
+straight along its push (``exu-aniso run block --set return_map=exact``; the two headings:
+docs/guide/conventions.md).
 
 Each map returns the derivative of T with respect to the nine law inputs
 ``p = (T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22)`` (a symmetric component enters both
@@ -84,7 +85,7 @@ MAPS = {"seed": Seed(), "exact": Exact(), "radial": Radial()}
 N_PARAMS = 9  # T_tr1, T_tr2, |N|, b11, b12, b22, f11, f12, f22
 
 _KAPPA_RTOL = 2e-16 * 4  # target |sqrt(T.F T) - |N|| <= 8.9e-16 |N|; forming T = (I + kappa C F)^-1 T_tr
-#                          limits it to ~eps cond(C F) (3e-12 measured at cond 1.3e5, tests/test_fuzz.py)
+#                          limits it to ~eps cond(C F) (tests/test_fuzz_law.py's _round_off allows for it)
 _KAPPA_MAXIT = 200
 assert set(MAPS) == set(RETURN_MAPS)
 
@@ -224,7 +225,7 @@ def _exact(t1, t2, N, b11, b12, b22, f11, f12, f22, dT, tangent):
     a21, a22 = c12 * f11 + c22 * f12, c12 * f12 + c22 * f22
     tr, det = a11 + a22, a11 * a22 - a12 * a21
     # tr^2 - 4 det written as (a11 - a22)^2 + 4 a12 a21: no cancellation when the eigenvalues of C F
-    # nearly coincide (the naive form loses ~1e-12 in g_min there, which capped kappa below the root)
+    # nearly coincide (the naive form loses digits in g_min there, which capped kappa below the root)
     g_max = 0.5 * (tr + math.sqrt(abs((a11 - a22) * (a11 - a22) + 4.0 * a12 * a21)))
     g_min = det / g_max
     s_tr = math.sqrt(_quad(f11, f12, f22, t1, t2))

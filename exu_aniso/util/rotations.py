@@ -1,8 +1,8 @@
 """Rotations in numpy, one definition for the engines (the compiled kernel has its own in
 ``exu_aniso.kernel.sets``, held equal by the tests): the skew matrix, Rodrigues' formula and the
 angle wrap. Not ``exudyn.rigidBodyUtilities``: the reference engine runs without Exudyn, and
-Exudyn 1.13's ``RotationVector2RotationMatrix`` is not a rotation beyond |th| = 2 pi (th = (-5.00,
-4.18, -0.24): entries up to 20, measured against scipy's ``Rotation.from_rotvec``)."""
+Exudyn 1.13's ``RotationVector2RotationMatrix`` is not a rotation beyond |th| = 2 pi (compared with
+scipy's ``Rotation.from_rotvec``)."""
 from __future__ import annotations
 
 import math

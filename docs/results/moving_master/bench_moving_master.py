@@ -27,7 +27,7 @@ from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
 from exu_aniso.scenes import BlockParams
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "studies"))
-from _lib.targets import plate_builder  # noqa: E402  (the free plate of the speed targets)
+from _lib.target_models import plate_builder  # noqa: E402  (the free plate of the speed targets)
 
 
 def run(config, modified, node_type):

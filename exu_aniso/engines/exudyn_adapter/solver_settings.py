@@ -60,17 +60,17 @@ def RecommendedSimulationSettings(endTime, stepSize, newton="modified", newtonTo
       iterations and steps and computes a fresh one whenever an iteration reduces the residual by
       less than a factor 0.01. The contact's tangent changes when points change between stick and
       slip; with Exudyn's own threshold, 0.5, a stale Jacobian keeps being used through sliding, where
-      the residual then falls only ~40x per iteration (Exudyn's defaults take 2.9 to 6.7 iterations
-      per step on the scenes, at their tolerance 1e-8). At 0.01 a sliding step refreshes it (3.1 to
-      4.1 iterations per step at 1e-10), and while the contact sticks (a linear spring) the old
-      Jacobian is kept. On the scenes this costs 0.26 to 0.55 of full Newton's CPU time and changes
-      no result above 1.4e-11 (``python studies/newton_settings.py``; docs/guide/settings.md).
+      the residual then falls only by a constant factor per iteration. At 0.01 a sliding step refreshes
+      it, and while the contact sticks (a linear spring) the old Jacobian is kept. On the scenes this
+      costs a fraction of full Newton's CPU time and changes the results far below the time-step
+      error (iterations, times and errors: docs/guide/settings.md, ``python
+      studies/newton_settings.py``).
       ``newton="full"`` (a Jacobian at every iteration) solves each step to round-off: use it to
       compare two implementations to round-off or to close an energy ledger to round-off.
     * **Tolerance 1e-10, relative and absolute** (Exudyn's defaults: 1e-8 relative): the contact
       history (sticking anchor, traction) is committed from the converged state of every step and
       carried on, so Newton's error stays in the path; at Exudyn's defaults the reduced screw departs
-      by 1.4e-7 of its largest displacement from full Newton, at these settings by 1.2e-11.
+      from full Newton far more than at these settings (docs/guide/settings.md).
     * **Generalized-alpha with spectral radius 0.8**: the contact stiffness puts vibrations far
       above what the step resolves; numerical damping at high frequency removes them (undamped they
       can grow through the contact nonlinearity), while 0.8 keeps the resolved motion nearly
@@ -101,7 +101,8 @@ def RecommendedSimulationSettings(endTime, stepSize, newton="modified", newtonTo
     else:
         solverType = check_instance(f"{_WHERE}: solver", solver, exu.DynamicSolverType,
                                     "solver name (str) or exudyn.DynamicSolverType")
-    steps = max(1, int(round(endTime / stepSize)))   # >= 1 (stepSize <= endTime); as scenes.step_count
+    # >= 1 (stepSize <= endTime); as exu_aniso.engines.timing.step_count
+    steps = max(1, int(round(endTime / stepSize)))
     ss = exu.SimulationSettings()
     ti = ss.timeIntegration
     ti.numberOfSteps = steps
