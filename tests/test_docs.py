@@ -86,3 +86,15 @@ def test_the_pages_scripts_run(page, code, tmp_path):
                          env=dict(os.environ, MPLBACKEND="Agg"))
     assert out.returncode == 0, f"{page}:\n{code}\n{out.stderr[-3000:]}"
     assert "Traceback" not in out.stderr and "Exception ignored" not in out.stderr, out.stderr[-3000:]
+
+
+def test_the_result_folders_scripts_start(tmp_path):
+    """A script kept beside its results (docs/results/*/*.py) still imports what it names: its --help
+    runs (one once imported a parameter class from a module that no longer held it)."""
+    import glob
+    scripts = sorted(glob.glob(os.path.join(ROOT, "docs", "results", "*", "*.py")))
+    assert scripts
+    for script in scripts:
+        out = subprocess.run([sys.executable, script, "--help"], capture_output=True, text=True, cwd=tmp_path,
+                             timeout=HANG_S)
+        assert out.returncode == 0 and "usage" in out.stdout, (script, out.stderr[-2000:])

@@ -24,7 +24,7 @@ import numpy as np
 
 from exu_aniso.models.block import BuildBlock
 from exu_aniso.engines.exudyn_adapter.runner import SolveTimed
-from exu_aniso.scenes import BlockParams
+from exu_aniso.scenes.block import BlockParams
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "studies"))
 from _lib.target_models import plate_builder  # noqa: E402  (the free plate of the speed targets)
