@@ -11,6 +11,8 @@ import math
 
 import pytest
 
+from exu_aniso.catalog import SCENES
+
 from exu_aniso.cli import main
 from exu_aniso.scenes.block import simulate_block
 from exu_aniso.scenes.screw import simulate_screw
@@ -78,8 +80,7 @@ def test_write_summary_turns_nan_into_null(tmp_path):
 
 
 @pytest.mark.filterwarnings("ignore::exu_aniso.engines.energy.EnergyWarning")    # 20 steps of a start
-@pytest.mark.parametrize("scene", ["block", "screw", "particle", "capstan", "feeder", "fastening", "fe_block",
-                                   "fe_screw"])
+@pytest.mark.parametrize("scene", list(SCENES))
 def test_every_null_in_a_short_runs_summary_says_why(scene):
     """Every scene's defaults with every time scaled to 20 steps (the scenes then mostly have not
     slipped, turned or settled: their nulls are exercised): every null value of the summary has its
@@ -89,7 +90,6 @@ def test_every_null_in_a_short_runs_summary_says_why(scene):
     if scene.startswith("fe_"):
         pytest.importorskip("skfem")
     from exu_aniso import cli
-    from exu_aniso.catalog import SCENES
     defaults = SCENES[scene].Params()
     factor = 20 * defaults.dt / defaults.t_end
     sets = {name: repr(getattr(defaults, name) * factor) for name, (_, unit, _, _) in defaults.TABLE.items()

@@ -197,6 +197,71 @@ class RigidBody6(BodyModel):
         return q[0], q[1], v[:3], self.world_omega(q, v)
 
 
+class ScrewJoint(BodyModel):
+    """A body on a screw joint along the z axis: q = (psi [rad], z [m]), v = (omega, vz), the rotation
+    about and the travel along z free and independent (a thread's lead comes from the contact, not the
+    joint); mass diag(inertia, mass); contact points s_k (body frame, the axis through the origin)
+    against a ground master. ``size``: the body's radius [m] (the torque row's scale). Subclasses give
+    ``external(q, t)`` -> (torque about z, its d/dpsi, force along z, its d/dz)."""
+
+    n = 2
+
+    def __init__(self, law, s, mass, inertia, size, q0=(0.0, 0.0)):
+        self.law, self.s = law, np.asarray(s, float)
+        self.K = len(self.s)
+        self.mass = np.array([inertia, mass])
+        self.row_scale = np.array([size, 1.0])
+        self.dof_scale = np.array([1.0, size])
+        self.q0 = np.array(q0, dtype=float)
+        self.v0 = np.zeros(2)
+
+    def external(self, q, t):
+        raise NotImplementedError
+
+    def turned_points(self, psi):
+        """The body's points turned by psi about z (K, 3)."""
+        c, s = math.cos(psi), math.sin(psi)
+        return self.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+
+    def points0(self, q, v):
+        P = self.turned_points(q[0])
+        return P + np.array([0.0, 0.0, q[1]]), np.zeros_like(P)
+
+    def evaluate(self, q, v, t, H, tangent=True, dt=None):
+        P = self.turned_points(q[0])
+        X = P + np.array([0.0, 0.0, q[1]])
+        ez_x_P = np.column_stack([-P[:, 1], P[:, 0], np.zeros(self.K)])
+        V = v[0] * ez_x_P
+        V[:, 2] += v[1]
+        st = self.law.evaluate(X, V, H, tangent, dt)
+        f = st.force
+        tau, dtau, Fz, dFz = self.external(q, t)
+        g = np.array([np.sum(ez_x_P * f) + tau, f[:, 2].sum() + Fz])
+        Gq = Gv = None
+        if tangent:
+            J = np.zeros((self.K, 3, 2))
+            J[:, :, 0] = ez_x_P
+            J[:, 2, 1] = 1.0
+            Gq = np.einsum("kai,kab,kbj->ij", J, st.stiffness, J)
+            Gq[0, 0] += dtau - np.sum(P[:, 0] * f[:, 0] + P[:, 1] * f[:, 1])
+            Gq[1, 1] += dFz
+            dV = np.zeros((self.K, 3, 2))                             # d(v0 ez x P)/dpsi = -v0 P_xy
+            dV[:, 0, 0], dV[:, 1, 0] = -v[0] * P[:, 0], -v[0] * P[:, 1]
+            Gq += np.einsum("kai,kab,kbj->ij", J, st.damping, dV)
+            Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
+        return g, Gq, Gv, st
+
+    def motion(self, q, v):
+        c, s = math.cos(q[0]), math.sin(q[0])
+        return (np.array([0.0, 0.0, q[1]]), np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
+                np.array([0.0, 0.0, v[1]]), np.array([0.0, 0.0, v[0]]))
+
+    def contact_torque_and_force(self, q, st):
+        """The contact's torque about z [N m] and force along z [N] at q."""
+        P, f = self.turned_points(q[0]), st.force
+        return float(np.sum(P[:, 0] * f[:, 1] - P[:, 1] * f[:, 0])), float(f[:, 2].sum())
+
+
 # ----------------------------------------------------------------------------------------------
 # integrator
 

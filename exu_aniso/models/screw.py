@@ -28,13 +28,12 @@ from __future__ import annotations
 import exudyn as exu
 import numpy as np
 from exudyn import graphics
-from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2, ObjectGenericODE2,
-                                  SensorNode, VObjectGenericODE2)
-from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ
+from exudyn.itemInterface import LoadCoordinate, MarkerNodeCoordinate, SensorNode
+from exudyn.rigidBodyUtilities import RigidBodyInertia
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
-                                                     AddYawDrive, HistoryOutputs, ModelScript, SensorMotion,
+                                                     AddScrewJointBody, AddYawDrive, HistoryOutputs, ModelScript, SensorMotion,
                                                      SimulationSettingsFor, SolveTimed, Unwrap)
 from exu_aniso.scenes.screw import SCENE, ScrewParams, reduced_motion, screw_contact_law, screw_points
 from exu_aniso.util.validation import check_bool, check_instance
@@ -60,20 +59,6 @@ def ScrewGraphics(p):
     L = p.length
     return [graphics.Cylinder(pAxis=[0.0, 0.0, -0.5 * L], vAxis=[0.0, 0.0, L], radius=p.radius, nTiles=32,
                               color=graphics.color.steelblue, alternatingColor=graphics.color.lightgrey)]
-
-
-def _ReducedScrewGraphics(p, nScrew):
-    """graphicsDataUserFunction of the reduced screw (a GenericODE2 object has no body frame): the
-    ScrewGraphics turned by psi about and moved by z along the hole axis, in the drawn state."""
-    local = ScrewGraphics(p)
-
-    def UFgraphics(mbs, itemNumber):
-        psi, z = mbs.GetNodeOutput(nScrew, exu.OutputVariableType.Coordinates,
-                                   configuration=exu.ConfigurationType.Visualization)
-        A = np.asarray(RotationMatrixZ(float(psi)))
-        return [graphics.Move(g, [0.0, 0.0, float(z)], A) for g in local]
-
-    return UFgraphics
 
 
 def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverType=None, rhoInf=0.8,
@@ -107,11 +92,7 @@ def BuildScrew(p: ScrewParams, jacobian="analytic", nodeType="RotVecLG", solverT
     oDrive = None
     explicit = solverType is not None and solverType not in IMPLICIT_SOLVERS   # drives without constraints
     if p.model == "reduced":
-        nScrew = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=[0.0, 0.0],
-                                             initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))
-        look = VObjectGenericODE2(graphicsDataUserFunction=_ReducedScrewGraphics(p, nScrew))
-        oScrew = mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nScrew], massMatrix=np.diag([Ja, m]),
-                                                 visualization=look))
+        oScrew, nScrew = AddScrewJointBody(mbs, m, Ja, ScrewGraphics(p))
         mPsi = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=0))
         mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nScrew, coordinate=1))
         if p.drive == "torque":

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from exu_aniso.engines import energy
-from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
+from exu_aniso.engines.reference import RUN_OPTIONS, RigidBody6, ScrewJoint, run
 from exu_aniso.engines.result import Result
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.scenes.plotting import CLOSED_FORM_GID, axes_of, drawn, finite_rows, labelled, note
@@ -323,63 +323,20 @@ def _screw_drive(p, psi, z, t):
     return tau, dtau, Fz, dFz
 
 
-class _ScrewReduced(BodyModel):
-    n = 2
-
+class _ScrewReduced(ScrewJoint):
     def __init__(self, p, law):
-        self.p, self.law = p, law
-        self.s = screw_points(p)
-        self.K = len(self.s)
+        self.p = p
         m, J = screw_inertia(p)
-        self.mass = np.array([J[2, 2], m])
-        self.row_scale = np.array([p.radius, 1.0])
-        self.dof_scale = np.array([1.0, p.radius])
-        self.q0 = np.zeros(2)
-        self.v0 = np.zeros(2)
+        super().__init__(law, screw_points(p), m, J[2, 2], p.radius)
 
-    def points0(self, q, v):
-        c, s = math.cos(q[0]), math.sin(q[0])
-        P = self.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-        return P + np.array([0.0, 0.0, q[1]]), np.zeros_like(P)
-
-    def evaluate(self, q, v, t, H, tangent=True, dt=None):
-        c, s = math.cos(q[0]), math.sin(q[0])
-        P = self.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-        X = P + np.array([0.0, 0.0, q[1]])
-        ez_x_P = np.column_stack([-P[:, 1], P[:, 0], np.zeros(self.K)])
-        V = v[0] * ez_x_P
-        V[:, 2] += v[1]
-        st = self.law.evaluate(X, V, H, tangent, dt)
-        f = st.force
-        tau, dtau, Fz, dFz = _screw_drive(self.p, q[0], q[1], t)
-        g = np.array([np.sum(ez_x_P * f) + tau, f[:, 2].sum() + Fz])
-        Gq = Gv = None
-        if tangent:
-            J = np.zeros((self.K, 3, 2))
-            J[:, :, 0] = ez_x_P
-            J[:, 2, 1] = 1.0
-            Gq = np.einsum("kai,kab,kbj->ij", J, st.stiffness, J)
-            Gq[0, 0] += dtau - np.sum(P[:, 0] * f[:, 0] + P[:, 1] * f[:, 1])
-            Gq[1, 1] += dFz
-            dV = np.zeros((self.K, 3, 2))                             # d(v0 ez x P)/dpsi = -v0 P_xy
-            dV[:, 0, 0], dV[:, 1, 0] = -v[0] * P[:, 0], -v[0] * P[:, 1]
-            Gq += np.einsum("kai,kab,kbj->ij", J, st.damping, dV)
-            Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
-        return g, Gq, Gv, st
-
-    def motion(self, q, v):
-        c, s = math.cos(q[0]), math.sin(q[0])
-        return (np.array([0.0, 0.0, q[1]]), np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
-                np.array([0.0, 0.0, v[1]]), np.array([0.0, 0.0, v[0]]))
+    def external(self, q, t):
+        return _screw_drive(self.p, q[0], q[1], t)
 
     def record(self, q, v, t, st):
         tau, _, Fz, _ = _screw_drive(self.p, q[0], q[1], t)
-        c, s = math.cos(q[0]), math.sin(q[0])
-        P = self.s @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-        f = st.force
+        torque, axial = self.contact_torque_and_force(q, st)
         return dict(angle=q[0], z=q[1], omega=v[0], vz=v[1], torque=tau, axial_force=Fz,
-                    contact_torque=float(np.sum(P[:, 0] * f[:, 1] - P[:, 1] * f[:, 0])),
-                    contact_axial_force=float(f[:, 2].sum()))
+                    contact_torque=torque, contact_axial_force=axial)
 
 
 class _ScrewFull(RigidBody6):

@@ -87,3 +87,47 @@ def clamp_force_per_angle(joint_stiffness, pitch, compliances=()):
     """Tightening slope dF/dangle [N/rad]: the lead P / (2 pi) over the joint's compliance and the
     contact compliances in series, (P / 2 pi) / (1/k_joint + sum c_i)."""
     return pitch / (2.0 * math.pi) / (1.0 / joint_stiffness + sum(compliances))
+
+
+# ----------------------------------------------------------------------------------------------
+# a free nut on a vertical bolt (the nut scene)
+
+def _flank(d2, pitch, flank_angle):
+    """(r, h, W, L) of a flank at the pitch radius: r = d2 / 2, h = P / (2 pi), W = sqrt(r^2 (1 + c^2) +
+    h^2) with c = tan(beta / 2) (|rho_1 x rho_2| of the helicoid), L = sqrt(r^2 + h^2) (the helix's
+    speed per radian)."""
+    _check_thread(d2, pitch, flank_angle)
+    r, h, c = 0.5 * d2, pitch / (2.0 * math.pi), math.tan(0.5 * flank_angle)
+    return r, h, math.sqrt(r * r * (1.0 + c * c) + h * h), math.hypot(r, h)
+
+
+def self_locking_friction(d2, pitch, flank_angle):
+    """The least friction along the helix [-] that holds a nut on a vertical bolt under its own weight,
+    tan(phi) cos(beta_n) (phi the lead angle, beta_n the flank's half angle in the section normal to
+    the helix): at rest the flank's ring of normal forces N turns the nut by the torque N r h / W
+    about the axis, which friction mu N r L / W ... must hold, mu >= h L / (r W) = tan(phi) cos(beta_n).
+    A box on an incline of the lead angle (beta = 0) needs tan(phi); a V thread locks with less."""
+    r, h, W, L = _flank(d2, pitch, flank_angle)
+    return h * L / (r * W)
+
+
+def nut_descent(d2, pitch, flank_angle, mu, mass, inertia, gravity):
+    """A nut running down a vertical bolt under its weight, sliding on the bolt's flank at the pitch
+    radius with Coulomb friction mu along the helix (a uniform ring of contact, a rigid nut of
+    ``mass`` [kg] and axial moment of inertia ``inertia`` [kg m^2] on the screw joint z = h psi):
+    (axial acceleration [m/s^2] (negative: down), angular acceleration [rad/s^2], the ring's total
+    normal force [N]).
+
+    The nut's axial and torque balances with the flank's normal n = (r c, -h, r) / W (cylindrical
+    e_r, e_phi, e_z; the radial parts cancel round the ring) and friction mu N along the helix
+    t = (0, r, h) / L against the descent: m h psi'' = -m g + N (r / W + mu h / L) and
+    J psi'' = N r (mu r / L - h / W). Raises ValueError, naming mu, when mu is at or above
+    ``self_locking_friction`` (the nut holds: no descent)."""
+    r, h, W, L = _flank(d2, pitch, flank_angle)
+    B = r * (mu * r / L - h / W)
+    if not B < 0.0:
+        raise ValueError(f"mu: the nut holds, mu = {mu!r} >= the self-locking friction "
+                         f"{self_locking_friction(d2, pitch, flank_angle):.6g} (no descent)")
+    A = r / W + mu * h / L
+    psi_dd = -mass * gravity / (mass * h - inertia * A / B)
+    return h * psi_dd, psi_dd, inertia * psi_dd / B

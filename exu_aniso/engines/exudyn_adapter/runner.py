@@ -21,9 +21,10 @@ from dataclasses import dataclass, field
 import exudyn as exu
 import exudyn.solver
 import numpy as np
+from exudyn import graphics as exu_graphics
 from exudyn.itemInterface import (MarkerNodeCoordinate, MarkerNodeCoordinates, NodeGenericODE2, NodePointGround,
                                   ObjectConnectorCoordinate, ObjectConnectorCoordinateSpringDamper, ObjectConnectorCoordinateVector,
-                                  ObjectGenericODE2, VNodePointGround,
+                                  ObjectGenericODE2, VNodePointGround, VObjectGenericODE2,
                                   VObjectConnectorCoordinate, VObjectConnectorCoordinateSpringDamper)
 from exudyn.rigidBodyUtilities import (EulerParameters2GLocal, EulerParameters2RotationMatrix, RotationMatrixX,
                                        RotationMatrixZ)
@@ -66,6 +67,27 @@ def SimulationSettingsFor(p, rhoInf=0.8, newtonTolerance=1e-10, solverType=None,
     return RecommendedSimulationSettings(p.t_end, p.dt, newton=newton, newtonTolerance=newtonTolerance,
                                          spectralRadius=rhoInf,
                                          solver=p.solver if solverType is None else solverType)
+
+
+def AddScrewJointBody(mbs, mass, inertia, graphicsDataList=(), initialCoordinates=(0.0, 0.0)):
+    """A body on a screw joint along the z axis: a NodeGenericODE2 with the coordinates (psi [rad] about
+    z, z [m] along it) and an ObjectGenericODE2 with the mass matrix diag(inertia, mass)
+    (CreateAnisotropicContact takes it as a screw-joint slave). graphicsDataList: the body's graphics in
+    its own frame, drawn turned by psi and moved by z (a GenericODE2 object has no body frame).
+    Returns (oBody, nBody)."""
+    nBody = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0, 0.0], initialCoordinates=list(initialCoordinates),
+                                        initialCoordinates_t=[0.0, 0.0], numberOfODE2Coordinates=2))
+    local = list(graphicsDataList)
+
+    def UFgraphics(mbs, itemNumber):
+        psi, z = mbs.GetNodeOutput(nBody, exu.OutputVariableType.Coordinates,
+                                   configuration=exu.ConfigurationType.Visualization)
+        A = np.asarray(RotationMatrixZ(float(psi)))
+        return [exu_graphics.Move(g, [0.0, 0.0, float(z)], A) for g in local]
+
+    oBody = mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nBody], massMatrix=np.diag([inertia, mass]),
+                                            visualization=VObjectGenericODE2(graphicsDataUserFunction=UFgraphics)))
+    return oBody, nBody
 
 
 def AddNodeDrive(mbs, nodeNumber, nCoordinates, force, jacobian, force_t=None, jacobian_t=None):
