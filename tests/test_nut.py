@@ -73,7 +73,7 @@ def exudyn_run():
 
 
 def test_reduced_nut_runs_down_at_the_closed_form(exudyn_run):
-    """Measured 4.0e-6 relative (the default greased M10, mu 0.02, 0.5 s); the ledger closes."""
+    """Measured 1.8e-5 relative (the default greased M10, mu 0.02, 0.5 s at dt 4e-4); the ledger closes."""
     s = exudyn_run().summary
     assert not s["held"] and s["descent"] > 5e-4
     assert s["descent_acceleration"] == pytest.approx(s["descent_acceleration_theory"], rel=1e-4)
@@ -83,7 +83,7 @@ def test_reduced_nut_runs_down_at_the_closed_form(exudyn_run):
 def test_full_nut_runs_down_within_one_percent_and_stays_centred(exudyn_run):
     """The 6-DOF nut, 3 turns x 8 points: measured 0.18 % from the uniform ring's closed form (the
     points' heights differ, so the ring's load is not quite uniform and the nut tilts a little)."""
-    r = exudyn_run(model="full")
+    r = exudyn_run(model="full", dt=1e-4)
     s, traj = r.summary, r.trajectory
     assert s["descent_acceleration"] == pytest.approx(s["descent_acceleration_theory"], rel=1e-2)
     assert np.max(np.hypot(traj["x"], traj["y"])) < 1e-3 * NutParams().d2
@@ -112,19 +112,23 @@ def test_bisection_locates_the_self_locking_threshold_within_one_percent(exudyn_
 
 def test_a_net_along_the_helix_runs_down_at_the_closed_form_of_its_mu_along(exudyn_run):
     """An orthotropic net whose direction 1 is the helix, mu_thread along it and 0.5 across: the nut
-    slides along the helix, so mu_thread is the friction of the closed form (measured 0.27 % off it:
-    the traction across the helix that the start leaves in the sticking springs takes a share of the
-    friction ellipse, which the isotropic circle shares out otherwise)."""
-    s = exudyn_run(thread_net="orthotropic", mu_thread_2=0.5).summary
-    assert s["descent_acceleration"] == pytest.approx(s["descent_acceleration_theory"], rel=1e-2)
+    slides along the helix, so mu_thread is the closed form's friction. The run approaches it to first
+    order in the step (measured 1.1 % off at dt 4e-4, 0.26 % at 1e-4; the isotropic net is 1.8e-5 off
+    at 4e-4: the orthotropic ellipse, not the step alone, makes the difference, its cause not yet
+    isolated)."""
+    coarse = exudyn_run(thread_net="orthotropic", mu_thread_2=0.5).summary
+    fine = exudyn_run(thread_net="orthotropic", mu_thread_2=0.5, dt=1e-4).summary
+    theory = fine["descent_acceleration_theory"]
+    assert fine["descent_acceleration"] == pytest.approx(theory, rel=5e-3)
+    assert abs(fine["descent_acceleration"] / theory - 1) < 0.5 * abs(coarse["descent_acceleration"] / theory - 1)
 
 
 def test_engines_agree_on_the_reduced_nut(exudyn_run):
-    """The reference engine (numpy, the same trapezoidal rule and steps) against Exudyn, 0.1 s: the
+    """The reference engine (numpy, the same trapezoidal rule and steps) against Exudyn, 0.2 s: the
     angle and the height at every sample, relative to their largest change (measured 2.9e-10)."""
-    p = NutParams(t_end=0.1)
+    p = NutParams(t_end=0.2)
     a = simulate_nut(p).trajectory
-    b = exudyn_run(t_end=0.1).trajectory
+    b = exudyn_run(t_end=0.2).trajectory
     rows = np.searchsorted(a["t"], np.asarray(b["t"]) - 1e-9 * p.dt)
     assert np.allclose(np.asarray(a["t"])[rows], b["t"], rtol=0, atol=1e-9 * p.dt)
     for k in ("angle", "z"):
@@ -141,3 +145,14 @@ def test_bad_parameters_are_named(kw, words):
     with pytest.raises(ValueError) as e:
         NutParams(**kw)
     assert all(w in str(e.value) for w in words), str(e.value)
+
+
+def test_nut_study_quick(tmp_path, quick_study):
+    """studies/nut.py --quick: the reduced model within 1e-4 of the closed form at both steps, and the
+    bisection's threshold within 1 % of tan(phi) cos(beta_n)."""
+    from exu_aniso.util.output import read_table
+    quick_study("nut", tmp_path)
+    T = read_table(tmp_path / "refinement.csv")
+    assert all(abs(e) < 1e-4 for m, e in zip(T["model [-]"], T["error [-]"]) if m == "reduced")
+    assert abs(read_table(tmp_path / "threshold.csv")["error [-]"][0]) < 1e-2
+    assert "python studies/nut.py" in (tmp_path / "report.md").read_text()

@@ -25,23 +25,26 @@ from exudyn.rigidBodyUtilities import RigidBodyInertia
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, AddScrewJointBody, HistoryOutputs, ModelScript,
                                                      SceneView, SensorMotion, SimulationSettingsFor, Unwrap)
-from exu_aniso.scenes.nut import (SCENE, NutParams, finish_trajectory, lead, nut_contact_law, nut_inertia,
+from exu_aniso.scenes.nut import (SCENE, NutParams, finish_trajectory, nut_contact_law, nut_inertia,
                                   nut_points, reduced_motion, centre_height, weight_force)
 from exu_aniso.util.validation import check_instance
 
 
+NUT_COLOR = [0.27, 0.51, 0.71, 0.35]     # steel blue, see-through: the thread's flank and points show inside
+
+
 def NutGraphics(p):
-    """The nut in its own frame: a tube about the axis (outer radius 0.8 d2, the bore d2 / 2) of
-    nut_height, in two alternating colours so that its turning shows."""
+    """The nut in its own frame: a hexagonal tube about the axis (across the corners 1.6 d2, the bore
+    d2 / 2) of nut_height, see-through."""
     return [graphics.Cylinder(pAxis=[0.0, 0.0, -0.5 * p.nut_height], vAxis=[0.0, 0.0, p.nut_height],
-                              radius=0.8 * p.d2, innerRadius=0.5 * p.d2, nTiles=6, color=graphics.color.steelblue,
-                              alternatingColor=graphics.color.lightgrey)]
+                              radius=0.8 * p.d2, innerRadius=0.5 * p.d2, nTiles=6, color=NUT_COLOR)]
 
 
 def BoltGraphics(p, z_low, z_high):
-    """The fixed bolt: its shank (radius d2 / 2) from z_low to z_high [m]."""
-    return graphics.Cylinder(pAxis=[0.0, 0.0, z_low], vAxis=[0.0, 0.0, z_high - z_low], radius=0.5 * p.d2,
-                             nTiles=24, color=graphics.color.grey)
+    """The fixed bolt's core from z_low to z_high [m], inside the flank (radius d2 / 2 - 0.6 pitch), so
+    that the flank drawn by the contact shows round it."""
+    return graphics.Cylinder(pAxis=[0.0, 0.0, z_low], vAxis=[0.0, 0.0, z_high - z_low],
+                             radius=0.5 * p.d2 - 0.6 * p.pitch, nTiles=24, color=graphics.color.grey)
 
 
 def BuildNut(p: NutParams, jacobian="analytic", implementation="auto", newton="modified", newtonTolerance=1e-10,
@@ -53,8 +56,7 @@ def BuildNut(p: NutParams, jacobian="analytic", implementation="auto", newton="m
     SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
     z0 = centre_height(p)
-    reach = lead(p) * 2.0 * np.pi * p.turns + p.nut_height
-    mbs.CreateGround(graphicsDataList=[BoltGraphics(p, z0 - 4.0 * reach, z0 + reach)])
+    mbs.CreateGround(graphicsDataList=[BoltGraphics(p, z0 - 1.5 * p.nut_height, z0 + p.nut_height)])
     mass, J = nut_inertia(p)
     sensors = {}
     reduced = p.model == "reduced"
@@ -80,7 +82,7 @@ def BuildNut(p: NutParams, jacobian="analytic", implementation="auto", newton="m
                                            localPoints=nut_points(p, representative=reduced),
                                            contactLaw=nut_contact_law(p, representative=reduced), jacobian=jacobian,
                                            initializeHistory=True, implementation=implementation, show=show,
-                                           storeHistory=True, graphicsSize=0.25 * p.d2)
+                                           storeHistory=True, graphicsSize=p.d2)
     mbs.Assemble()
     ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, newton=newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, oNut=oNut, nNut=nNut,

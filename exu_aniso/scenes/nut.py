@@ -71,7 +71,8 @@ NUT_PARAMS = {
                   "nut is set down, not dropped", ">= 0"),
     "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (0.5, "s", "simulated time", "> 0"),
-    "dt": (1e-4, "s", "time step", "> 0"),
+    "dt": (4e-4, "s", "time step (the reduced model's; the full nut needs 1e-4 or less under the trapezoidal rule: "
+           "python studies/nut.py)", "> 0"),
     "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
 }
 
