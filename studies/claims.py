@@ -186,6 +186,18 @@ RUNS = [
              lambda s: s["departure_angle_deg_theory"], "{:.2f}"),
     RunClaim("docs/guide/surfaces_and_fields.md", ("particle", "--set", "tangential_damping=1e-3"),
              "tangential_damping=1e-3` leaves at {} deg", "51.497", lambda s: s["departure_angle_deg"], "{:.3f}"),
+    # the nut
+    RunClaim("docs/guide/scenes.md", ("nut",), "a descent acceleration of {} m/s^2", "-0.0069190",
+             lambda s: s["descent_acceleration"], "{:.7f}"),
+    RunClaim("docs/guide/scenes.md", ("nut",), "against the closed form's {}, 1.8e-5 off", "-0.0069189",
+             lambda s: s["descent_acceleration_theory"], "{:.7f}"),
+    RunClaim("docs/guide/scenes.md", ("nut",), "-0.0069189, {} off", "1.8e-5",
+             lambda s: f"{abs(s['descent_acceleration'] / s['descent_acceleration_theory'] - 1):.1e}".replace("e-0", "e-"),
+             "{}"),
+    RunClaim("docs/guide/scenes.md", ("nut", "--set", "mu_thread=0.1"), "it holds (`held` {}:", "true",
+             lambda s: "true" if s["held"] else "false", "{}"),
+    RunClaim("docs/guide/scenes.md", ("nut", "--set", "model=full", "--set", "dt=1e-4"), "x 8 points) lies {} % off",
+             "0.18", lambda s: 100 * abs(s["descent_acceleration"] / s["descent_acceleration_theory"] - 1), "{:.2f}"),
 ]
 
 
