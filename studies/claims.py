@@ -108,6 +108,7 @@ CLAIMS = ([Claim(SPEED, "benchmarks", "targets.csv", "scene [-]", r, "ratio [-]"
              for kind in ("python", "native")])
 
 _FASTENING = ("fastening",)
+_UNTIGHTEN = ("fastening", "--set", "reverse_time=1.5", "--set", "t_end=1.7")
 _QUASI_STATIC = [("capstan", "--set", f"ramp_rate={r}", "--set", f"dt=2.5e-4/{r}", "--set", f"t_end={t}")
                  for r, t in (("5.5", "0.7"), ("12.4", "0.4"))]
 _OFF_AXIS_B = ("particle", "--set", "adhesion=orthotropic", "--set", "eps_2=1e4", "--set", "net_angle=30", "--set")
@@ -198,6 +199,15 @@ RUNS = [
              lambda s: "true" if s["held"] else "false", "{}"),
     RunClaim("docs/guide/scenes.md", ("nut", "--set", "model=full", "--set", "dt=1e-4"), "x 8 points) lies {} % off",
              "0.18", lambda s: 100 * abs(s["descent_acceleration"] / s["descent_acceleration_theory"] - 1), "{:.2f}"),
+    # untightening
+    RunClaim("docs/guide/scenes.md", _UNTIGHTEN, "breaks loose at {} N m", "26.4010", lambda s: s["break_loose_torque"],
+             "{:.4f}"),
+    RunClaim("docs/guide/scenes.md", _UNTIGHTEN, "N m under {} N against", "22297",
+             lambda s: s["break_loose_clamp_force"], "{:.0f}"),
+    RunClaim("docs/guide/scenes.md", _UNTIGHTEN, "the closed form's {} N m and", "26.4037",
+             lambda s: s["break_loose_torque_theory"], "{:.4f}"),
+    RunClaim("docs/guide/scenes.md", _UNTIGHTEN, "VDI 2230's {} N m", "26.5093",
+             lambda s: s["break_loose_torque_vdi2230"], "{:.4f}"),
 ]
 
 

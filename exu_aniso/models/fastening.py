@@ -28,9 +28,9 @@ from exu_aniso.law.history import H_DISSIPATED
 from exu_aniso.scenes import threads
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, NODE_TYPES, SNAPSHOT_ROTATION, AddYawDrive, ModelScript,
                                                      SimulationSettingsFor, Unwrap)
-from exu_aniso.scenes.fastening import (SCENE, FasteningParams, bolt_inertia, contact_torques, head_contact_law,
-                                       head_points, head_z, joint_damping, lead, part_top_z, thread_contact_law,
-                                       thread_points)
+from exu_aniso.scenes.fastening import (SCENE, FasteningParams, bolt_inertia, contact_torques, driver_angle,
+                                       head_contact_law, head_points, head_z, joint_damping, lead, part_top_z,
+                                       thread_contact_law, thread_points)
 from exu_aniso.util.validation import check_instance
 
 # Newton's relative and absolute tolerance. The residual of this scene stalls at ~4e-7 (1.6e-8 of the first
@@ -47,7 +47,7 @@ SNAPSHOT_VIEW = (SNAPSHOT_ROTATION @ RotationMatrixX(math.pi)).tolist()         
 
 def DriveTorque(p, angle, t):
     """Torque of the torsional drive spring [N m] and its derivative by the bolt's angle."""
-    return p.drive_stiffness * (p.rotation_speed * t - angle), -p.drive_stiffness
+    return p.drive_stiffness * (driver_angle(p, t) - angle), -p.drive_stiffness
 
 
 def StaticPenetration(p):

@@ -85,6 +85,8 @@ FASTENING_PARAMS = {
     "bolt_length": (0.05, "m", "length of the bolt", "> 0"),
     "part_mass": (0.2, "kg", "mass of the clamped part", "> 0"),
     "rotation_speed": (1.0, "rad/s", "speed of the rotation drive", "> 0"),
+    "reverse_time": (0.0, "s", "the driver turns back at rotation_speed from this time on (untightening: the "
+                     "break-loose torque); 0: it never does", ">= 0"),
     "drive_stiffness": (2e3, "N m/rad", "torsional spring between driver and bolt", "> 0"),
     "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (1.5, "s", "simulated time", "> 0"),
@@ -141,6 +143,9 @@ class FasteningParams(SceneParams):
                              f"{self.turns} * {self.pitch!r} >= {self.bolt_length!r} / 2")
         if self.solver == "trapezoidal":
             raise ValueError(TRAPEZOIDAL_REFUSED)
+        if not (self.reverse_time == 0.0 or self.reverse_time < self.t_end):
+            raise ValueError(f"reverse_time must be 0 (no untightening) or < t_end (the driver turns back within "
+                             f"the run); got reverse_time={self.reverse_time!r} >= t_end={self.t_end!r}")
         if not self.spectral_radius <= MAX_SPECTRAL_RADIUS:
             raise ValueError(f"spectral_radius must be <= {MAX_SPECTRAL_RADIUS:g} for the fastening scene (its "
                              "unresolved contact and drive vibrations must be damped numerically; at the defaults "
@@ -178,6 +183,16 @@ MIN_TIGHTENING_SAMPLES = 10  # samples of the tightening phase below which no sl
 def lead(p):
     """Axial advance per radian, h = P / (2 pi) [m/rad]."""
     return p.pitch / (2.0 * math.pi)
+
+
+def driver_angle(p, t):
+    """The drive's driver angle [rad] at time t: rotation_speed t, and from reverse_time on (when it
+    is > 0) turning back at the same speed; t a number or an array."""
+    if p.reverse_time == 0.0:
+        return p.rotation_speed * t
+    back = p.rotation_speed * (2.0 * p.reverse_time - t)
+    return float(back if t > p.reverse_time else p.rotation_speed * t) if np.ndim(t) == 0 else np.where(
+        t > p.reverse_time, back, p.rotation_speed * t)
 
 
 def head_z(p):
@@ -228,7 +243,7 @@ def calibration_force(p):
     """Axial force on the thread [N] at which thread=net is calibrated: the flank's at the end of the run,
     the theory's clamp force (dF/dangle over the turning after seating) plus axial_load."""
     flank = p.with_overrides(thread="flank")
-    turned = p.rotation_speed * p.t_end - math.radians(p.rundown_angle)
+    turned = p.rotation_speed * (p.reverse_time or p.t_end) - math.radians(p.rundown_angle)
     return max(theory(flank)[0]["clamp_force_per_angle_theory"] * turned, 0.0) + p.axial_load
 
 
@@ -453,6 +468,52 @@ def seating_angle(angle, clamp_force):
     return float(-b / k) if k > 0.0 else None
 
 
+BREAK_LOOSE_TURN = 1.0      # deg: the bolt has broken loose once it turned back this far after the torque's peak
+
+
+def break_loose(p, t, angle, clamp_force, torque, undefined):
+    """The untightening's entries of the summary when the driver turns back (reverse_time > 0; else
+    none): ``break_loose_torque`` [N m], the largest torque against the turning back (the drive
+    torque's most negative value after reverse_time, as a magnitude), ``break_loose_clamp_force`` [N] at
+    that sample, and its closed forms with that clamp force: ``break_loose_torque_theory``, the thread
+    carrying the clamp force and axial_load, (F + F_a) thread_loosening_torque_per_force + F mu_head
+    r_K, and ``break_loose_torque_vdi2230``, VDI 2230's linearized loosening torque with the same
+    forces. None, with the reason added to ``undefined``, where the bolt did not turn back
+    BREAK_LOOSE_TURN after the peak by the end of the run, or a closed form does not apply (the net; an
+    orthotropic head or, under another map than the exact one, flank)."""
+    if p.reverse_time == 0.0:
+        return {}
+    keys = ("break_loose_torque", "break_loose_clamp_force", "break_loose_torque_theory", "break_loose_torque_vdi2230")
+    after = np.flatnonzero(t > p.reverse_time)
+    j = after[np.argmin(torque[after])] if len(after) else None
+    turned = None if j is None else math.degrees(angle[j] - angle[-1])
+    if j is None or torque[j] >= 0.0 or turned < BREAK_LOOSE_TURN:
+        why = ("the bolt did not break loose by the end of the run: "
+               + ("no torque against it after reverse_time" if j is None or torque[j] >= 0.0 else
+                  f"it turned back {turned:.3g} deg after the torque's peak, less than {BREAK_LOOSE_TURN:g} deg")
+               + "; run longer after reverse_time (t_end)")
+        undefined.update({k: why for k in keys})
+        return {k: None for k in keys}
+    Tb, Fb = float(-torque[j]), float(clamp_force[j])
+    out = dict(break_loose_torque=Tb, break_loose_clamp_force=Fb)
+    beta = math.radians(p.flank_angle)
+    why = None
+    if p.thread == "net":
+        why = "thread=net: the loosening formula is a flank's (normal force from the load)"
+    elif p.head_net != "isotropic":
+        why = "the loosening formula is for an isotropic head bearing"
+    elif p.thread_net == "orthotropic" and p.return_map != "exact":
+        why = f"orthotropic flank under the {p.return_map!r} map: the formula is checked for the exact map"
+    if why is not None:
+        undefined.update(break_loose_torque_theory=why, break_loose_torque_vdi2230=why)
+        return dict(out, break_loose_torque_theory=None, break_loose_torque_vdi2230=None)
+    thread = threads.thread_loosening_torque_per_force(p.d2, p.pitch, beta, p.mu_thread)
+    vdi_thread = threads.loosening_torque_per_clamp_force_vdi2230(p.d2, p.pitch, p.mu_thread, 0.0, 0.0)
+    head = p.mu_head * p.head_radius * Fb
+    return dict(out, break_loose_torque_theory=(Fb + p.axial_load) * thread + head,
+                break_loose_torque_vdi2230=(Fb + p.axial_load) * vdi_thread + head)
+
+
 def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     """Summary of a fastening run (any engine): seating angle, end values, the least-squares slopes
     in the tightening phase against their theory (``theory``), the ISO 16047 friction values, wobble.
@@ -473,6 +534,10 @@ def fastening_summary(traj, p, wall_s, steps, newton_iterations):
              tilt_max_deg=float(math.degrees(np.max(traj["tilt"]))), lateral_max=float(np.max(traj["lateral"])))
     th, undefined = theory(p)
     s.update(th)
+    s.update(break_loose(p, t, ang, F, T, undefined))
+    if p.reverse_time > 0.0:            # the tightening: what happened before the driver turned back
+        rows = t <= p.reverse_time
+        ang, F, T, Tt, Th = (a[rows] for a in (ang, F, T, Tt, Th))
     keys = ("seating_angle", "torque_per_clamp_force", "thread_torque_per_clamp_force", "head_torque_per_clamp_force",
             "clamp_force_per_angle", "mu_thread_iso16047", "mu_head_iso16047", "mu_total_iso16047")
     n_tight = int(np.count_nonzero(tightening(F))) if F[-1] > 0.0 else 0

@@ -40,6 +40,24 @@ def thread_torque_per_force(d2, pitch, flank_angle, mu_thread):
     return 0.5 * d2 * (t + m) / (1.0 - m * t)
 
 
+def thread_loosening_torque_per_force(d2, pitch, flank_angle, mu_thread):
+    """Thread torque per axial force [m] that turns a tightened thread back (breaks it loose), the
+    magnitude of the torque against the loosening: (d2/2) (mu / cos beta_n - tan phi) / (1 + mu tan phi /
+    cos beta_n), the tightening's force balance with the friction reversed (the axial force now helps
+    the turning). Negative for a thread that does not lock: it turns back on its own."""
+    _check_thread(d2, pitch, flank_angle)
+    lead = lead_angle(pitch, 0.5 * d2)
+    t = math.tan(lead)
+    m = mu_thread / math.cos(normal_flank_angle(flank_angle, lead))
+    return 0.5 * d2 * (m - t) / (1.0 + m * t)
+
+
+def loosening_torque_per_clamp_force_vdi2230(d2, pitch, mu_thread, mu_head, head_radius):
+    """VDI 2230's linearization of the loosening torque per clamp force for metric threads (60 deg):
+    -0.16 P + 0.58 d2 mu_G + mu_K r_K."""
+    return -0.16 * pitch + 0.58 * d2 * mu_thread + mu_head * head_radius
+
+
 def torque_per_clamp_force_vdi2230(d2, pitch, mu_thread, mu_head, head_radius):
     """VDI 2230's linearization of T/F for metric threads (60 deg): 0.16 P + 0.58 d2 mu_G + mu_K r_K."""
     return 0.16 * pitch + 0.58 * d2 * mu_thread + mu_head * head_radius
