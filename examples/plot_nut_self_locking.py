@@ -33,7 +33,8 @@ for mu in mus:
     s = RunNut(p0.with_overrides(mu_thread=float(mu))).summary
     held.append(s["held"])
     measured.append(np.nan if s["descent_acceleration"] is None else s["descent_acceleration"])
-    print(f"mu {mu:.4f}: {'holds' if s['held'] else 'runs down'}, descent acceleration {measured[-1]:.6g} m/s^2")
+    print(f"mu {mu:.4f}: {'holds' if s['held'] else 'runs down'}, "
+          f"descent acceleration {measured[-1]:.6g} m/s^2")
 
 line = np.linspace(0.02, 0.9999, 200) * mu_c
 theory = [nut_descent(p0.d2, p0.pitch, beta, m, p0.nut_mass, p0.nut_inertia, p0.gravity)[0] for m in line]

@@ -48,7 +48,7 @@ def test_nut_descent_satisfies_its_energy_balance(mu):
 def test_nut_descent_limits_and_refusal():
     g = 9.81
     assert nut_descent(**M10, mu=0.0, mass=0.011, inertia=0.0, gravity=g)[0] == pytest.approx(-g, rel=1e-14)
-    r, h = 0.5 * M10["d2"], M10["pitch"] / (2 * math.pi)
+    h = M10["pitch"] / (2 * math.pi)
     m, J = 0.011, 5e-7          # frictionless: the rolling-disc value, m h^2 / (J + m h^2) of g
     assert nut_descent(**M10, mu=0.0, mass=m, inertia=J, gravity=g)[0] == pytest.approx(
         -g * m * h * h / (J + m * h * h), rel=1e-12)

@@ -45,9 +45,43 @@ PART_SIZE = (0.03, 0.03, 0.01)
 SNAPSHOT_VIEW = (SNAPSHOT_ROTATION @ RotationMatrixX(math.pi)).tolist()          # drawn clamped part [m]; its mass is the scene's part_mass
 
 
-def DriveTorque(p, angle, t):
-    """Torque of the torsional drive spring [N m] and its derivative by the bolt's angle."""
-    return p.drive_stiffness * (driver_angle(p, t) - angle), -p.drive_stiffness
+class ToolState:
+    """A nutrunner's state, latched between the steps: ``off_time`` [s] (None while it runs), the
+    torque it holds from then on [N m], and the drive's last evaluation (time, bolt angle, torque): at a
+    step's start, that of the last accepted step's converged state."""
+
+    def __init__(self):
+        self.off_time, self.hold, self.last = None, 0.0, (0.0, 0.0, 0.0)
+
+
+def DriveTorque(p, angle, t, tool=None):
+    """Torque of the drive [N m] and its derivative by the bolt's angle: the torsional spring to the
+    driver, or after a nutrunner's shut-off (``tool``, a ToolState) the torque it holds. angle, t:
+    numbers, or arrays (the trajectory's column)."""
+    spring = p.drive_stiffness * (driver_angle(p, t) - angle)
+    if tool is None or tool.off_time is None:
+        if tool is not None and np.ndim(t) == 0:
+            tool.last = (t, angle, spring)
+        return spring, -p.drive_stiffness
+    if np.ndim(t) == 0:
+        return (tool.hold, 0.0) if t > tool.off_time else (spring, -p.drive_stiffness)
+    return np.where(np.asarray(t) > tool.off_time, tool.hold, spring), None
+
+
+def AddShutoff(mbs, p, nBolt, tool):
+    """The nutrunner's shut-off, checked before every step on the drive's last evaluation (the last
+    accepted step's converged state) once the bolt has turned rundown_angle (the head bears: the torque
+    of the run-down's start is no tightening): the drive torque at or above shutoff_torque (when > 0),
+    or the bolt's angle at or above shutoff_angle (when > 0), latches ``tool`` off with that torque."""
+
+    def PreStep(mbs, t):
+        t_last, yaw, torque = tool.last
+        if tool.off_time is None and yaw >= math.radians(p.rundown_angle) and (
+                (p.shutoff_torque > 0.0 and torque >= p.shutoff_torque)
+                or (p.shutoff_angle > 0.0 and yaw >= math.radians(p.shutoff_angle))):
+            tool.off_time, tool.hold = t_last, torque
+        return True
+    mbs.SetPreStepUserFunction(PreStep)
 
 
 def StaticPenetration(p):
@@ -91,7 +125,10 @@ def BuildFastening(p: FasteningParams, jacobian="analytic", implementation="auto
     if p.axial_load:
         load = mbs.CreateForce(itemNumber=oBolt, loadVector=[0.0, 0.0, -p.axial_load])
         mbs.SetLoadParameter(load, "Vshow", False)       # CreateForce(show=False) draws it all the same
-    oDrive = AddYawDrive(mbs, nBolt, nodeType, lambda angle, t: DriveTorque(p, angle, t))
+    tool = ToolState() if p.tool == "nutrunner" else None
+    oDrive = AddYawDrive(mbs, nBolt, nodeType, lambda angle, t: DriveTorque(p, angle, t, tool))
+    if tool is not None:
+        AddShutoff(mbs, p, nBolt, tool)
 
     z0 = part_top_z(p)
     Lx, Ly, Lz = PART_SIZE
@@ -127,7 +164,7 @@ def BuildFastening(p: FasteningParams, jacobian="analytic", implementation="auto
     mbs.Assemble()
     ss, st = SimulationSettingsFor(p, rhoInf=p.spectral_radius, newtonTolerance=newtonTolerance, newton=newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, oBolt=oBolt, oPart=oPart,
-                contacts=contacts, sensors=sensors, oDrive=oDrive)
+                contacts=contacts, sensors=sensors, oDrive=oDrive, tool=tool)
 
 
 def FasteningTrajectory(model):
@@ -146,11 +183,14 @@ def FasteningTrajectory(model):
     Tt, Th, F = contact_torques(model["contacts"]["thread"]["law"], model["contacts"]["head"]["law"], p, pos, vel, w,
                                 A, part_u, part_v, H["thread"], H["head"])
     axis = A[:, :, 2]
-    traj = dict(t=t, angle=angle, z=pos[:, 2], torque=DriveTorque(p, angle, t)[0], thread_torque=Tt, head_torque=Th,
+    tool = model["tool"]
+    on = np.ones(len(t)) if tool is None or tool.off_time is None else (t <= tool.off_time).astype(float)
+    traj = dict(t=t, angle=angle, z=pos[:, 2], torque=DriveTorque(p, angle, t, tool)[0], thread_torque=Tt,
+                head_torque=Th,
                 clamp_force=F, part_displacement=part_u[:, 2], tilt=np.arccos(np.clip(axis[:, 2], -1.0, 1.0)),
                 lateral=np.hypot(pos[:, 0], pos[:, 1]), vx=vel[:, 0], vy=vel[:, 1], vz=vel[:, 2], omega_x=w[:, 0],
                 omega_y=w[:, 1], omega_z=w[:, 2], omega_axial=np.einsum("ni,ni->n", w, axis),
-                part_velocity=part_v[:, 2],
+                part_velocity=part_v[:, 2], drive_on=on,
                 dissipated_energy=sum(h[:, :, H_DISSIPATED].sum(axis=1) for h in H.values()))
     bolt = energy.RigidMotion(pos, A, vel, w)
     Xt, Vt = energy.point_motion(bolt, thread_points(p))

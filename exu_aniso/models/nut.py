@@ -69,8 +69,9 @@ def BuildNut(p: NutParams, jacobian="analytic", implementation="auto", newton="m
             sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=nNut, storeInternal=True,
                                                      outputVariableType=getattr(exu.OutputVariableType, ovt)))
     else:
-        oNut = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=mass, inertiaTensor=J), referencePosition=[0.0, 0.0, z0],
-                                   nodeType=NODE_TYPES["EP"], graphicsDataList=NutGraphics(p))
+        oNut = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=mass, inertiaTensor=J),
+                                   referencePosition=[0.0, 0.0, z0], nodeType=NODE_TYPES["EP"],
+                                   graphicsDataList=NutGraphics(p))
         mbs.CreateForce(itemNumber=oNut, loadVector=[0.0, 0.0, -mass * p.gravity],
                         loadVectorUserFunction=lambda mbs, t, load: [0.0, 0.0, -float(weight_force(p, t))])
         nNut = mbs.GetObject(oNut)["nodeNumber"]

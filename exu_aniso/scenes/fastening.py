@@ -85,6 +85,14 @@ FASTENING_PARAMS = {
     "bolt_length": (0.05, "m", "length of the bolt", "> 0"),
     "part_mass": (0.2, "kg", "mass of the clamped part", "> 0"),
     "rotation_speed": (1.0, "rad/s", "speed of the rotation drive", "> 0"),
+    "tool": ("spring", "-", "the drive: a torsional spring to a driver turning at rotation_speed (spring), or a "
+             "nutrunner: the same until it shuts off, then holding its shut-off torque while its rotating inertia "
+             "(tool_inertia) runs on into the joint", ("spring", "nutrunner")),
+    "tool_inertia": (1e-3, "kg m^2", "nutrunner: rotating inertia of motor, gears and spindle, turning with the bolt",
+                     ">= 0"),
+    "shutoff_torque": (0.0, "N m", "nutrunner: drive torque at which it shuts off (0: not by torque)", ">= 0"),
+    "shutoff_angle": (0.0, "deg", "nutrunner: bolt angle at which it shuts off (0: not by angle; the first of the two "
+                      "reached)", ">= 0"),
     "reverse_time": (0.0, "s", "the driver turns back at rotation_speed from this time on (untightening: the "
                      "break-loose torque); 0: it never does", ">= 0"),
     "drive_stiffness": (2e3, "N m/rad", "torsional spring between driver and bolt", "> 0"),
@@ -143,6 +151,12 @@ class FasteningParams(SceneParams):
                              f"{self.turns} * {self.pitch!r} >= {self.bolt_length!r} / 2")
         if self.solver == "trapezoidal":
             raise ValueError(TRAPEZOIDAL_REFUSED)
+        if self.tool == "nutrunner" and not (self.shutoff_torque > 0.0 or self.shutoff_angle > 0.0):
+            raise ValueError("tool='nutrunner' needs shutoff_torque > 0 or shutoff_angle > 0 (when it shuts off); got "
+                             "both 0")
+        if self.tool == "nutrunner" and self.reverse_time > 0.0:
+            raise ValueError("reverse_time must be 0 with tool='nutrunner' (a nutrunner shuts off and holds; "
+                             f"untightening turns the spring drive back); got reverse_time={self.reverse_time!r}")
         if not (self.reverse_time == 0.0 or self.reverse_time < self.t_end):
             raise ValueError(f"reverse_time must be 0 (no untightening) or < t_end (the driver turns back within "
                              f"the run); got reverse_time={self.reverse_time!r} >= t_end={self.t_end!r}")
@@ -160,12 +174,13 @@ class FasteningParams(SceneParams):
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "torque": "N m", "thread_torque": "N m", "head_torque": "N m",
            "clamp_force": "N", "part_displacement": "m", "tilt": "rad", "lateral": "m",
            "vx": "m/s", "vy": "m/s", "vz": "m/s", "omega_x": "rad/s", "omega_y": "rad/s", "omega_z": "rad/s",
-           "omega_axial": "rad/s", "part_velocity": "m/s", "dissipated_energy": "J",
+           "omega_axial": "rad/s", "part_velocity": "m/s", "drive_on": "-", "dissipated_energy": "J",
            **LEDGER_COLUMNS}
 """trajectory.csv: the bolt's angle (unwrapped yaw) and axial advance, the drive torque, the thread and
 head torques about the axis (what the drive supplies to each), the clamp force, the clamped part's
 displacement, the bolt's tilt and lateral offset of its axis (wobble), the bolt's velocity and angular
-velocity (world frame) and its angular velocity about its own axis, the part's velocity, the dissipated
+velocity (world frame) and its angular velocity about its own axis, the part's velocity, whether the
+drive runs (1) or a nutrunner has shut off and holds its torque (0), the dissipated
 energy and the energy ledger. The ledger's terms follow from these columns and the parameters alone
 (as ``fastening_energy`` books them): work in = trapezoid of torque over angle - axial_load (z - z0);
 kinetic = bolt_mass |v|^2 / 2 + J_t |omega|^2 / 2 + (J_z - J_t) omega_axial^2 / 2 (``bolt_inertia``) +
@@ -322,9 +337,14 @@ def head_contact_law(p):
 
 
 def bolt_inertia(p):
-    """Mass and body-frame inertia (3, 3) of the bolt: a solid cylinder of diameter d2 and length bolt_length."""
+    """Mass and body-frame inertia (3, 3) of the bolt: a solid cylinder of diameter d2 and length
+    bolt_length, and a nutrunner's tool_inertia about its axis (the tool turns with it; half of it
+    across the axis, a disc's)."""
     m, r, L = p.bolt_mass, 0.5 * p.d2, p.bolt_length
     Jt = m * (3.0 * r * r + L * L) / 12.0
+    if p.tool == "nutrunner":
+        Jt += 0.5 * p.tool_inertia
+        return m, np.diag([Jt, Jt, 0.5 * m * r * r + p.tool_inertia])
     return m, np.diag([Jt, Jt, 0.5 * m * r * r])
 
 
@@ -514,6 +534,53 @@ def break_loose(p, t, angle, clamp_force, torque, undefined):
                 break_loose_torque_vdi2230=(Fb + p.axial_load) * vdi_thread + head)
 
 
+STOPPED_SPEED = 1e-3        # the bolt has stopped after a shut-off below this share of its shut-off speed
+ISO5393_HARD_DEG = 30.0     # ISO 5393: a hard joint reaches the target torque within 30 deg from half of it,
+ISO5393_SOFT_DEG = 720.0    # a soft joint within 720 deg
+
+
+def shutoff(p, t, omega, torque, joint_torque, drive_on, closed, undefined):
+    """A nutrunner's entries of the summary (tool='nutrunner'; else none): when it shut off
+    (``shutoff_time`` [s]), the torque it holds (``shutoff_torque_held`` [N m]) and the bolt's speed then
+    (``shutoff_speed`` [rad/s]), the joint's peak torque after it (``peak_torque`` [N m]: thread and
+    head) and the overshoot (``torque_overshoot`` [N m]) against the closed form ``torque_overshoot_theory``
+    = omega sqrt(J k_T): the rotating inertia's kinetic energy J omega^2 / 2 wound into a joint whose
+    torque rises by k_T per radian (k_T = T/F dF/dangle, the closed forms ``closed``; J the bolt's and the
+    tool's inertia about the axis) while the tool holds its torque; and the joint's ISO 5393 class from
+    the angle in which it climbs from half the held torque to all of it, T / (2 k_T): ``joint_class``
+    hard (<= 30 deg), soft (>= 720 deg) or between, with ``joint_angle_half_to_full`` [deg]."""
+    if p.tool != "nutrunner":
+        return {}
+    keys = ("shutoff_time", "shutoff_torque_held", "shutoff_speed", "peak_torque", "torque_overshoot",
+            "torque_overshoot_theory", "joint_angle_half_to_full", "joint_class")
+    off = np.flatnonzero(np.asarray(drive_on) < 0.5)
+    if len(off) == 0:
+        why = "the nutrunner did not shut off within the run: run longer (t_end) or shut off sooner"
+        undefined.update({k: why for k in keys})
+        return {k: None for k in keys}
+    i = off[0] - 1                     # the last sample with the drive running: the shut-off state
+    Ts, ws = float(torque[off[0]]), float(omega[i])
+    if not np.min(omega[off[0]:]) <= STOPPED_SPEED * abs(ws):
+        why = ("the run ended before the bolt stopped after the shut-off (its torque's peak not reached yet): run "
+               "longer (t_end)")
+        undefined.update({k: why for k in keys[3:]})
+        return dict(shutoff_time=float(t[i]), shutoff_torque_held=Ts, shutoff_speed=ws,
+                    **{k: None for k in keys[3:]})
+    peak = float(np.max(joint_torque[off[0]:]))
+    out = dict(shutoff_time=float(t[i]), shutoff_torque_held=Ts, shutoff_speed=ws, peak_torque=peak,
+               torque_overshoot=peak - Ts)
+    T_per_F, S = closed.get("torque_per_clamp_force_theory"), closed.get("clamp_force_per_angle_theory")
+    if T_per_F is None or S is None:
+        why = "the joint's torque rate T/F dF/dangle has no closed form here (see their entries)"
+        undefined.update(torque_overshoot_theory=why, joint_angle_half_to_full=why, joint_class=why)
+        return dict(out, torque_overshoot_theory=None, joint_angle_half_to_full=None, joint_class=None)
+    k_T = T_per_F * S
+    J = bolt_inertia(p)[1][2, 2]
+    half = math.degrees(0.5 * Ts / k_T)
+    return dict(out, torque_overshoot_theory=ws * math.sqrt(J * k_T), joint_angle_half_to_full=half,
+                joint_class="hard" if half <= ISO5393_HARD_DEG else "soft" if half >= ISO5393_SOFT_DEG else "between")
+
+
 def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     """Summary of a fastening run (any engine): seating angle, end values, the least-squares slopes
     in the tightening phase against their theory (``theory``), the ISO 16047 friction values, wobble.
@@ -535,8 +602,9 @@ def fastening_summary(traj, p, wall_s, steps, newton_iterations):
     th, undefined = theory(p)
     s.update(th)
     s.update(break_loose(p, t, ang, F, T, undefined))
-    if p.reverse_time > 0.0:            # the tightening: what happened before the driver turned back
-        rows = t <= p.reverse_time
+    s.update(shutoff(p, t, np.asarray(traj["omega_axial"], float), T, Tt + Th, traj["drive_on"], th, undefined))
+    if p.reverse_time > 0.0 or p.tool == "nutrunner":   # the tightening: before the driver turned back or shut off
+        rows = (t <= p.reverse_time) if p.reverse_time > 0.0 else (np.asarray(traj["drive_on"]) > 0.5)
         ang, F, T, Tt, Th = (a[rows] for a in (ang, F, T, Tt, Th))
     keys = ("seating_angle", "torque_per_clamp_force", "thread_torque_per_clamp_force", "head_torque_per_clamp_force",
             "clamp_force_per_angle", "mu_thread_iso16047", "mu_head_iso16047", "mu_total_iso16047")

@@ -23,9 +23,9 @@ section); below it runs down at the constant axial acceleration of ``nut_descent
 the inertia, the lead, the flank angle and mu. Stiffnesses are totals (docs/guide/conventions.md).
 
 Summary (every engine; ``nut_summary``): the end state, ``held`` (the thread slides less than a
-millionth of the pitch over the last tenth of the run), ``descent_acceleration`` (the slope of vz over the second half while the nut
-slides) beside ``descent_acceleration_theory``, ``self_locking_mu_theory``, and the energy ledger
-(``nut_energy``: gravity's potential, no work in).
+millionth of the pitch over the last tenth of the run), ``descent_acceleration`` (the slope of vz
+over the second half while the nut slides) beside ``descent_acceleration_theory``,
+``self_locking_mu_theory``, and the energy ledger (``nut_energy``: the weight's work in).
 """
 from __future__ import annotations
 
@@ -98,15 +98,15 @@ class NutParams(SceneParams):
                              f"{self.turns} * {self.pitch!r} > {self.nut_height!r}")
 
 
-COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "weight": "N", "normal_force": "N",
-           "stick_fraction": "-", "slip_fraction": "-", "slip_distance": "m", "dissipated_energy": "J",
+COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "weight": "N",
+           "normal_force": "N", "stick_fraction": "-", "slip_fraction": "-", "slip_distance": "m", "dissipated_energy": "J",
            # the full model's other motions (the reduced model has none)
            "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s",
            **LEDGER_COLUMNS}
 """trajectory.csv: the nut's angle (unwrapped yaw) and height (its centre of mass), their rates, its
-weight as it rises (the force along -z, ``weight_force``), the thread's total normal force (the sum of |N| over the points: one point of the reduced model carries the
-total), the shares of the points that stick and that slide, the slip distance, the dissipated energy and the
-ledger; the full model adds the centre's lateral position and velocity, the tilt of the nut's axis and
+weight as it rises (the force along -z, ``weight_force``), the thread's total normal force (the sum
+of |N| over the points: one point of the reduced model carries the total), the shares of the points
+that stick and that slide, the slip distance, the dissipated energy and the ledger; the full model adds the centre's lateral position and velocity, the tilt of the nut's axis and
 the angular velocity across the axis (world frame). Kinetic energy: nut_mass |v|^2 / 2 + nut_inertia
 omega^2 / 2 (+ the transverse inertia's share of omega_x, omega_y); work in: the weight over the
 descent (a trapezoid of weight over z0 - z)."""
@@ -225,7 +225,8 @@ def nut_summary(traj, p, wall_s, steps, newton_iterations):
                 descent_acceleration=acceleration,
                 descent_acceleration_theory=theory["descent_acceleration_theory"],
                 self_locking_mu_theory=theory["self_locking_mu_theory"],
-                slip_distance=float(traj["slip_distance"][-1]), dissipated_energy=float(traj["dissipated_energy"][-1]),
+                slip_distance=float(traj["slip_distance"][-1]),
+                dissipated_energy=float(traj["dissipated_energy"][-1]),
                 wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations),
                 undefined=undefined)
 
@@ -236,8 +237,9 @@ def reduced_motion(traj):
 
 
 def nut_energy(p, traj, motion, points, law, H):
-    """Energy ledger of a nut run (any engine): work in, the weight over the descent; kinetic; the contact's stored and dissipated energy at the evaluated points (one representative point
-    of the reduced model carries the totals). The full model's trajectory gains vx, vy, omega_x and
+    """Energy ledger of a nut run (any engine): work in, the weight over the descent; kinetic; the
+    contact's stored and dissipated energy at the evaluated points (one representative point of the
+    reduced model carries the totals). The full model's trajectory gains vx, vy, omega_x and
     omega_y (world), so the kinetic energy can be recomputed from trajectory.csv."""
     if p.model == "full":
         traj.update(vx=motion.velocity[:, 0], vy=motion.velocity[:, 1], omega_x=motion.omega[:, 0],
@@ -293,7 +295,8 @@ class _NutFull(RigidBody6):
         super().__init__(law, nut_points(p), m, np.diag(J), [0.0, 0.0, centre_height(p)], 0.5 * p.d2)
 
     def external(self, q, t):
-        return np.array([0.0, 0.0, -float(weight_force(self.p, t))]), np.zeros(3), np.zeros((3, 3)), np.zeros(3)
+        weight = np.array([0.0, 0.0, -float(weight_force(self.p, t))])
+        return weight, np.zeros(3), np.zeros((3, 3)), np.zeros(3)
 
     def record(self, q, v, t, st):
         r, R, yaw = q
@@ -312,7 +315,8 @@ def simulate_nut(params=None, **options):
     check_keywords("simulate_nut", options, RUN_OPTIONS)
     reduced = p.model == "reduced"
     model = (_NutReduced if reduced else _NutFull)(p, nut_contact_law(p, representative=reduced))
-    traj, wall, iters, steps, info, motion, H = run(model, p, floor=1e-6 * p.thread_stiffness * p.d2, **options)
+    floor = 1e-6 * p.thread_stiffness * p.d2
+    traj, wall, iters, steps, info, motion, H = run(model, p, floor=floor, **options)
     finish_trajectory(traj, H)
     summary = nut_summary(traj, p, wall, steps, iters)
     summary.update(nut_energy(p, traj, motion, model.s, model.law, H))
