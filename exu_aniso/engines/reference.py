@@ -197,6 +197,78 @@ class RigidBody6(BodyModel):
         return q[0], q[1], v[:3], self.world_omega(q, v)
 
 
+class PlanarBody(BodyModel):
+    """A rigid body moving in the plane z = const: q = (x, y, theta) [m, m, rad], v their rates; mass
+    diag(mass, mass, inertia); contact points s_k (body frame, (K, 2)) held at the height
+    ``point_height`` [m] (a normal load carried by a held penetration), the centre of mass at
+    ``com_height`` [m]; ``size`` [m] scales the torque row. Subclasses give ``drive(q, v, t)`` -> (force
+    (2,), its d/dq[:2] and d/dv[:2] (2, 2)) and may give ``torque(q, v, t)`` -> (torque about z [N m],
+    its d/dtheta, its d/domega); both act at the centre of mass."""
+
+    n = 3
+
+    def __init__(self, law, s, mass, inertia, size, q0, point_height, com_height):
+        self.law, self.s = law, np.asarray(s, float)
+        self.K = len(self.s)
+        self.gap, self.com_height = point_height, com_height
+        self.mass = np.array([mass, mass, inertia])
+        self.row_scale = np.array([1.0, 1.0, size])
+        self.dof_scale = np.array([size, size, 1.0])
+        self.q0 = np.array(q0, dtype=float)
+        self.v0 = np.zeros(3)
+
+    def drive(self, q, v, t):
+        raise NotImplementedError
+
+    def torque(self, q, v, t):
+        return None
+
+    def points(self, q, v):
+        c, s = math.cos(q[2]), math.sin(q[2])
+        P = self.s @ np.array([[c, s], [-s, c]])                      # R(theta) s_k, rows
+        X = np.column_stack([q[0] + P[:, 0], q[1] + P[:, 1], np.full(self.K, self.gap)])
+        V = np.column_stack([v[0] - v[2] * P[:, 1], v[1] + v[2] * P[:, 0], np.zeros(self.K)])
+        return X, V, P
+
+    def points0(self, q, v):
+        X, V, _ = self.points(q, v)
+        return X, V
+
+    def evaluate(self, q, v, t, H, tangent=True, dt=None):
+        X, V, P = self.points(q, v)
+        st = self.law.evaluate(X, V, H, tangent, dt)
+        f = st.force
+        Fd, dFd, dFd_v = self.drive(q, v, t)
+        applied = self.torque(q, v, t)
+        g = np.array([f[:, 0].sum() + Fd[0], f[:, 1].sum() + Fd[1],
+                      np.sum(P[:, 0] * f[:, 1] - P[:, 1] * f[:, 0])])
+        if applied is not None:
+            g[2] += applied[0]
+        Gq = Gv = None
+        if tangent:
+            J = np.zeros((self.K, 3, 3))
+            J[:, 0, 0] = J[:, 1, 1] = 1.0
+            J[:, 0, 2], J[:, 1, 2] = -P[:, 1], P[:, 0]
+            Gq = np.einsum("kai,kab,kbj->ij", J, st.stiffness, J)
+            Gq[2, 2] -= np.sum(P[:, 0] * f[:, 0] + P[:, 1] * f[:, 1])
+            Gq[:2, :2] += dFd
+            dV = np.zeros((self.K, 3, 3))                             # dV/dq at fixed v: arms turn
+            dV[:, 0, 2], dV[:, 1, 2] = -v[2] * P[:, 0], -v[2] * P[:, 1]
+            Gq += np.einsum("kai,kab,kbj->ij", J, st.damping, dV)
+            Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
+            Gv[:2, :2] += dFd_v
+            if applied is not None:
+                Gq[2, 2] += applied[1]
+                Gv[2, 2] += applied[2]
+        return g, Gq, Gv, st
+
+    def motion(self, q, v):
+        """(COM position, rotation matrix, velocity, angular velocity) in the world frame."""
+        c, s = math.cos(q[2]), math.sin(q[2])
+        return (np.array([q[0], q[1], self.com_height]), np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
+                np.array([v[0], v[1], 0.0]), np.array([0.0, 0.0, v[2]]))
+
+
 class ScrewJoint(BodyModel):
     """A body on a screw joint along the z axis: q = (psi [rad], z [m]), v = (omega, vz), the rotation
     about and the travel along z free and independent (a thread's lead comes from the contact, not the

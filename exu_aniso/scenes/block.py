@@ -30,7 +30,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from exu_aniso.engines import energy
-from exu_aniso.engines.reference import RUN_OPTIONS, BodyModel, RigidBody6, run
+from exu_aniso.engines.reference import RUN_OPTIONS, PlanarBody, RigidBody6, run
 from exu_aniso.engines.result import Result
 from exu_aniso.engines.timing import driver_travel
 from exu_aniso.kernel.contact_law import ContactLaw
@@ -252,20 +252,12 @@ def block_summary(traj, p, wall_s, steps, newton_iterations):
                 undefined=undefined)
 
 
-class _BlockPlanar(BodyModel):
-    n = 3
-
+class _BlockPlanar(PlanarBody):
     def __init__(self, p, law):
-        self.p, self.law = p, law
-        self.s = block_points(p)[:, :2]
-        self.K = len(self.s)
-        self.gap = -p.normal_load / p.eps_n
+        self.p = p
+        gap = -p.normal_load / p.eps_n
         m, J = block_inertia(p)
-        self.mass = np.array([m, m, J[2, 2]])
-        self.row_scale = np.array([1.0, 1.0, p.size])
-        self.dof_scale = np.array([p.size, p.size, 1.0])
-        self.q0 = np.array([p.x0, p.y0, 0.0])
-        self.v0 = np.zeros(3)
+        super().__init__(law, block_points(p)[:, :2], m, J[2, 2], p.size, [p.x0, p.y0, 0.0], gap, p.size / 2 + gap)
         self.d = np.array([math.cos(math.radians(p.drive_angle)), math.sin(math.radians(p.drive_angle))])
 
     def drive(self, q, v, t):
@@ -275,48 +267,9 @@ class _BlockPlanar(BodyModel):
             return p.force * self.d, np.zeros((2, 2)), np.zeros((2, 2))
         return drive_force(p, self.d, q[:2] - self.q0[:2], v[:2], t)
 
-    def points(self, q, v):
-        c, s = math.cos(q[2]), math.sin(q[2])
-        P = self.s @ np.array([[c, s], [-s, c]])                      # R(theta) s_k, rows
-        X = np.column_stack([q[0] + P[:, 0], q[1] + P[:, 1], np.full(self.K, self.gap)])
-        V = np.column_stack([v[0] - v[2] * P[:, 1], v[1] + v[2] * P[:, 0], np.zeros(self.K)])
-        return X, V, P
-
-    def points0(self, q, v):
-        X, V, _ = self.points(q, v)
-        return X, V
-
-    def evaluate(self, q, v, t, H, tangent=True, dt=None):
-        X, V, P = self.points(q, v)
-        st = self.law.evaluate(X, V, H, tangent, dt)
-        f = st.force
-        Fd, dFd, dFd_v = self.drive(q, v, t)
-        g = np.array([f[:, 0].sum() + Fd[0], f[:, 1].sum() + Fd[1],
-                      np.sum(P[:, 0] * f[:, 1] - P[:, 1] * f[:, 0])])
-        Gq = Gv = None
-        if tangent:
-            J = np.zeros((self.K, 3, 3))
-            J[:, 0, 0] = J[:, 1, 1] = 1.0
-            J[:, 0, 2], J[:, 1, 2] = -P[:, 1], P[:, 0]
-            Gq = np.einsum("kai,kab,kbj->ij", J, st.stiffness, J)
-            Gq[2, 2] -= np.sum(P[:, 0] * f[:, 0] + P[:, 1] * f[:, 1])
-            Gq[:2, :2] += dFd
-            dV = np.zeros((self.K, 3, 3))                             # dV/dq at fixed v: arms turn
-            dV[:, 0, 2], dV[:, 1, 2] = -v[2] * P[:, 0], -v[2] * P[:, 1]
-            Gq += np.einsum("kai,kab,kbj->ij", J, st.damping, dV)
-            Gv = np.einsum("kai,kab,kbj->ij", J, st.damping, J)
-            Gv[:2, :2] += dFd_v
-        return g, Gq, Gv, st
-
-    def motion(self, q, v):
-        """(COM position, rotation matrix, velocity, angular velocity) in the world frame."""
-        c, s = math.cos(q[2]), math.sin(q[2])
-        return (np.array([q[0], q[1], self.p.size / 2 + self.gap]), np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
-                np.array([v[0], v[1], 0.0]), np.array([0.0, 0.0, v[2]]))
-
     def record(self, q, v, t, st):
         Fd = self.drive(q, v, t)[0]
-        return dict(x=q[0], y=q[1], theta=q[2], vx=v[0], vy=v[1], omega=v[2], z=self.p.size / 2 + self.gap,
+        return dict(x=q[0], y=q[1], theta=q[2], vx=v[0], vy=v[1], omega=v[2], z=self.com_height,
                     drive_force=float(Fd @ self.d))
 
 
