@@ -6,7 +6,7 @@
     exu-aniso compile [SCENE ...|all]
 
 SCENE: one of the scene catalog (``exu_aniso.catalog``: block, screw, particle, capstan, feeder,
-fastening, nut, fe_block, fe_screw).
+fastening, nut, loosening, fe_block, fe_screw).
 
 ``run`` writes DIR/trajectory.csv (header row of plain names; SI units listed under "units" in
 summary.json), DIR/summary.json

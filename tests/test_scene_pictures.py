@@ -29,7 +29,7 @@ def _without_contact_graphics(mbs, contacts):
 # the share of the picture the contact's drawing must change, per scene whose contact draws its surface:
 # the fastening's are fine nets about a large bolt (the bearing face's 1.6 head radii, the nut's flank a
 # quarter of d2 wide), 2.0 % of the snapshot, 2.7 % of the live window, 3.2 % of the SolutionViewer's
-DRAWN_BY_THE_CONTACT = dict(block=0.05, screw=0.05, particle=0.05, capstan=0.05, fastening=0.01, nut=0.01,
+DRAWN_BY_THE_CONTACT = dict(block=0.05, screw=0.05, particle=0.05, capstan=0.05, fastening=0.01, nut=0.01, loosening=0.05,
                             fe_block=0.05, fe_screw=0.05)
 
 

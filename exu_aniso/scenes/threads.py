@@ -149,3 +149,60 @@ def nut_descent(d2, pitch, flank_angle, mu, mass, inertia, gravity):
     A = r / W + mu * h / L
     psi_dd = -mass * gravity / (mass * h - inertia * A / B)
     return h * psi_dd, psi_dd, inertia * psi_dd / B
+
+
+# ----------------------------------------------------------------------------------------------
+# a bearing ring that slides sideways (friction neutralised by transverse slip)
+
+def ring_torque_factor(spin_ratio):
+    """The friction torque of a ring of radius r pressed by N, sliding sideways at speed v while it
+    turns at omega, over mu N r [-]: G(s) = (1 / 2 pi) int (s - sin phi) / sqrt(1 + s^2 - 2 s sin phi)
+    dphi, s = omega r / v the spin ratio (Coulomb friction against every point's slip velocity v e_x +
+    omega r e_phi). G(0) = 0, G ~ s / 2 for s << 1 (a sideways slip takes the friction's grip on the
+    turning away), G -> 1 as s grows (no sideways slip: the whole ring's mu N r). Integrated with
+    scipy's quad to 1e-13."""
+    from scipy.integrate import quad
+    s = float(spin_ratio)
+    if not (math.isfinite(s) and s >= 0.0):
+        raise ValueError(f"spin_ratio must be a finite number >= 0; got {spin_ratio!r}")
+
+    def integrand(phi):
+        w = math.sqrt(max(1.0 + s * s - 2.0 * s * math.sin(phi), 0.0))
+        return (s - math.sin(phi)) / w if w > 0.0 else 0.0
+    value, _ = quad(integrand, 0.0, 2.0 * math.pi, points=[0.5 * math.pi], epsabs=1e-13, epsrel=1e-13, limit=200)
+    return value / (2.0 * math.pi)
+
+
+def ring_drag_factor(spin_ratio):
+    """The friction force against the sideways slide of the ring of ``ring_torque_factor``, over mu N [-]:
+    D(s) = (1 / 2 pi) int (1 - s sin phi) / sqrt(1 + s^2 - 2 s sin phi) dphi; D(0) = 1 (no turning: the
+    ring's whole friction resists the slide), D -> 0 as the turning takes over. (Across the slide the
+    ring's friction cancels.)"""
+    from scipy.integrate import quad
+    s = float(spin_ratio)
+    if not (math.isfinite(s) and s >= 0.0):
+        raise ValueError(f"spin_ratio must be a finite number >= 0; got {spin_ratio!r}")
+
+    def integrand(phi):
+        w = math.sqrt(max(1.0 + s * s - 2.0 * s * math.sin(phi), 0.0))
+        return (1.0 - s * math.sin(phi)) / w if w > 0.0 else 0.0
+    value, _ = quad(integrand, 0.0, 2.0 * math.pi, points=[0.5 * math.pi], epsabs=1e-13, epsrel=1e-13, limit=200)
+    return value / (2.0 * math.pi)
+
+
+def ring_spin_ratio(torque_ratio):
+    """The spin ratio s = omega r / v at which a sideways-sliding ring's friction torque equals an
+    applied torque, ``torque_ratio`` = T / (mu N r) in [0, 1): G(s) = T / (mu N r) (``ring_torque_factor``,
+    increasing from 0 to 1). Raises ValueError, naming the torque, at or above 1 (the torque outgrows
+    the whole ring's friction: the ring spins up without bound)."""
+    from scipy.optimize import brentq
+    g = float(torque_ratio)
+    if not (math.isfinite(g) and 0.0 <= g < 1.0):
+        raise ValueError(f"torque: T / (mu N r) = {torque_ratio!r} must lie in [0, 1) for a steady spin (at 1 the "
+                         "torque outgrows the ring's whole friction)")
+    if g == 0.0:
+        return 0.0
+    hi = 1.0
+    while ring_torque_factor(hi) < g:
+        hi *= 2.0
+    return brentq(lambda s: ring_torque_factor(s) - g, 0.0, hi, xtol=1e-14, rtol=1e-14)
