@@ -228,6 +228,11 @@ RUNS = [
              lambda s: s["torque_overshoot"], "{:.4f}"),
     RunClaim("docs/guide/scenes.md", _SOFT, "N m against {} N m (`tests", "0.8903",
              lambda s: s["torque_overshoot_theory"], "{:.4f}"),
+    # the loosening's bearing ring
+    RunClaim("docs/guide/scenes.md", ("loosening",), "spins at {} rad/s against", "1.481632",
+             lambda s: s["spin_rate"], "{:.6f}"),
+    RunClaim("docs/guide/scenes.md", ("loosening",), "ring integral's {} rad/s", "1.481631",
+             lambda s: s["spin_rate_theory"], "{:.6f}"),
 ]
 
 

@@ -47,17 +47,19 @@ def exudyn_run():
 
 def test_bearing_ring_spins_at_the_ring_integral_on_exudyn(exudyn_run):
     """Preload 10 kN, mu 0.12, r_K 6.6 mm, dragged at 0.02 m/s, turned by 2 N m (a quarter of the ring's
-    whole friction torque): measured -2.8e-5 off the spin rate, -1.7e-7 off the drag force."""
+    whole friction torque): measured 5.0e-7 off the spin rate, -3.1e-8 off the drag force."""
     s = exudyn_run.summary
     assert s["spin_rate"] == pytest.approx(s["spin_rate_theory"], rel=1e-3)
     assert s["drag_force_mean"] == pytest.approx(s["drag_force_theory"], rel=1e-3)
     assert s["energy_ok"]
 
 
-def test_bearing_ring_spins_at_the_ring_integral_on_the_reference():
-    """The reference engine: measured -7.8e-5 off the spin rate."""
+def test_bearing_ring_spins_at_the_ring_integral_on_the_reference(exudyn_run):
+    """The reference engine: measured 5.0e-7 off the spin rate; it agrees with Exudyn's mean spin rate
+    to 1e-8 (Exudyn cuts some steps at the start, so the samples differ there)."""
     s = simulate_loosening(LooseningParams()).summary
     assert s["spin_rate"] == pytest.approx(s["spin_rate_theory"], rel=1e-3)
+    assert s["spin_rate"] == pytest.approx(exudyn_run.summary["spin_rate"], rel=1e-8)
     assert s["energy_ok"]
 
 

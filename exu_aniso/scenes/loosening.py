@@ -48,7 +48,8 @@ LOOSENING_PARAMS = {
     "points": (24, "-", "contact points on the bearing ring (>= 3)", "int >= 1"),
     "mu_bearing": (0.12, "-", "bearing friction mu_K (isotropic)", "> 0"),
     "bearing_stiffness": (1e10, "N/m", "normal penalty stiffness of the bearing contact (total)", "> 0"),
-    "sticking_stiffness": (2e9, "N/m", "sticking stiffness of the bearing contact (total)", "> 0"),
+    "sticking_stiffness": (2e8, "N/m", "sticking stiffness of the bearing contact (total; 6 um of elastic stick at the "
+                           "default friction limit)", "> 0"),
     "slip_speed": (0.02, "m/s", "speed at which the ring is dragged across the plate (along x)", "> 0"),
     "torque": (2.0, "N m", "torque turning the ring about its axis (below mu_bearing preload bearing_radius)",
                ">= 0"),
