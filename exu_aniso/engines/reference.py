@@ -5,9 +5,10 @@ No Exudyn here: this module is the oracle the Exudyn engine is compared with.
 Body models: any ``BodyModel`` (a configuration, a velocity and the generalized forces of its
 contact points); each scene's module defines its own and says what it models (e.g. the block's
 planar and 6-DOF models in ``exu_aniso.scenes.block``, the screw's in ``exu_aniso.scenes.screw``, a
-mass point in ``exu_aniso.scenes.particle``). ``RigidBody6`` is the 6-DOF rigid body they share:
-position r of the COM (world), rotation matrix R (body -> world), velocity v (world), angular
-velocity Omega (BODY frame).
+mass point in ``exu_aniso.scenes.particle``). They share three: ``PlanarBody`` (x, y, theta, its
+points held at a height), ``ScrewJoint`` (a turn about and a travel along z) and ``RigidBody6``, the
+6-DOF rigid body: position r of the COM (world), rotation matrix R (body -> world), velocity v
+(world), angular velocity Omega (BODY frame).
 
 Contact: ``ContactLaw.evaluate`` at the end-of-step configuration with the last CONVERGED history
 (backward Euler of the rate law); the history candidate is committed only when the step is
