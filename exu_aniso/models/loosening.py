@@ -20,8 +20,8 @@ import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import (AddSpringDrive, HistoryOutputs, ModelScript, SceneView,
                                                      SimulationSettingsFor)
 from exu_aniso.engines import energy
-from exu_aniso.scenes.loosening import (SCENE, LooseningParams, bearing_contact_law, drag_force, held_gap,
-                                        ring_points)
+from exu_aniso.scenes.loosening import (SCENE, LooseningParams, bearing_contact_law, drag_force, finish_trajectory,
+                                        held_gap, ring_points, torque_at, transverse_force)
 from exu_aniso.util.validation import check_instance
 
 
@@ -43,10 +43,15 @@ def BuildLoosening(p: LooseningParams, jacobian="analytic", implementation="auto
     nNut = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0.0, 0.0, 0.0]))
     oNut = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nNut, mass=p.nut_mass, inertia=p.nut_inertia,
                                            visualization=VObjectRigidBody2D(graphicsData=NutGraphics(p))))
-    AddSpringDrive(mbs, nNut, [1.0, 0.0, 0.0], p.drag_stiffness, p.slip_speed, damping=p.drag_damping)
+    if p.drag == "speed":
+        AddSpringDrive(mbs, nNut, [1.0, 0.0, 0.0], p.drag_stiffness, p.slip_speed, damping=p.drag_damping)
+    else:
+        mX = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nNut, coordinate=0))
+        mbs.AddLoad(LoadCoordinate(markerNumber=mX, load=0.0,
+                                   loadUserFunction=lambda mbs, t, load: float(transverse_force(p, t))))
     AddSpringDrive(mbs, nNut, [0.0, 1.0, 0.0], p.drag_stiffness, 0.0, damping=p.drag_damping)
     mbs.AddLoad(LoadCoordinate(markerNumber=mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nNut, coordinate=2)),
-                               load=p.torque))
+                               load=p.torque, loadUserFunction=lambda mbs, t, load: float(torque_at(p, t))))
     points = ring_points(p)
     points[:, 2] = held_gap(p)                  # the plane's points at the height that carries the preload
     contact = mbs.CreateAnisotropicContact(name="bearingContact", bodyNumber=oNut, localPoints=points,
@@ -73,6 +78,7 @@ def ReadLoosening(model, complete):
     traj = dict(t=t, x=Q[:, 1], y=Q[:, 2], angle=Q[:, 3], vx=V[:, 1], vy=V[:, 2], omega=V[:, 3],
                 drag_force=drag_force(p, Q[:, 1], Q[:, 2], V[:, 1], V[:, 2], t)[0],
                 dissipated_energy=diss, slip_distance=slip)
+    finish_trajectory(traj, H)
     if not complete:
         return traj, {}, None
     motion = energy.motion_about_z(traj["x"], traj["y"], held_gap(p), traj["angle"], traj["vx"], traj["vy"], 0.0,
