@@ -111,6 +111,7 @@ _FASTENING = ("fastening",)
 _UNTIGHTEN = ("fastening", "--set", "reverse_time=1.5", "--set", "t_end=1.7")
 _NUTRUNNER = ("fastening", "--set", "tool=nutrunner", "--set", "shutoff_torque=20", "--set", "tool_inertia=1e-2",
               "--set")
+_ONSET = ("loosening", "--set", "drag=ramp", "--set", "force_rate=1e3", "--set", "t_end=1.14")
 _SOFT = _NUTRUNNER + ("rotation_speed=10", "--set", "joint_stiffness=2e6", "--set", "t_end=2.9")
 _QUASI_STATIC = [("capstan", "--set", f"ramp_rate={r}", "--set", f"dt=2.5e-4/{r}", "--set", f"t_end={t}")
                  for r, t in (("5.5", "0.7"), ("12.4", "0.4"))]
@@ -233,6 +234,10 @@ RUNS = [
              lambda s: s["spin_rate"], "{:.6f}"),
     RunClaim("docs/guide/scenes.md", ("loosening",), "ring integral's {} rad/s", "1.481631",
              lambda s: s["spin_rate_theory"], "{:.6f}"),
+    RunClaim("docs/guide/scenes.md", _ONSET, "starts to slide at {} N against", "1125.2", lambda s: s["onset_force"],
+             "{:.1f}"),
+    RunClaim("docs/guide/scenes.md", _ONSET, "N against {} N. Shaken", "1124.7", lambda s: s["onset_force_theory"],
+             "{:.1f}"),
 ]
 
 
