@@ -310,12 +310,4 @@ an ``exu_aniso.engines.result.Result`` with ``scenes.capstan.COLUMNS``, the summ
 
 
 if __name__ == "__main__":
-    import matplotlib.pyplot as plt
-
-    from exu_aniso.scenes.capstan import PlotCapstan, TITLE_KEYS
-    res = RunCapstan(progress=True)
-    fig = plt.figure(figsize=(6.0, 6.5))
-    PlotCapstan(res.trajectory, res.params, fig)
-    fig.suptitle(", ".join(f"{k} {res.summary[k]:.4g}" for k in TITLE_KEYS if res.summary[k] is not None),
-                 fontsize=9)
-    plt.show()
+    MODEL.show()

@@ -221,13 +221,4 @@ returns an ``exu_aniso.engines.result.Result`` with ``scenes.fastening.COLUMNS``
 
 
 if __name__ == "__main__":
-    import matplotlib.pyplot as plt
-
-    from exu_aniso.scenes.fastening import PlotFastening
-
-    result = RunFastening(FasteningParams(), progress=True)
-    print({k: v for k, v in result.summary.items() if not isinstance(v, dict)})
-    fig = plt.figure(figsize=(6, 7))
-    PlotFastening(result.trajectory, result.params, fig)
-    fig.tight_layout()
-    plt.show()
+    MODEL.show()

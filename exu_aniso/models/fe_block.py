@@ -143,13 +143,4 @@ an ``exu_aniso.engines.result.Result`` with ``scenes.fe_block.COLUMNS``, the sum
 
 
 if __name__ == "__main__":
-    import matplotlib.pyplot as plt
-
-    from exu_aniso.scenes.fe_block import PlotFeBlock
-
-    result = RunFeBlock(FeBlockParams(), progress=True)
-    print({k: v for k, v in result.summary.items() if not isinstance(v, dict)})
-    fig = plt.figure(figsize=(11, 4.5))
-    PlotFeBlock(result.trajectory, result.params, fig)
-    fig.tight_layout()
-    plt.show()
+    MODEL.show()

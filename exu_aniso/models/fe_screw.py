@@ -120,13 +120,4 @@ BasisWarning when it is not None), and the energy ledger."""
 
 
 if __name__ == "__main__":
-    import matplotlib.pyplot as plt
-
-    from exu_aniso.scenes.fe_screw import PlotFeScrew
-
-    result = RunFeScrew(FeScrewParams(), progress=True)
-    print({k: v for k, v in result.summary.items() if not isinstance(v, (dict, list))})
-    fig = plt.figure(figsize=(13, 4.5))
-    PlotFeScrew(result.trajectory, result.params, fig)
-    fig.tight_layout()
-    plt.show()
+    MODEL.show()

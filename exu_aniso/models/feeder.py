@@ -142,13 +142,4 @@ an ``exu_aniso.engines.result.Result`` with ``scenes.feeder.COLUMNS``, the summa
 
 
 if __name__ == "__main__":
-    import matplotlib.pyplot as plt
-
-    from exu_aniso.scenes.feeder import PlotFeeder
-
-    result = RunFeeder(FeederParams(), progress=True)
-    print({k: v for k, v in result.summary.items() if not isinstance(v, dict)})
-    fig = plt.figure(figsize=(6, 6.5))
-    PlotFeeder(result.trajectory, result.params, fig)
-    fig.tight_layout()
-    plt.show()
+    MODEL.show()

@@ -7,7 +7,8 @@ and the hold along y are C++ spring drives (``runner.AddSpringDrive``: a spring 
 driver at slip_speed, and to the origin); the torque a ``LoadCoordinate`` on the angle; the plate one
 ``mbs.CreateAnisotropicContact`` with the scene's plane.
 
-``RunLoosening`` returns the same ``Result`` as ``exu_aniso.scenes.loosening.simulate_loosening``.
+``RunLoosening`` returns the same ``Result`` as ``exu_aniso.scenes.loosening.simulate_loosening``. Run
+``python -m exu_aniso.models.loosening`` for a plot of the default scene.
 """
 from __future__ import annotations
 
@@ -92,3 +93,7 @@ RunLoosening = MODEL.run
 """Build (``BuildLoosening(p, **options)``) and solve the loosening scene: ``ModelScript.run``, which
 returns an ``exu_aniso.engines.result.Result`` with ``scenes.loosening.COLUMNS``, the summary
 (``scenes.loosening.loosening_summary``) and the energy ledger."""
+
+
+if __name__ == "__main__":
+    MODEL.show()

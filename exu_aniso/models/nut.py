@@ -130,13 +130,4 @@ and the energy ledger."""
 
 
 if __name__ == "__main__":
-    import matplotlib.pyplot as plt
-
-    from exu_aniso.scenes.nut import PlotNut
-
-    result = RunNut(NutParams(), progress=True)
-    print({k: v for k, v in result.summary.items() if not isinstance(v, dict)})
-    fig = plt.figure(figsize=(6, 6))
-    PlotNut(result.trajectory, result.params, fig)
-    fig.tight_layout()
-    plt.show()
+    MODEL.show()

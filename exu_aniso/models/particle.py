@@ -86,14 +86,4 @@ returns an ``exu_aniso.engines.result.Result`` with the reference's trajectory k
 
 
 if __name__ == "__main__":
-    import matplotlib.pyplot as plt
-
-    from exu_aniso.scenes.particle import PlotParticle
-
-    result = RunParticle(ParticleParams(), progress=True)
-    print({k: v for k, v in result.summary.items() if not isinstance(v, dict)})
-    fig = plt.figure(figsize=(10, 4.5))
-    PlotParticle(result.trajectory, result.params, fig)
-    fig.tight_layout()
-    plt.show()
-
+    MODEL.show()

@@ -351,6 +351,19 @@ class ModelScript:
             info["snapshot"] = WriteSnapshot(model, snapshot, **self.snapshotOptions)
         return Result(traj, summary, p, info)
 
+    def show(self, p=None):
+        """What a model script does as ``python -m exu_aniso.models.<scene>``: run the scene (its
+        defaults if p is None) with progress, print the summary's plain values and show its
+        trajectory plot (``scene.plot`` on a Figure of ``scene.figsize``). Returns the Result."""
+        import matplotlib.pyplot as plt
+        result = self.run(p, progress=True)
+        print({k: v for k, v in result.summary.items() if not isinstance(v, (dict, list))})
+        fig = plt.figure(figsize=self.scene.figsize)
+        self.scene.plot(result.trajectory, result.params, fig)
+        fig.tight_layout()
+        plt.show()
+        return result
+
 
 def SettingsInfo(simulationSettings, contacts):
     """The settings every scene's run reports in its info, read from what was built (not from the
