@@ -92,3 +92,13 @@ def test_below_the_onset_a_thousand_cycles_turn_nothing():
     assert s["cycles"] == 1000 and not s["slid_as_a_whole"]
     assert abs(s["rotation_per_cycle"]) < 1e-10
     assert s["rotation_max"] < 1e-3 and s["energy_ok"]
+
+
+def test_loosening_study_quick(tmp_path, quick_study):
+    """studies/loosening.py --quick: the spin rate within 1e-3 and the onset within 1e-3 at every step."""
+    from exu_aniso.util.output import read_table
+    quick_study("loosening", tmp_path)
+    T = read_table(tmp_path / "refinement.csv")
+    assert set(T["case [-]"]) == {"spin", "onset"}
+    assert all(abs(e) < 1e-3 for e in T["error [-]"])
+    assert "python studies/loosening.py" in (tmp_path / "report.md").read_text()
