@@ -1,6 +1,6 @@
 """
 A nut's bearing ring that slides sideways loses its grip on the turning
-======================================================================
+=======================================================================
 
 Why do shaken bolted joints loosen? While a contact ring slides sideways at a speed v, Coulomb friction
 acts against every point's slip velocity v e_x + omega r e_phi, so it resists a turning only in
