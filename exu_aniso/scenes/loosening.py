@@ -22,8 +22,8 @@ does not turn.
 The preloaded joint (``case="joint"``: bolt, nut and plate, the nut shaken across the axis, the preload
 against the cycles) is the next case. Its closed forms (the pitch's torque F P / (2 pi) balanced by the
 thread's and the bearing's rings in complete slip; the preload lost per radian, the joint stiffness
-times P / (2 pi)) assume uniform rings that slide throughout, and a nut shaken sideways on a V flank
-loads its ring unevenly and slides only part of the time.
+times P / (2 pi)) assume uniform rings that slide throughout, and a nut shaken sideways tilts and
+opens part of its thread ring.
 """
 from __future__ import annotations
 
