@@ -33,8 +33,9 @@ from exudyn.rigidBodyUtilities import RigidBodyInertia
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
 from exu_aniso.engines.exudyn_adapter.runner import (SceneView, IMPLICIT_SOLVERS, NODE_TYPES, AddSpringDrive,
-                                                     AddScrewJointBody, AddYawDrive, HistoryOutputs, ModelScript, SensorMotion,
-                                                     SimulationSettingsFor, SolveTimed, Unwrap)
+                                                     AddScrewJointBody, AddYawDrive, HistoryOutputs,
+                                                     ModelScript, SensorMotion, SimulationSettingsFor,
+                                                     SolveTimed, Unwrap)
 from exu_aniso.scenes.screw import SCENE, ScrewParams, reduced_motion, screw_contact_law, screw_points
 from exu_aniso.util.validation import check_bool, check_instance
 

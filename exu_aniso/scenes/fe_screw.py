@@ -58,8 +58,8 @@ from exu_aniso.scenes.base import (LEDGER_COLUMNS, LEDGER_TERM_COLUMNS, SOLVERS,
                                    energy_ledger, scene_parameters, solver_advice)
 from exu_aniso.scenes.scene import Scene
 from exu_aniso.scenes.fe_block import contact_columns
-from exu_aniso.scenes.screw import (SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewParams, screw_closed_forms, screw_contact_law,
-                                    screw_summary)
+from exu_aniso.scenes.screw import (SCREW_NORMAL_DAMPING, SCREW_PARAMS, ScrewParams, screw_closed_forms,
+                                    screw_contact_law, screw_summary)
 
 FE_SCREW_PARAMS = {
     "model": ("reduced", "-", "the elastic body in its floating frame: full (every coordinate of the nodes off the "

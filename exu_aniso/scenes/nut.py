@@ -99,15 +99,17 @@ class NutParams(SceneParams):
 
 
 COLUMNS = {"t": "s", "angle": "rad", "z": "m", "omega": "rad/s", "vz": "m/s", "weight": "N",
-           "normal_force": "N", "stick_fraction": "-", "slip_fraction": "-", "slip_distance": "m", "dissipated_energy": "J",
+           "normal_force": "N", "stick_fraction": "-", "slip_fraction": "-", "slip_distance": "m",
+           "dissipated_energy": "J",
            # the full model's other motions (the reduced model has none)
            "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "tilt": "rad", "omega_x": "rad/s", "omega_y": "rad/s",
            **LEDGER_COLUMNS}
 """trajectory.csv: the nut's angle (unwrapped yaw) and height (its centre of mass), their rates, its
 weight as it rises (the force along -z, ``weight_force``), the thread's total normal force (the sum
 of |N| over the points: one point of the reduced model carries the total), the shares of the points
-that stick and that slide, the slip distance, the dissipated energy and the ledger; the full model adds the centre's lateral position and velocity, the tilt of the nut's axis and
-the angular velocity across the axis (world frame). Kinetic energy: nut_mass |v|^2 / 2 + nut_inertia
+that stick and that slide, the slip distance, the dissipated energy and the ledger; the full model
+adds the centre's lateral position and velocity, the tilt of the nut's axis and the angular velocity
+across the axis (world frame). Kinetic energy: nut_mass |v|^2 / 2 + nut_inertia
 omega^2 / 2 (+ the transverse inertia's share of omega_x, omega_y); work in: the weight over the
 descent (a trapezoid of weight over z0 - z)."""
 TITLE_KEYS = ("descent_acceleration", "descent_acceleration_theory")
