@@ -22,8 +22,9 @@ does not turn.
 The preloaded joint (``case="joint"``: bolt, nut and plate, the nut shaken across the axis, the preload
 against the cycles) is the next case. Its closed forms (the pitch's torque F P / (2 pi) balanced by the
 thread's and the bearing's rings in complete slip; the preload lost per radian, the joint stiffness
-times P / (2 pi)) assume uniform rings that slide throughout, and a nut shaken sideways tilts and
-opens part of its thread ring.
+times P / (2 pi)) assume uniform rings that slide throughout, and a nut shaken sideways opens part of
+its thread ring: its shift wedges the flank (through the lead angle alone on a square thread) by more
+than the penetration that carries the preload.
 """
 from __future__ import annotations
 
