@@ -12,7 +12,8 @@ import warnings
 HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
-from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
+from _lib.studylib import (Timer, finish, markdown_table, parse_args, plot_error_against_wall, read_table,  # noqa: E402
+                           sweep, table)
 
 from exu_aniso.scenes.loosening import LooseningParams  # noqa: E402
 
@@ -49,7 +50,7 @@ def main(argv=None):
                   for c, o in zip(cases, out)])
     T = read_table(path)
     rows = [[T[c][i] for c in COLS] for i in range(len(cases))]
-    fig = plot(args.out)
+    fig = plot_error_against_wall(args.out, "refinement.csv", "case [-]", ("spin", "onset"), "loosening.png")
     p = LooseningParams()
     body = f"""
 Scene: `exu_aniso/scenes/loosening.py` (LooseningParams; Exudyn model `exu_aniso/models/loosening.py`), its case
@@ -82,28 +83,6 @@ def verdict(T):
             f"default takes dt = {LooseningParams().dt:g} s, where the error has reached its floor. The onset "
             f"lies within {max(onset):.2g} of its closed form at every step: what limits it is the runaway "
             f"speed that marks it (1 cm/s) and the force's rise, not the step.")
-
-
-def plot(out):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    T = read_table(os.path.join(out, "refinement.csv"))
-    fig, ax = plt.subplots(figsize=(5.5, 4.0))
-    for case, mk in (("spin", "o-"), ("onset", "s-")):
-        idx = [i for i, c in enumerate(T["case [-]"]) if c == case]
-        ax.loglog([T["wall [s]"][i] for i in idx], np.maximum(np.abs([T["error [-]"][i] for i in idx]), 1e-16), mk,
-                  label=case)
-    ax.set(xlabel="wall time of the solve [s]", ylabel="|relative error| [-]")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    name = "loosening.png"
-    fig.savefig(os.path.join(out, name), dpi=110)
-    plt.close(fig)
-    return name
 
 
 if __name__ == "__main__":

@@ -13,7 +13,8 @@ import warnings
 HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
-from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table, sweep, table  # noqa: E402
+from _lib.studylib import (Timer, finish, markdown_table, parse_args, plot_error_against_wall, read_table,  # noqa: E402
+                           sweep, table)
 
 from exu_aniso.scenes.nut import NutParams, nut_closed_forms  # noqa: E402
 
@@ -73,7 +74,8 @@ def main(argv=None):
     found, mu_c, runs = bisect_threshold()
     table(os.path.join(args.out, "threshold.csv"), ["found [-]", "theory [-]", "error [-]", "runs [-]"],
           [[found, mu_c, found / mu_c - 1.0, runs]])
-    fig = plot(args.out)
+    fig = plot_error_against_wall(args.out, "refinement.csv", "model [-]", ("reduced", "full"), "nut.png",
+                                  ylabel="|relative error| of the descent acceleration [-]")
     T = read_table(path)
     rows = [[T[c][i] for c in COLS] for i in range(len(cases))]
     p = NutParams()
@@ -117,28 +119,6 @@ def verdict(T):
             f"is the scene's default. The full nut's points sit at different heights along the turns, so its ring's "
             f"load is not quite uniform and it tilts a little; under the trapezoidal rule it needs a short step "
             f"({'; '.join(bad) if bad else 'every step runs'}), and then lies {good} off.")
-
-
-def plot(out):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    T = read_table(os.path.join(out, "refinement.csv"))
-    fig, ax = plt.subplots(figsize=(5.5, 4.0))
-    for model, mk in (("reduced", "o-"), ("full", "s-")):
-        idx = [i for i, m in enumerate(T["model [-]"]) if m == model]
-        ax.loglog([T["wall [s]"][i] for i in idx], np.maximum(np.abs([T["error [-]"][i] for i in idx]), 1e-16), mk,
-                  label=model)
-    ax.set(xlabel="wall time of the solve [s]", ylabel="|relative error| of the descent acceleration [-]")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    name = "nut.png"
-    fig.savefig(os.path.join(out, name), dpi=110)
-    plt.close(fig)
-    return name
 
 
 if __name__ == "__main__":

@@ -3,6 +3,8 @@
 ``p`` is any parameter set with ``t_end`` and ``dt`` [s] (every scene's)."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -34,3 +36,15 @@ def driver_travel(t, speed, start=0.0, ramp=0.0):
         travel = speed * np.where(tau < ramp, 0.5 * ramp * s * s, tau - 0.5 * ramp)
         return travel, speed * s
     return speed * np.maximum(tau, 0.0), np.where(tau > 0.0, speed, 0.0 if start > 0.0 else speed)
+
+
+def smooth_rise(t, duration):
+    """A load's share at time(s) t [s] while it rises over ``duration`` [s]: (1 - cos(pi t / duration))
+    / 2, then 1 (1 at once for duration 0). Its rate starts and ends at 0, so a load set down this way
+    excites no vibration a quasi-static start would not have. A number for a number (the Exudyn load
+    user functions call it every Newton iteration), an array for an array."""
+    if np.ndim(t) == 0:
+        return 1.0 if t >= duration else 0.5 * (1.0 - math.cos(math.pi * t / duration))
+    t = np.asarray(t, dtype=float)
+    rising = 0.5 * (1.0 - np.cos(math.pi * np.minimum(t, duration) / max(duration, 1e-300)))
+    return np.where(t >= duration, 1.0, rising)

@@ -35,6 +35,7 @@ import numpy as np
 from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, PlanarBody, run
 from exu_aniso.engines.result import Result
+from exu_aniso.engines.timing import smooth_rise
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Plane
 from exu_aniso.kernel.contact_law import ContactLaw
@@ -131,18 +132,17 @@ def held_gap(p):
 def torque_at(p, t):
     """The torque on the ring at time t [N m] (a number or an array): rising as (1 - cos(pi t /
     load_time)) / 2 to ``torque`` at load_time."""
-    t = np.asarray(t, dtype=float)
-    rising = 0.5 * (1.0 - np.cos(math.pi * np.minimum(t, p.load_time) / max(p.load_time, 1e-300)))
-    return p.torque * np.where(t >= p.load_time, 1.0, rising)
+    return p.torque * smooth_rise(t, p.load_time)
 
 
 def transverse_force(p, t):
     """drag=ramp or shake: the applied force along x [N] at time t (a number or an array), from
     load_time on."""
-    tau = np.maximum(np.asarray(t, dtype=float) - p.load_time, 0.0)
+    scalar = np.ndim(t) == 0         # the Exudyn load's user function: every Newton iteration, no arrays
+    tau = max(t - p.load_time, 0.0) if scalar else np.maximum(np.asarray(t, dtype=float) - p.load_time, 0.0)
     if p.drag == "ramp":
         return p.force_rate * tau
-    return p.shake_amplitude * np.sin(2.0 * math.pi * p.shake_frequency * tau)
+    return p.shake_amplitude * (math.sin if scalar else np.sin)(2.0 * math.pi * p.shake_frequency * tau)
 
 
 def drag_force(p, x, y, vx, vy, t):

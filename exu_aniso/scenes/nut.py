@@ -36,6 +36,7 @@ import numpy as np
 from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, RigidBody6, ScrewJoint, run
 from exu_aniso.engines.result import Result
+from exu_aniso.engines.timing import smooth_rise
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Helicoid
 from exu_aniso.kernel.contact_law import ContactLaw
@@ -168,9 +169,7 @@ def nut_inertia(p):
 def weight_force(p, t):
     """The nut's weight at time t [s] (scalar or array) [N], rising as (1 - cos(pi t / load_time)) / 2
     to nut_mass gravity at load_time."""
-    t = np.asarray(t, dtype=float)
-    rising = 0.5 * (1.0 - np.cos(math.pi * np.minimum(t, p.load_time) / max(p.load_time, 1e-300)))
-    return p.nut_mass * p.gravity * np.where(t >= p.load_time, 1.0, rising)
+    return p.nut_mass * p.gravity * smooth_rise(t, p.load_time)
 
 
 # ----------------------------------------------------------------------------------------------

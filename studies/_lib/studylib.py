@@ -362,3 +362,27 @@ def with_args(args, **kw):
     d = dict(vars(args))
     d.update(kw)
     return argparse.Namespace(**d)
+
+
+def plot_error_against_wall(out, csv_name, group_column, groups, png_name, ylabel="|relative error| [-]"):
+    """A study's speed against error: |error [-]| over wall [s] of the table ``csv_name`` in ``out``,
+    one line per value of ``group_column`` in ``groups`` (markers o, s, ^, ...), log-log; written to
+    ``png_name`` in out, whose name it returns."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    T = read_table(os.path.join(out, csv_name))
+    fig, ax = plt.subplots(figsize=(5.5, 4.0))
+    for group, mk in zip(groups, ("o-", "s-", "^-", "v-", "d-")):
+        idx = [i for i, g in enumerate(T[group_column]) if g == group]
+        ax.loglog([T["wall [s]"][i] for i in idx], np.maximum(np.abs([T["error [-]"][i] for i in idx]), 1e-16), mk,
+                  label=group)
+    ax.set(xlabel="wall time of the solve [s]", ylabel=ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, png_name), dpi=110)
+    plt.close(fig)
+    return png_name
