@@ -210,7 +210,6 @@ def loosening_summary(traj, p, wall_s, steps, newton_iterations):
     s = dict(torque_ratio=theory["torque_ratio"], slip_distance=float(traj["slip_distance"][-1]),
              dissipated_energy=float(traj["dissipated_energy"][-1]), wall_s=float(wall_s), steps=int(steps),
              newton_iterations=int(newton_iterations), undefined={})
-    whole = np.flatnonzero(np.asarray(traj["slip_fraction"], float) == 1.0)
     if p.drag == "speed":
         late = t >= t[-1] - STEADY_SHARE * (t[-1] - t[0])
         s.update(spin_rate=float(np.mean(np.asarray(traj["omega"], float)[late])),
@@ -231,6 +230,7 @@ def loosening_summary(traj, p, wall_s, steps, newton_iterations):
             s["undefined"]["onset_force_theory"] = f"torque, mu_bearing, preload, bearing_radius: {e}"
     else:
         angle = np.asarray(traj["angle"], float)
+        whole = np.flatnonzero(np.asarray(traj["slip_fraction"], float) == 1.0)
         ends = p.load_time + np.arange(1, int((t[-1] - p.load_time) * p.shake_frequency + 1e-9) + 1) / p.shake_frequency
         at = np.interp(ends, t, angle)
         s.update(rotation_max=float(np.max(np.abs(angle - angle[0]))), slid_as_a_whole=bool(len(whole)),
