@@ -283,7 +283,7 @@ def write_outputs(scene, params, engine, out, res, failure=None, output_step=Non
     summary["units"] = {k: u for k, u in COLUMNS[scene].items() if k in res.trajectory}
     stamp = f"exu-aniso run_id={identity['run_id']} params_hash={identity['params_hash']} scene={scene} engine={engine}"
     write_csv(os.path.join(out, "trajectory.csv"), scene, res.trajectory, summary["output_step"] or None, stamp)
-    keys = SCENES[scene].title_keys
+    keys = SCENES[scene].title_keys_for(params)
     model = getattr(params, "model", None)
     title = f"{scene} ({engine}, {params.return_map} map{', ' + model if model else ''}): " + ", ".join(
         f"{k} = {summary[k]:.4g}" if summary.get(k) is not None else f"{k} undefined" for k in keys)

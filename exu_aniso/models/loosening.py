@@ -1,11 +1,20 @@
-"""The loosening scene as an Exudyn model (its case ``bearing``).
+"""The loosening scene as an Exudyn model.
 
-The scene (the ring, the plate, the drag, the closed forms) is ``exu_aniso.scenes.loosening`` (read its
-module docstring). Here the bearing ring is a ``NodeRigidBody2D`` with an ``ObjectRigidBody2D`` (x, y,
-angle in the plate's plane), its points at the held height that carries the preload; the drag along x
-and the hold along y are C++ spring drives (``runner.AddSpringDrive``: a spring and a dashpot to a
-driver at slip_speed, and to the origin); the torque a ``LoadCoordinate`` on the angle; the plate one
-``mbs.CreateAnisotropicContact`` with the scene's plane.
+The scene (the ring, the plate, the drag, the closed forms) is ``exu_aniso.scenes.loosening``, its joint
+``exu_aniso.scenes.bolted_joint`` (read their module docstrings). Here:
+
+* case bearing: the bearing ring is a ``NodeRigidBody2D`` with an ``ObjectRigidBody2D`` (x, y, angle
+  in the plate's plane), its points at the held height that carries the preload; the drag along x and
+  the hold along y are C++ spring drives (``runner.AddSpringDrive``: a spring and a dashpot to a driver
+  at slip_speed, and to the origin); the torque a ``LoadCoordinate`` on the angle; the plate one
+  ``mbs.CreateAnisotropicContact`` with the scene's plane;
+* case joint, model rings: the same planar nut with two contacts, its bearing ring and its thread
+  ring, each at its held height; the shaker a spring drive to a driver whose travel is a Python
+  function of time; the lead's torque a ``LoadCoordinate`` on the angle;
+* case joint, model full: the nut ``mbs.CreateRigidBody`` (6 DOF, Euler parameters) on the bolt's
+  helicoid (fixed to ground) and on the plate, a rigid body held by a ``GenericJoint`` to move along
+  the axis only, where a C++ spring and dashpot (the joint's) and a ``LoadCoordinate`` (the force that settles
+  at the preload, rising: ``bolted_joint.spring_load_at``) act; the shaker as above, on the nut's x, and a C++ spring drive holding its y.
 
 ``RunLoosening`` returns the same ``Result`` as ``exu_aniso.scenes.loosening.simulate_loosening``. Run
 ``python -m exu_aniso.models.loosening`` for a plot of the default scene.
@@ -14,13 +23,17 @@ from __future__ import annotations
 
 import exudyn as exu
 from exudyn import graphics
-from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeRigidBody2D, ObjectRigidBody2D,
-                                  SensorNode, VObjectRigidBody2D)
+from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodePointGround, NodeRigidBody2D,
+                                  ObjectConnectorCoordinateSpringDamper, ObjectRigidBody2D, SensorNode,
+                                  VNodePointGround, VObjectConnectorCoordinateSpringDamper, VObjectRigidBody2D)
+from exudyn.rigidBodyUtilities import RigidBodyInertia
+import numpy as np
 
 import exu_aniso  # noqa: F401  (binds mbs.CreateAnisotropicContact)
-from exu_aniso.engines.exudyn_adapter.runner import (AddSpringDrive, HistoryOutputs, ModelScript, SceneView,
-                                                     SimulationSettingsFor)
+from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, AddSpringDrive, HistoryOutputs, ModelScript,
+                                                     SceneView, SensorMotion, SimulationSettingsFor, Unwrap)
 from exu_aniso.engines import energy
+from exu_aniso.scenes import bolted_joint as bj
 from exu_aniso.scenes.loosening import (SCENE, LooseningParams, bearing_contact_law, drag_force, finish_trajectory,
                                         held_gap, ring_points, torque_at, transverse_force)
 from exu_aniso.util.validation import check_instance
@@ -33,61 +46,181 @@ def NutGraphics(p):
                               color=graphics.color.steelblue, alternatingColor=graphics.color.lightgrey)]
 
 
+NEWTON_TOLERANCE = dict(bearing=1e-10, joint=1e-8)
+"""The build's Newton tolerance by case. The joint's two rings reach their friction limits together, and
+there Newton stalls above 1e-10 (full or modified) and the step falls to its floor: the rings model at
+dt 2e-5 fails at the first slip with 1e-10 and runs at 1e-8 (docs/guide/scenes.md, the loosening)."""
+
+
 def BuildLoosening(p: LooseningParams, jacobian="analytic", implementation="auto", newton="modified",
-                   newtonTolerance=1e-10, rhoInf=0.8, show=True):
+                   newtonTolerance=None, rhoInf=0.8, show=True):
     """Build the loosening scene; returns dict with SC, mbs, simulationSettings, solverType, params, oNut,
-    nNut, contact (dict of CreateAnisotropicContact) and sensors. Options as BuildBlock; show: draw the
-    plate's net and the points."""
+    nNut, contacts (dict name -> dict of CreateAnisotropicContact: bearing, and case joint thread) and
+    sensors (and case joint model full nPlate). Options as BuildBlock, but newtonTolerance None: the
+    case's, NEWTON_TOLERANCE; show: draw the nets and the points."""
     check_instance("p", p, LooseningParams)
+    newtonTolerance = NEWTON_TOLERANCE[p.case] if newtonTolerance is None else newtonTolerance
     SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
+    options = dict(jacobian=jacobian, initializeHistory=True, implementation=implementation, show=show,
+                   storeHistory=True)
+    model = _BUILD[(p.case, p.model if p.case == "joint" else None)](mbs, p, options)
+    mbs.Assemble()
+    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, newton=newton)
+    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, **model)
+
+
+def _NodeSensors(mbs, nNut, names):
+    return {name: mbs.AddSensor(SensorNode(nodeNumber=nNut, storeInternal=True,
+                                           outputVariableType=getattr(exu.OutputVariableType, ovt)))
+            for name, ovt in names}
+
+
+def _PlanarNut(mbs, p):
     nNut = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0.0, 0.0, 0.0]))
     oNut = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nNut, mass=p.nut_mass, inertia=p.nut_inertia,
                                            visualization=VObjectRigidBody2D(graphicsData=NutGraphics(p))))
+    AddSpringDrive(mbs, nNut, [0.0, 1.0, 0.0], p.drag_stiffness, 0.0, damping=p.drag_damping)
+    sensors = _NodeSensors(mbs, nNut, (("sCoordinates", "Coordinates"), ("sVelocities", "Coordinates_t")))
+    return oNut, nNut, sensors
+
+
+def _AngleLoad(mbs, nNut, value, load):
+    """A LoadCoordinate on the planar nut's angle: value [N m] at the start of its rise, load(t) its user
+    function."""
+    mbs.AddLoad(LoadCoordinate(markerNumber=mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nNut, coordinate=2)),
+                               load=value, loadUserFunction=lambda mbs, t, _: float(load(t))))
+
+
+def _BuildBearing(mbs, p, options):
+    oNut, nNut, sensors = _PlanarNut(mbs, p)
     if p.drag == "speed":
         AddSpringDrive(mbs, nNut, [1.0, 0.0, 0.0], p.drag_stiffness, p.slip_speed, damping=p.drag_damping)
     else:
         mX = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nNut, coordinate=0))
         mbs.AddLoad(LoadCoordinate(markerNumber=mX, load=0.0,
                                    loadUserFunction=lambda mbs, t, load: float(transverse_force(p, t))))
-    AddSpringDrive(mbs, nNut, [0.0, 1.0, 0.0], p.drag_stiffness, 0.0, damping=p.drag_damping)
-    mbs.AddLoad(LoadCoordinate(markerNumber=mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nNut, coordinate=2)),
-                               load=p.torque, loadUserFunction=lambda mbs, t, load: float(torque_at(p, t))))
+    _AngleLoad(mbs, nNut, p.torque, lambda t: torque_at(p, t))
     points = ring_points(p)
     points[:, 2] = held_gap(p)                  # the plane's points at the height that carries the preload
     contact = mbs.CreateAnisotropicContact(name="bearingContact", bodyNumber=oNut, localPoints=points,
-                                           contactLaw=bearing_contact_law(p), jacobian=jacobian,
-                                           initializeHistory=True, implementation=implementation, show=show,
-                                           storeHistory=True, graphicsSize=3.0 * p.bearing_radius)
-    sensors = {name: mbs.AddSensor(SensorNode(nodeNumber=nNut, storeInternal=True,
-                                              outputVariableType=getattr(exu.OutputVariableType, ovt)))
-               for name, ovt in (("sCoordinates", "Coordinates"), ("sVelocities", "Coordinates_t"))}
-    mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, newton=newton)
-    return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, oNut=oNut, nNut=nNut,
-                contact=contact, sensors=sensors)
+                                           contactLaw=bearing_contact_law(p), graphicsSize=3.0 * p.bearing_radius,
+                                           **options)
+    return dict(oNut=oNut, nNut=nNut, contacts=dict(bearing=contact), sensors=sensors)
+
+
+def _BuildRings(mbs, p, options):
+    oNut, nNut, sensors = _PlanarNut(mbs, p)
+    AddSpringDrive(mbs, nNut, [1.0, 0.0, 0.0], p.drag_stiffness, 0.0, damping=p.drag_damping,
+                   travel=lambda t: bj.shake_travel(p, t))
+    _AngleLoad(mbs, nNut, 0.0, lambda t: bj.lead_torque(p, t))
+    gaps, contacts = bj.held_gaps(p), {}
+    for name, points, law in (("bearing", bj.bearing_points(p), bj.bearing_law(p)),
+                              ("thread", bj.thread_points(p), bj.thread_law(p))):
+        points[:, 2] = gaps[name]               # each ring at the height that carries its load
+        contacts[name] = mbs.CreateAnisotropicContact(name=name + "Contact", bodyNumber=oNut, localPoints=points,
+                                                      contactLaw=law, graphicsSize=3.0 * p.bearing_radius, **options)
+    return dict(oNut=oNut, nNut=nNut, contacts=contacts, sensors=sensors)
+
+
+def _BuildFullJoint(mbs, p, options):
+    ground = mbs.CreateGround()
+    zc = bj.centre_height(p)
+    oNut = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=p.nut_mass, inertiaTensor=np.diag(bj.nut_inertia_tensor(p))),
+                               referencePosition=[0.0, 0.0, zc], nodeType=NODE_TYPES["EP"],
+                               graphicsDataList=NutGraphics(p))
+    nNut = mbs.GetObject(oNut)["nodeNumber"]
+    zp = bj.plate_height(p)
+    side = 3.0 * p.bearing_radius
+    oPlate = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=p.plate_mass, inertiaTensor=np.eye(3) * p.plate_mass * side ** 2 / 6.0),
+                                 referencePosition=[0.0, 0.0, zp], nodeType=NODE_TYPES["EP"],
+                                 graphicsDataList=[graphics.Brick(centerPoint=[0.0, 0.0, -0.25 * side],
+                                                                  size=[2 * side, 2 * side, 0.5 * side],
+                                                                  color=graphics.color.lightgrey)])
+    nPlate = mbs.GetObject(oPlate)["nodeNumber"]
+    mbs.CreateGenericJoint(itemNumbers=[ground, oPlate], position=[0.0, 0.0, zp], constrainedAxes=[1, 1, 0, 1, 1, 1],
+                           show=False)
+    mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nPlate, coordinate=2))
+    mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround(
+        visualization=VNodePointGround(show=False))), coordinate=0))
+    mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mGround, mZ], stiffness=p.joint_stiffness,
+                                                        damping=p.joint_damping,
+                                                        visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
+    mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=0.0, loadUserFunction=lambda mbs, t, _: float(bj.spring_load_at(p, t))))
+    e = np.eye(7)
+    AddSpringDrive(mbs, nNut, e[0], p.drag_stiffness, 0.0, damping=p.drag_damping,
+                   travel=lambda t: bj.shake_travel(p, t))
+    AddSpringDrive(mbs, nNut, e[1], p.drag_stiffness, 0.0, damping=p.drag_damping)
+    contacts = dict(
+        bearing=mbs.CreateAnisotropicContact(name="bearingContact", bodyNumber=oNut, localPoints=bj.bearing_points(p),
+                                             contactLaw=bj.bearing_law(p), masterBodyNumber=oPlate,
+                                             graphicsSize=side, **options),
+        thread=mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=oNut, localPoints=bj.thread_points(p),
+                                            contactLaw=bj.thread_law(p), graphicsSize=p.d2, **options))
+    sensors = _NodeSensors(mbs, nNut, (("sPosition", "Position"), ("sVelocity", "Velocity"),
+                                       ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")))
+    sensors.update(_NodeSensors(mbs, nPlate, (("sPlate", "Coordinates"), ("sPlateVelocity", "Coordinates_t"))))
+    return dict(oNut=oNut, nNut=nNut, oPlate=oPlate, nPlate=nPlate, contacts=contacts, sensors=sensors)
+
+
+_BUILD = {("bearing", None): _BuildBearing, ("joint", "rings"): _BuildRings, ("joint", "full"): _BuildFullJoint}
 
 
 def ReadLoosening(model, complete):
     """What ``ModelScript.run`` reads from a solved BuildLoosening model: the trajectory, the summary's
-    inputs (none) and the ledger's (the ring's motion, the contact law and its history)."""
+    inputs (none) and the ledger's (the case's: ``scenes.loosening.loosening_energy``)."""
     mbs, p, S = model["mbs"], model["params"], model["sensors"]
-    Q = mbs.GetSensorStoredData(S["sCoordinates"])
-    V = mbs.GetSensorStoredData(S["sVelocities"])
-    diss, slip, H = HistoryOutputs(mbs, model["contact"])
-    t = Q[:, 0]
-    traj = dict(t=t, x=Q[:, 1], y=Q[:, 2], angle=Q[:, 3], vx=V[:, 1], vy=V[:, 2], omega=V[:, 3],
-                drag_force=drag_force(p, Q[:, 1], Q[:, 2], V[:, 1], V[:, 2], t)[0],
-                dissipated_energy=diss, slip_distance=slip)
-    finish_trajectory(traj, H)
+    histories = {name: HistoryOutputs(mbs, c) for name, c in model["contacts"].items()}
+    diss, slip, H = histories["bearing"]
+    full = p.case == "joint" and p.model == "full"
+    if full:
+        P, V, W = (mbs.GetSensorStoredData(S[k]) for k in ("sPosition", "sVelocity", "sOmega"))
+        A = mbs.GetSensorStoredData(S["sRotation"])[:, 1:].reshape(-1, 3, 3)
+        t = P[:, 0]
+        traj = dict(t=t, x=P[:, 1], y=P[:, 2], angle=Unwrap(np.arctan2(A[:, 1, 0], A[:, 0, 0])), vx=V[:, 1],
+                    vy=V[:, 2], omega=W[:, 3], tilt=np.arccos(np.clip(A[:, 2, 2], -1.0, 1.0)))
+    else:
+        Q = mbs.GetSensorStoredData(S["sCoordinates"])
+        V = mbs.GetSensorStoredData(S["sVelocities"])
+        t = Q[:, 0]
+        traj = dict(t=t, x=Q[:, 1], y=Q[:, 2], angle=Q[:, 3], vx=V[:, 1], vy=V[:, 2], omega=V[:, 3])
+    if p.case == "joint":
+        traj.update(drag_force=bj.shake_force(p, traj["x"], traj["vx"], t),
+                    dissipated_energy=diss + histories["thread"][0], slip_distance=slip)
+        bj.finish_joint_trajectory(traj, H, histories["thread"][2])
+        traj.setdefault("tilt", np.zeros_like(t))
+    else:
+        traj.update(drag_force=drag_force(p, traj["x"], traj["y"], traj["vx"], traj["vy"], t)[0],
+                    dissipated_energy=diss, slip_distance=slip)
+        finish_trajectory(traj, H)
     if not complete:
         return traj, {}, None
-    motion = energy.motion_about_z(traj["x"], traj["y"], held_gap(p), traj["angle"], traj["vx"], traj["vy"], 0.0,
-                                   traj["omega"])
-    return traj, {}, dict(motion=motion, law=model["contact"]["law"], H=H)
+    laws = {name: c["law"] for name, c in model["contacts"].items()}
+    if p.case == "bearing":
+        return traj, {}, dict(motion=_PlanarMotion(traj, held_gap(p)), law=laws["bearing"], H=H)
+    if full:
+        nut = SensorMotion(model)
+        plate = dict(z=mbs.GetSensorStoredData(S["sPlate"])[:, 3], vz=mbs.GetSensorStoredData(S["sPlateVelocity"])[:, 3])
+        shift = np.column_stack([np.zeros_like(t), np.zeros_like(t), plate["z"] + bj.plate_height(p)])
+        on_plate = energy.RigidMotion(nut.position - shift, nut.rotation,
+                                      nut.velocity - np.column_stack([0 * t, 0 * t, plate["vz"]]), nut.omega)
+        contacts = [(laws["bearing"], on_plate, bj.bearing_points(p), H),
+                    (laws["thread"], nut, bj.thread_points(p), histories["thread"][2])]
+        return traj, {}, dict(contacts=contacts, plate=plate, nut_motion=nut)
+    gaps = bj.held_gaps(p)
+    contacts = [(laws[name], _PlanarMotion(traj, gaps[name]), points, histories[name][2])
+                for name, points in (("bearing", bj.bearing_points(p)), ("thread", bj.thread_points(p)))]
+    return traj, {}, dict(contacts=contacts)
 
 
-MODEL = ModelScript(SCENE, BuildLoosening, ReadLoosening)
+def _PlanarMotion(traj, height):
+    """energy.RigidMotion of the planar nut at the points' held height [m]."""
+    return energy.motion_about_z(traj["x"], traj["y"], height, traj["angle"], traj["vx"], traj["vy"], 0.0,
+                                 traj["omega"])
+
+
+MODEL = ModelScript(SCENE, BuildLoosening, ReadLoosening, contacts=lambda model: list(model["contacts"].values()),
+                    info=lambda model: dict(case=model["params"].case))
 
 RunLoosening = MODEL.run
 """Build (``BuildLoosening(p, **options)``) and solve the loosening scene: ``ModelScript.run``, which

@@ -20,11 +20,9 @@ mu N D(s) at that s (``ring_drag_factor``, ``onset_force``). Shaken below it (``
 does not turn.
 
 The preloaded joint (``case="joint"``: bolt, nut and plate, the nut shaken across the axis, the preload
-against the cycles) is the next case. Its closed forms (the pitch's torque F P / (2 pi) balanced by the
-thread's and the bearing's rings in complete slip; the preload lost per radian, the joint stiffness
-times P / (2 pi)) assume uniform rings that slide throughout, and a nut shaken sideways opens part of
-its thread ring: its shift wedges the flank (through the lead angle alone on a square thread) by more
-than the penetration that carries the preload.
+against the cycles) is ``exu_aniso.scenes.bolted_joint`` (read its module docstring): the same scene's
+second case, with its two models (``rings``, the closed form's uniform rings; ``full``, the nut on the
+bolt's helicoid and the plate on the joint's spring) and their closed forms.
 """
 from __future__ import annotations
 
@@ -41,29 +39,49 @@ from exu_aniso.geometry import Plane
 from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.law.history import HISTORY_FIELDS, SLIP
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
-from exu_aniso.scenes import threads
+from exu_aniso.scenes import bolted_joint, threads
 from exu_aniso.scenes.base import LEDGER_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters
 from exu_aniso.scenes.plotting import drawn, labelled
 from exu_aniso.scenes.scene import Scene
 from exu_aniso.util.validation import check_instance, check_keywords
 
 LOOSENING_PARAMS = {
-    "case": ("bearing", "-", "bearing: the nut's bearing ring dragged across the plate while a torque turns it",
-             ("bearing",)),
+    "case": ("bearing", "-", "bearing: the nut's bearing ring dragged across the plate while a torque turns it; "
+             "joint: the preloaded joint, its nut shaken across the bolt's axis (scenes.bolted_joint)",
+             ("bearing", "joint")),
+    "model": ("rings", "-", "case joint: rings (a planar nut on its thread and bearing rings, held uniform: the "
+              "closed form's idealisation) or full (a 6-DOF nut on the bolt's helicoid, the plate on the joint's "
+              "spring)", ("rings", "full")),
     "preload": (1e4, "N", "the joint's preload pressing the bearing ring onto the plate", "> 0"),
     "bearing_radius": (6.6e-3, "m", "mean radius r_K of the nut's bearing ring (M10: (d_w + d_h) / 4)", "> 0"),
     "points": (24, "-", "contact points on the bearing ring (>= 3)", "int >= 1"),
     "mu_bearing": (0.12, "-", "bearing friction mu_K (isotropic)", "> 0"),
+    "d2": (9.026e-3, "m", "case joint: pitch diameter (M10: 9.026 mm)", "> 0"),
+    "pitch": (1.5e-3, "m", "case joint: thread pitch P (M10: 1.5 mm)", "> 0"),
+    "flank_angle": (60.0, "deg", "case joint: thread angle beta, full (metric: 60), in [0, 180)", ">= 0"),
+    "mu_thread": (0.12, "-", "case joint: flank friction (isotropic)", "> 0"),
+    "thread_stiffness": (1e10, "N/m", "case joint: normal penalty stiffness of the thread contact (total)", "> 0"),
+    "turns": (3, "-", "case joint: engaged thread turns carrying points", "int >= 1"),
+    "points_per_turn": (8, "-", "case joint: thread points per turn (>= 3)", "int >= 1"),
+    "joint_stiffness": (1e8, "N/m", "case joint, model full: the clamped parts' and the bolt's stiffness in series, "
+                        "the plate's spring along the axis", "> 0"),
+    "joint_damping": (9e3, "N s/m", "case joint, model full: the dashpot beside it (about critical with plate_mass)",
+                      ">= 0"),
+    "plate_mass": (0.2, "kg", "case joint, model full: the clamped plate's mass", "> 0"),
+    "nut_height": (8e-3, "m", "case joint, model full: height of the nut (its inertia across the axis: "
+                   "nut_inertia / 2 + nut_mass nut_height^2 / 12)", "> 0"),
+    "shake_displacement": (5e-4, "m", "case joint: the shaker's amplitude D (the nut's centre pulled to "
+                           "D sin(2 pi shake_frequency (t - load_time)) along x)", ">= 0"),
     "bearing_stiffness": (1e10, "N/m", "normal penalty stiffness of the bearing contact (total)", "> 0"),
-    "sticking_stiffness": (2e8, "N/m", "sticking stiffness of the bearing contact (total; 6 um of elastic stick at the "
-                           "default friction limit)", "> 0"),
+    "sticking_stiffness": (2e8, "N/m", "sticking stiffness of the bearing contact, and of the thread's (total each; 6 um "
+                           "of elastic stick at the default friction limit)", "> 0"),
     "drag": ("speed", "-", "how the ring is moved across the plate along x: speed (a stiff spring to a driver at "
              "slip_speed), ramp (a force rising at force_rate: the slip onset) or shake (a force shake_amplitude "
              "sin(2 pi shake_frequency t))", ("speed", "ramp", "shake")),
     "slip_speed": (0.02, "m/s", "drag=speed: speed at which the ring is dragged across the plate", "> 0"),
     "force_rate": (4e3, "N/s", "drag=ramp: the transverse force's rise", "> 0"),
     "shake_amplitude": (500.0, "N", "drag=shake: the transverse force's amplitude", ">= 0"),
-    "shake_frequency": (12.5, "Hz", "drag=shake: its frequency (a Junker test's 12.5 Hz)", "> 0"),
+    "shake_frequency": (12.5, "Hz", "drag=shake, and case joint: its frequency (a Junker test's 12.5 Hz)", "> 0"),
     "torque": (2.0, "N m", "torque turning the ring about its axis (below mu_bearing preload bearing_radius)",
                ">= 0"),
     "load_time": (0.005, "s", "the torque rises smoothly from 0 over this time ((1 - cos(pi t / load_time)) / 2), "
@@ -71,7 +89,8 @@ LOOSENING_PARAMS = {
                   "static twist and can turn a ring its friction holds)", ">= 0"),
     "nut_mass": (0.011, "kg", "mass of the nut", "> 0"),
     "nut_inertia": (5e-7, "kg m^2", "the nut's moment of inertia about its axis", "> 0"),
-    "drag_stiffness": (1e8, "N/m", "the spring that drags the ring along x and holds it at y = 0", "> 0"),
+    "drag_stiffness": (1e8, "N/m", "the spring that drags the ring (case joint: shakes the nut) along x and holds it "
+                       "at y = 0", "> 0"),
     "drag_damping": (1e3, "N s/m", "the dashpot beside it", ">= 0"),
     "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (0.05, "s", "simulated time", "> 0"),
@@ -85,23 +104,36 @@ class LooseningParams(SceneParams):
     """A bolted joint's loosening mechanisms; see LOOSENING_PARAMS for units and meaning."""
 
     def contact_points(self):
-        return self.points
+        return self.points + (self.turns * self.points_per_turn if self.case == "joint" else 0)
 
     def _layout_text(self):
-        return f"points={self.points}"
+        thread = f", thread {self.turns} x {self.points_per_turn}" if self.case == "joint" else ""
+        return f"points={self.points}{thread}"
 
     def _check_scene(self):
         if self.points < 3:
             raise ValueError(f"points must be >= 3 (a ring); got {self.points!r}")
+        if self.points_per_turn < 3:
+            raise ValueError(f"points_per_turn must be >= 3 (a ring); got {self.points_per_turn!r}")
+        if not 0.0 <= self.flank_angle < 180.0:
+            raise ValueError(f"flank_angle must lie in [0, 180) deg; got {self.flank_angle!r}")
 
 
 COLUMNS = {"t": "s", "x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s",
-           "drag_force": "N", "slip_fraction": "-", "slip_distance": "m", "dissipated_energy": "J", **LEDGER_COLUMNS}
-"""trajectory.csv: the ring's centre, its angle and their rates, the transverse force on it along x
-(the drag spring's, or the applied force), the share of its points that slide, the slip distance and
-the dissipated energy, and the ledger (work in: the driver's or the force's work along x and the
-torque's over the angle; kinetic: nut_mass (vx^2 + vy^2) / 2 + nut_inertia omega^2 / 2)."""
-TITLE_KEYS = ("spin_rate", "spin_rate_theory")
+           "drag_force": "N", "slip_fraction": "-", "slip_distance": "m", "dissipated_energy": "J",
+           "preload": "N", "thread_load": "N", "bearing_load": "N", "thread_slip_fraction": "-",
+           "thread_stick_fraction": "-", "thread_open_fraction": "-", "bearing_slip_fraction": "-",
+           "bearing_stick_fraction": "-", "bearing_open_fraction": "-", "flank_load_spread": "-", "tilt": "rad",
+           **LEDGER_COLUMNS}
+"""trajectory.csv: the ring's (the nut's) centre, its angle (case joint: turned loose, positive) and
+their rates, the transverse force on it along x (the drag or shaker spring's, or the applied force), the
+share of its bearing points that slide, the slip distance and the dissipated energy, and the ledger
+(work in: the driver's or the force's work along x and the torque's over the angle, or the preload's;
+kinetic: the nut's and the plate's). Case joint only (``bolted_joint.finish_joint_trajectory``): the
+preload (the bearing's normal force), the rings' normal forces and shares of sliding, sticking and open
+points, the flank's load spread ((max - min) / mean over the thread's points) and the nut's tilt."""
+TITLE_KEYS = dict(bearing=("spin_rate", "spin_rate_theory"),
+                  joint=("rotation_per_path", "rotation_per_path_theory"))
 STEADY_SHARE = 0.5      # the steady state: the last half of the run
 ONSET_SPEED = 1e-2      # m/s: gross slip, the ring runs away (below the limit the partial slip creeps at under 1 mm/s
                         # at the defaults; over the limit the ring's speed grows without bound)
@@ -166,6 +198,12 @@ def finish_trajectory(traj, H):
 # closed forms
 
 def loosening_closed_forms(p):
+    """The scene's closed forms for its case: ``bearing_closed_forms`` or
+    ``bolted_joint.joint_closed_forms``."""
+    return bolted_joint.joint_closed_forms(p) if p.case == "joint" else bearing_closed_forms(p)
+
+
+def bearing_closed_forms(p):
     """``spin_rate_theory`` [rad/s]: omega = s v / r with G(s) = torque / (mu_bearing preload
     bearing_radius) (``threads.ring_spin_ratio``), that torque ratio, ``torque_ratio`` [-], and the
     friction force against the slide then, ``drag_force_theory`` [N] = mu N D(s)
@@ -198,7 +236,16 @@ def onset_force(p):
 # summary, energy
 
 def loosening_summary(traj, p, wall_s, steps, newton_iterations):
-    """The cost and, by the drag: speed, the ring's spin rate (its mean over the last STEADY_SHARE of the
+    """The cost, the slip distance and the dissipated energy, and the case's own: ``bearing_summary``
+    or ``bolted_joint.joint_summary``."""
+    s = dict(slip_distance=float(traj["slip_distance"][-1]), dissipated_energy=float(traj["dissipated_energy"][-1]),
+             wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations))
+    case = bolted_joint.joint_summary(traj, p) if p.case == "joint" else bearing_summary(traj, p)
+    return {**s, **case}
+
+
+def bearing_summary(traj, p):
+    """By the drag: speed, the ring's spin rate (its mean over the last STEADY_SHARE of the
     run) and the drag force there beside their closed forms; ramp, the slip onset (``onset_force``: the
     transverse force at the first sample where the ring's speed reaches ONSET_SPEED, gross slip) beside
     ``onset_force_theory``;
@@ -206,10 +253,8 @@ def loosening_summary(traj, p, wall_s, steps, newton_iterations):
     last whole cycle's ends (``rotation_per_cycle`` [rad]: a ratchet) and whether it ever slid as a whole,
     over ``cycles`` whole cycles of the shaking."""
     t = np.asarray(traj["t"], float)
-    theory = loosening_closed_forms(p)
-    s = dict(torque_ratio=theory["torque_ratio"], slip_distance=float(traj["slip_distance"][-1]),
-             dissipated_energy=float(traj["dissipated_energy"][-1]), wall_s=float(wall_s), steps=int(steps),
-             newton_iterations=int(newton_iterations), undefined={})
+    theory = bearing_closed_forms(p)
+    s = dict(torque_ratio=theory["torque_ratio"], undefined={})
     if p.drag == "speed":
         late = t >= t[-1] - STEADY_SHARE * (t[-1] - t[0])
         s.update(spin_rate=float(np.mean(np.asarray(traj["omega"], float)[late])),
@@ -242,8 +287,16 @@ def loosening_summary(traj, p, wall_s, steps, newton_iterations):
     return s
 
 
-def loosening_energy(p, traj, motion, law, H):
-    """Energy ledger of a run (any engine): work in, the drag springs' forces over the ring's travel and
+def loosening_energy(p, traj, **inputs):
+    """Energy ledger of a run (any engine), the case's: ``bearing_energy`` (inputs motion, law, H) or,
+    case joint, ``bolted_joint.joint_energy_terms``' (inputs contacts, plate, nut_motion)."""
+    terms = (bolted_joint.joint_energy_terms(p, traj, **inputs) if p.case == "joint"
+             else bearing_energy_terms(p, traj, **inputs))
+    return energy_ledger(terms, traj, "loosening run")
+
+
+def bearing_energy_terms(p, traj, motion, law, H):
+    """The bearing case's energy terms (energy.ledger's arguments): work in, the drag springs' forces over the ring's travel and
     the torque over its angle; kinetic; the drag springs' own energy and the contact's stored energy;
     the contact's and the drag dashpots' dissipation."""
     x, y = np.asarray(traj["x"], float), np.asarray(traj["y"], float)
@@ -260,17 +313,19 @@ def loosening_energy(p, traj, motion, law, H):
         dashpots = dashpots + energy.work_trapezoid(p.drag_damping * (p.slip_speed - vx), stretch_x)
     else:                       # the applied force's work along x
         work = work + energy.work_trapezoid(traj["drag_force"], x)
-    stored, diss = energy.rigid_contact_energy(law, motion, ring_points(p) + np.array([0.0, 0.0, held_gap(p)]), H)
+    stored, diss = energy.rigid_contact_energy(law, motion, ring_points(p), H)     # motion: at the held height
     kinetic = 0.5 * p.nut_mass * (vx ** 2 + vy ** 2) + 0.5 * p.nut_inertia * np.asarray(traj["omega"], float) ** 2
-    return energy_ledger(dict(work_in=work, kinetic=kinetic, potential=springs, stored=stored,
-                              dissipated=diss + dashpots), traj, "loosening run")
+    return dict(work_in=work, kinetic=kinetic, potential=springs, stored=stored, dissipated=diss + dashpots)
 
 
 # ----------------------------------------------------------------------------------------------
 # the plot of trajectory.png
 
 def PlotLoosening(traj, params, fig):
-    """trajectory.png: the ring's spin rate over time with its closed form."""
+    """trajectory.png: case bearing, the ring's spin rate over time with its closed form; case joint,
+    ``PlotJoint``."""
+    if params.case == "joint":
+        return PlotJoint(traj, params, fig)
     t, w = drawn(np.asarray(traj["t"]), np.asarray(traj["omega"]))
     ax = fig.add_subplot(1, 1, 1)
     ax.plot(t, w, label="spin rate")
@@ -278,6 +333,30 @@ def PlotLoosening(traj, params, fig):
     if theory is not None:
         ax.axhline(theory, color="k", ls="--", lw=0.8, label=f"ring integral: {theory:.5g} rad/s")
     labelled(ax, "t [s]", "omega [rad/s]")
+
+
+def PlotJoint(traj, p, fig):
+    """Case joint: the angle turned loose and the preload against the shaking's cycles (top), and the
+    transverse force against the nut's displacement, the hysteresis loop, with the uniform rings'
+    sliding force (bottom)."""
+    t = np.asarray(traj["t"], float)
+    cycles = (t - p.load_time) * p.shake_frequency
+    ax = fig.add_subplot(2, 1, 1)
+    ax.plot(*drawn(cycles, np.asarray(traj["angle"], float)), label="angle turned loose")
+    labelled(ax, "cycles", "angle [rad]")
+    ax2 = ax.twinx()
+    ax2.plot(*drawn(cycles, 1e-3 * np.asarray(traj["preload"], float)), color="C1", label="preload")
+    ax2.set_ylabel("preload [kN]", color="C1")
+    ax = fig.add_subplot(2, 1, 2)
+    shaking = t > p.load_time
+    ax.plot(*drawn(1e3 * np.asarray(traj["x"], float)[shaking], np.asarray(traj["drag_force"], float)[shaking]),
+            lw=0.8, label="transverse force")
+    ratio = bolted_joint.joint_closed_forms(p)["slide_force_per_preload_theory"]
+    if ratio is not None:
+        for sign in (1.0, -1.0):
+            ax.axhline(sign * ratio * p.preload, color="k", ls="--", lw=0.8,
+                       label="uniform rings sliding" if sign > 0 else None)
+    labelled(ax, "x [mm]", "force [N]")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -309,11 +388,14 @@ def simulate_loosening(params=None, **options):
     p = LooseningParams() if params is None else params
     check_instance("params", p, LooseningParams)
     check_keywords("simulate_loosening", options, RUN_OPTIONS)
+    if p.case != "bearing":
+        raise ValueError(f"case: the reference engine runs the loosening's case bearing; case {p.case!r} runs on "
+                         "Exudyn (exu_aniso.models.loosening)")
     model = _BearingRing(p, bearing_contact_law(p))
     traj, wall, iters, steps, info, motion, H = run(model, p, floor=1e-6 * p.preload, **options)
     finish_trajectory(traj, H)
     summary = loosening_summary(traj, p, wall, steps, iters)
-    summary.update(loosening_energy(p, traj, motion, model.law, H))
+    summary.update(loosening_energy(p, traj, motion=motion, law=model.law, H=H))
     return Result(traj, summary, p, info)
 
 
@@ -321,21 +403,33 @@ def simulate_loosening(params=None, **options):
 # the scene, as every engine and the command line see it
 
 class LooseningScene(Scene):
-    """The loosening scene (the module docstring); the summary takes no inputs, the ledger
-    ``loosening_energy``'s (motion, law, H)."""
+    """The loosening scene (the module docstring): the bearing case's law and points, or the joint's two
+    contacts (bearing, thread) by name; the summary takes no inputs, the ledger ``loosening_energy``'s
+    (the case's)."""
 
     name = "loosening"
     Params = LooseningParams
     columns = COLUMNS
-    title_keys = TITLE_KEYS
-    figsize = (6.0, 4.5)
-    law = staticmethod(bearing_contact_law)
-    points = staticmethod(ring_points)
+    title_keys = TITLE_KEYS["bearing"]
+    figsize = (6.0, 6.0)
     closed_forms = staticmethod(loosening_closed_forms)
     summary = staticmethod(loosening_summary)
     ledger = staticmethod(loosening_energy)
     plot = staticmethod(PlotLoosening)
     reference = staticmethod(simulate_loosening)
+
+    def title_keys_for(self, p):
+        return TITLE_KEYS[p.case]
+
+    def law(self, p):
+        if p.case == "joint":
+            return dict(bearing=bolted_joint.bearing_law(p), thread=bolted_joint.thread_law(p))
+        return bearing_contact_law(p)
+
+    def points(self, p):
+        if p.case == "joint":
+            return dict(bearing=bolted_joint.bearing_points(p), thread=bolted_joint.thread_points(p))
+        return ring_points(p)
 
 
 SCENE = LooseningScene()

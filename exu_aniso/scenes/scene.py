@@ -9,8 +9,8 @@ scene asks this object and nothing else:
   back; ``engines.exudyn_adapter.runner.ModelScript`` solves it and calls ``summary`` and
   ``ledger`` with what it read;
 * the reference engine's function, where the scene has one (``reference``);
-* the catalog and the command line (``name``, ``Params``, ``columns``, ``title_keys``, ``plot``,
-  ``figsize``).
+* the catalog and the command line (``name``, ``Params``, ``columns``, ``title_keys`` (through
+  ``title_keys_for(p)``), ``plot``, ``figsize``).
 
 The interface, for a scene's parameters ``p`` (an instance of ``Params``):
 
@@ -48,6 +48,11 @@ class Scene:
     title_keys: tuple = ()          # the two summary values in trajectory.png's title
     figsize: tuple = (6.0, 5.0)     # of trajectory.png [in]
     reference = None                # (p, **options) -> Result of the reference engine, or None
+
+    def title_keys_for(self, p):
+        """The summary keys in trajectory.png's title for the parameters p (a scene whose cases report
+        different values overrides it); ``title_keys``."""
+        return self.title_keys
 
     def law(self, p):
         raise NotImplementedError

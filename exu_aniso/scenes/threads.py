@@ -206,3 +206,58 @@ def ring_spin_ratio(torque_ratio):
     while ring_torque_factor(hi) < g:
         hi *= 2.0
     return brentq(lambda s: ring_torque_factor(s) - g, 0.0, hi, xtol=1e-14, rtol=1e-14)
+
+
+# ----------------------------------------------------------------------------------------------
+# a preloaded joint whose nut slides sideways (the loosening scene's joint)
+
+def flank_load_per_axial_force(d2, pitch, flank_angle):
+    """The flank's total normal force per axial force carried by the thread [-], W / r = 1 / n_z: the
+    flank's normal n at the pitch radius has the axial part n_z = r / W (``_flank``), so a uniform ring
+    of normal forces N carries N r / W along the axis (the radial parts cancel round the ring, the
+    friction's axial part is left out, as the rings below leave it)."""
+    r, _, W, _ = _flank(d2, pitch, flank_angle)
+    return W / r
+
+
+def _joint_rings(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius):
+    for name, v in (("mu_thread", mu_thread), ("mu_bearing", mu_bearing), ("bearing_radius", bearing_radius)):
+        if not (math.isfinite(v) and v > 0.0):
+            raise ValueError(f"{name} must be a finite number > 0; got {v!r}")
+    r2 = 0.5 * d2
+    return pitch / (2.0 * math.pi), r2, mu_thread * flank_load_per_axial_force(d2, pitch, flank_angle)
+
+
+def joint_rotation_per_path(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius):
+    """The angle a preloaded nut turns loose per unit of its sideways slip path [rad/m] while its
+    thread ring (radius d2 / 2, friction mu_thread on a flank loaded by F W / r) and its bearing ring
+    (``bearing_radius``, mu_bearing, loaded by F) both slide, uniform and closed: every point slips at
+    v e_x + omega r e_phi, and the pitch's torque F P / (2 pi) meets the rings' friction torques,
+    F h = mu_t (W / r) F r2 G(c r2) + mu_K F r_K G(c r_K) with c = omega / v (``ring_torque_factor``;
+    F cancels). c = 0 at zero lead; it grows without bound as the lead's torque nears the rings' whole
+    friction, and ValueError (naming the frictions) says so at or above it (the nut is not
+    self-locking and runs off without any slip)."""
+    from scipy.optimize import brentq
+    h, r2, mu_t = _joint_rings(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius)
+    limit = mu_t * r2 + mu_bearing * bearing_radius
+    if not h < limit:
+        raise ValueError(f"mu_thread, mu_bearing: the lead's torque per force P / (2 pi) = {h:.6g} m reaches the "
+                         f"rings' whole friction {limit:.6g} m: the joint is not self-locking")
+
+    def excess(c):
+        return mu_t * r2 * ring_torque_factor(c * r2) + mu_bearing * bearing_radius * ring_torque_factor(
+            c * bearing_radius) - h
+    hi = 1.0 / bearing_radius
+    while excess(hi) < 0.0:
+        hi *= 2.0
+    return brentq(excess, 0.0, hi, xtol=1e-12, rtol=1e-13)
+
+
+def joint_slide_force_per_preload(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius):
+    """The sideways force that keeps the nut of ``joint_rotation_per_path`` sliding, over the preload
+    [-]: the rings' friction against the slide at the common c, mu_t (W / r) D(c r2) + mu_K D(c r_K)
+    (``ring_drag_factor``): the plateau of the transverse force's hysteresis loop, and the force at
+    which the nut, turned by the lead's torque, starts to slide as a whole."""
+    h, r2, mu_t = _joint_rings(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius)
+    c = joint_rotation_per_path(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius)
+    return mu_t * ring_drag_factor(c * r2) + mu_bearing * ring_drag_factor(c * bearing_radius)

@@ -151,14 +151,16 @@ def AddYawDrive(mbs, nodeNumber, nodeType, torque):
 IMPLICIT_SOLVERS = tuple(SOLVER_TYPES.values())
 
 
-def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, start=0.0, ramp=0.0, damping=0.0):
+def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, start=0.0, ramp=0.0, damping=0.0,
+                   travel=None):
     """A drive spring on a node: the generalized force k (speed t - d.q) d on the node's coordinates
     q (displacements), d = ``direction`` over them (a unit coordinate vector, or e.g. (d_x, d_y, 0)
     for a spring along an in-plane direction), k = ``stiffness``, plus a dashpot c (speed - d.q_t) d
     beside it, c = ``damping`` [N s/m, or N m s/rad]. Returns the spring's object number.
     start, ramp [s] > 0: the driver rests until start and speeds up over ramp
     (``exu_aniso.engines.timing.driver_travel`` in place of speed t); the spring's force is then a
-    Python function of time, one call per Newton iteration.
+    Python function of time, one call per Newton iteration. travel: a function t -> (travel, rate) of
+    the driver (numbers; e.g. a shaker's) in place of both; speed is then unused.
 
     Built from Exudyn C++ items, so no Python runs in it: a driver coordinate (a one-coordinate
     ``NodeGenericODE2`` starting at 0 with velocity ``speed``) held at that velocity by an
@@ -180,7 +182,7 @@ def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, s
         """The driver's travel and rate at t, evaluated once per time (the force runs at every Newton
         iteration)."""
         if last.get("t") != t:
-            s, s_t = driver_travel(t, speed, start, ramp)
+            s, s_t = driver_travel(t, speed, start, ramp) if travel is None else travel(t)
             last.update(t=t, value=(float(s), float(s_t)))
         return last["value"]
     if python:
@@ -207,7 +209,7 @@ def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, s
         mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nSlider, coordinate=0))
     nGround = mbs.AddNode(NodePointGround(visualization=VNodePointGround(show=False)))
     mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
-    if start > 0.0 or ramp > 0.0:
+    if start > 0.0 or ramp > 0.0 or travel is not None:
         # the driver's travel in the spring's force itself: a prescribed velocity that jumps would put
         # an index-2 solver's integrated driver half a step off
         def force(mbs, t, itemNumber, displacement, velocity, stiffness, damping, offset):

@@ -1,0 +1,338 @@
+"""The loosening scene's preloaded joint (``case="joint"``): a nut clamping a plate onto a fixed bolt,
+shaken across the bolt's axis.
+
+The joint: a rigid M10 nut (``d2``, ``pitch``, ``flank_angle``) whose thread bears on the bolt's lower
+flank and whose bearing face (the ring of ``bearing_radius``) bears on the clamped plate; the
+``preload`` F presses them together. The nut is shaken across the axis: a stiff spring
+(``drag_stiffness``, a dashpot ``drag_damping`` beside it) pulls its centre along x to a driver at
+D sin(2 pi f (t - load_time)) (``shake_displacement`` D, ``shake_frequency`` f: the Junker test
+prescribes the displacement) and holds it at y = 0. Two models:
+
+* ``model="rings"``: the closed form's idealisation. The nut is a planar rigid body (x, y, angle);
+  its bearing ring (``points`` points) and its thread ring (``turns * points_per_turn`` points at
+  d2 / 2) are held at the penetrations that carry F on the plate and F W / r on the flank
+  (``threads.flank_load_per_axial_force``), each ring against a plane, so both stay uniform and
+  closed whatever the nut does; the lead's torque F P / (2 pi) turns the nut loose. The preload does
+  not fall (the rings hold their loads): its loss per radian is the full model's to show.
+* ``model="full"``: a 6-DOF nut on the bolt's helicoid flank (``turns`` turns of
+  ``points_per_turn`` points at the pitch radius), its bearing ring on the plate; the plate moves
+  along the axis only, on the joint's spring (``joint_stiffness``, a dashpot ``joint_damping``)
+  that is compressed by F: when the nut backs off, the plate follows and the preload falls.
+
+Closed forms (``scenes.threads``): with both rings uniform, closed and sliding, the nut turns loose by
+``joint_rotation_per_path`` radians per metre of its sideways slip path, against a sideways force of
+F ``joint_slide_force_per_preload`` (the hysteresis loop's plateau), and each radian backs it off by
+P / (2 pi), which loses the preload ``threads.clamp_force_per_angle`` (the joint's spring and the two
+contacts' normal compliances in series).
+
+A nut shaken sideways on a helicoid wedges its flank: the shift moves each thread point along the
+helix by the shift's component along e_phi over r, so the flank's height under it changes by h / r
+times that, about 10 um at a 0.2 mm shift on M10 against the 1 um penetration that carries the
+preload. The full model's nut tilts to follow and opens part of its thread ring; the summary says by
+how much (``thread_open_share``, ``flank_load_spread``) and what it costs against the uniform rings.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from exu_aniso.engines import energy
+from exu_aniso.engines.timing import smooth_rise
+from exu_aniso.fields.tensor_fields import Adhesion, Friction
+from exu_aniso.geometry import Helicoid, Plane
+from exu_aniso.kernel.contact_law import ContactLaw
+from exu_aniso.law.history import HISTORY_FIELDS, SLIP, STICK
+from exu_aniso.scenes import threads
+
+_STATUS, _NORMAL = HISTORY_FIELDS.index("status"), HISTORY_FIELDS.index("normal")
+BEARING_GAP = 0.3           # the bearing face's height below the nut's lowest thread point [pitches]
+
+
+# ----------------------------------------------------------------------------------------------
+# geometry, laws, loads
+
+def lead(p):
+    """Axial advance per radian, h = P / (2 pi) [m/rad]."""
+    return p.pitch / (2.0 * math.pi)
+
+
+def flank_angle_rad(p):
+    return math.radians(p.flank_angle)
+
+
+def thread_point_count(p):
+    return p.turns * p.points_per_turn
+
+
+def bolt_flank(p):
+    """The bolt's lower flank, fixed to ground (world frame): the helicoid through z = h phi at d2 / 2,
+    facing down onto the nut's thread."""
+    return Helicoid(p.pitch, flank_angle_rad(p), p.d2, hand="right", flank_of="bolt", side="backward")
+
+
+def centre_height(p):
+    """Height [m] of the full nut's centre over the flank's z = 0 at phi = 0: the middle of its thread
+    points' span."""
+    return lead(p) * math.pi * (thread_point_count(p) - 1) / p.points_per_turn
+
+
+def thread_points(p):
+    """Body-local thread points (K, 3): model full, on the flank at the pitch radius from the nut's
+    centre (phi_k = 2 pi k / points_per_turn, z = h phi_k - centre_height); model rings, the ring at
+    d2 / 2 in the plane z = 0 (each ring's held height is its model's)."""
+    K = thread_point_count(p)
+    phi = 2.0 * math.pi * np.arange(K) / p.points_per_turn
+    z = lead(p) * phi - centre_height(p) if p.model == "full" else np.zeros(K)
+    return np.column_stack([0.5 * p.d2 * np.cos(phi), 0.5 * p.d2 * np.sin(phi), z])
+
+
+def bearing_points(p):
+    """Body-local bearing points (points, 3) on bearing_radius: model full, BEARING_GAP pitches below
+    the lowest thread point; model rings, in the plane z = 0."""
+    a = 2.0 * math.pi * np.arange(p.points) / p.points
+    z = -centre_height(p) - BEARING_GAP * p.pitch if p.model == "full" else 0.0
+    return np.column_stack([p.bearing_radius * np.cos(a), p.bearing_radius * np.sin(a), np.full(p.points, z)])
+
+
+def plate_height(p):
+    """The plate's top face (world z [m]) under the full nut's bearing face at the start."""
+    return -BEARING_GAP * p.pitch
+
+
+def thread_law(p):
+    """ContactLaw of the nut's thread: model full, on the bolt's flank; model rings, on a plane (the
+    flank held uniform). Isotropic mu_thread; stiffnesses split over the points."""
+    K = thread_point_count(p)
+    surface = bolt_flank(p) if p.model == "full" else Plane()
+    return ContactLaw(surface, Adhesion.isotropic(p.sticking_stiffness / K), Friction.isotropic(p.mu_thread),
+                      normal_stiffness=p.thread_stiffness / K, return_map=p.return_map)
+
+
+def bearing_law(p):
+    """ContactLaw of the bearing face on the plate (the plane z = 0 of the plate's frame, isotropic
+    mu_bearing), stiffnesses split over the points."""
+    K = p.points
+    return ContactLaw(Plane(), Adhesion.isotropic(p.sticking_stiffness / K), Friction.isotropic(p.mu_bearing),
+                      normal_stiffness=p.bearing_stiffness / K, return_map=p.return_map)
+
+
+def held_gaps(p):
+    """Model rings: the heights [m] of the bearing and thread rings over their planes that carry the
+    preload on the plate and F W / r on the flank (negative: penetrations)."""
+    flank_load = p.preload * threads.flank_load_per_axial_force(p.d2, p.pitch, flank_angle_rad(p))
+    return dict(bearing=-p.preload / p.bearing_stiffness, thread=-flank_load / p.thread_stiffness)
+
+
+def preload_at(p, t):
+    """The preload's share at time t [s]: F rising as (1 - cos(pi t / load_time)) / 2 [N]."""
+    return p.preload * smooth_rise(t, p.load_time)
+
+
+def contact_compliance(p):
+    """The bearing's and the flank's axial compliances in series [m/N]: 1 / bearing_stiffness + 1 / the
+    flank's axial stiffness (``threads.thread_axial_stiffness`` at mu 0)."""
+    k_axial = threads.thread_axial_stiffness(p.thread_stiffness, p.d2, p.pitch, flank_angle_rad(p), 0.0)
+    return 1.0 / p.bearing_stiffness + 1.0 / k_axial
+
+
+def spring_load_at(p, t):
+    """Model full: the force [N] on the plate that, against the joint's spring, settles at the preload
+    ``preload_at(p, t)`` once the contacts have taken their compression: the plate rises by F times
+    ``contact_compliance`` and the spring takes back joint_stiffness times that."""
+    return preload_at(p, t) * (1.0 + p.joint_stiffness * contact_compliance(p))
+
+
+def lead_torque(p, t):
+    """Model rings: the lead's torque F(t) P / (2 pi) [N m] turning the nut loose (positive angle)."""
+    return preload_at(p, t) * lead(p)
+
+
+def shake_travel(p, t):
+    """The shaker's driver: its travel D sin(2 pi f tau) [m] and rate, tau = t - load_time, at rest
+    before (a number, for the spring's user function)."""
+    tau = t - p.load_time
+    if tau <= 0.0:
+        return 0.0, 0.0
+    w = 2.0 * math.pi * p.shake_frequency
+    return p.shake_displacement * math.sin(w * tau), p.shake_displacement * w * math.cos(w * tau)
+
+
+def shake_travels(p, t):
+    """shake_travel over an array of times (travel, rate)."""
+    tau = np.maximum(np.asarray(t, float) - p.load_time, 0.0)
+    w = 2.0 * math.pi * p.shake_frequency
+    on = tau > 0.0
+    return p.shake_displacement * np.sin(w * tau), np.where(on, p.shake_displacement * w * np.cos(w * tau), 0.0)
+
+
+def shake_force(p, x, vx, t):
+    """The shaker's spring and dashpot force on the nut along x [N] (arrays)."""
+    s, s_t = shake_travels(p, t)
+    return p.drag_stiffness * (s - x) + p.drag_damping * (s_t - vx)
+
+
+# ----------------------------------------------------------------------------------------------
+# the rings' states
+
+def ring_states(H, prefix):
+    """The shares of a ring's points that slide, stick and are open from its history H (n, K, 9), and
+    its normal forces' total [N] and spread ((max - min) / mean over the loaded points, 0 where none
+    is loaded)."""
+    status, N = H[:, :, _STATUS], -H[:, :, _NORMAL]
+    total = N.sum(axis=1)
+    mean = total / N.shape[1]
+    spread = np.where(mean > 0.0, (N.max(axis=1) - N.min(axis=1)) / np.where(mean > 0.0, mean, 1.0), 0.0)
+    out = {f"{prefix}_slip_fraction": (status == SLIP).mean(axis=1),
+           f"{prefix}_stick_fraction": (status == STICK).mean(axis=1),
+           f"{prefix}_open_fraction": ((status != SLIP) & (status != STICK)).mean(axis=1),
+           f"{prefix}_load": total}
+    if prefix == "thread":
+        out["flank_load_spread"] = spread
+    return out
+
+
+def finish_joint_trajectory(traj, H_bearing, H_thread):
+    """Add the rings' states (``ring_states``) and the preload (the bearing's normal force) to traj."""
+    traj.update(ring_states(H_bearing, "bearing"))
+    traj.update(ring_states(H_thread, "thread"))
+    traj["slip_fraction"] = traj["bearing_slip_fraction"]
+    traj["preload"] = traj["bearing_load"]
+    return traj
+
+
+# ----------------------------------------------------------------------------------------------
+# closed forms
+
+def joint_closed_forms(p):
+    """``rotation_per_path_theory`` [rad/m] (``threads.joint_rotation_per_path``),
+    ``slide_force_per_preload_theory`` [-] (``threads.joint_slide_force_per_preload``) and
+    ``preload_loss_per_radian_theory`` [N/rad] (``threads.clamp_force_per_angle`` with the bearing's and
+    the flank's axial compliances, ``threads.thread_axial_stiffness`` at mu 0, in series with the
+    joint's spring); None with the reason where undefined."""
+    args = (p.d2, p.pitch, flank_angle_rad(p), p.mu_thread, p.mu_bearing, p.bearing_radius)
+    out = dict(undefined={})
+    try:
+        out["rotation_per_path_theory"] = threads.joint_rotation_per_path(*args)
+        out["slide_force_per_preload_theory"] = threads.joint_slide_force_per_preload(*args)
+    except ValueError as e:
+        out.update(rotation_per_path_theory=None, slide_force_per_preload_theory=None)
+        out["undefined"].update(rotation_per_path_theory=str(e), slide_force_per_preload_theory=str(e))
+    out["preload_loss_per_radian_theory"] = threads.clamp_force_per_angle(p.joint_stiffness, p.pitch,
+                                                                          (contact_compliance(p),))
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# summary, energy
+
+def cycle_ends(p, t_end):
+    """The times [s] at which whole cycles of the shaking end."""
+    n = int((t_end - p.load_time) * p.shake_frequency + 1e-9)
+    return p.load_time + np.arange(1, n + 1) / p.shake_frequency
+
+
+def sliding_intervals(traj):
+    """The sample intervals over which no point of either ring sticks (both ends): the nut slides."""
+    free = (np.asarray(traj["bearing_stick_fraction"]) == 0.0) & (np.asarray(traj["thread_stick_fraction"]) == 0.0)
+    return free[1:] & free[:-1]
+
+
+def joint_summary(traj, p):
+    """The joint's loosening: over the shaking (from load_time), ``cycles`` whole cycles,
+    ``rotation`` [rad] (the angle turned loose since load_time), ``rotation_per_cycle`` and
+    ``rotation_per_path_all`` [rad/m] (the angle over the nut's whole path |dx|, sticking or not),
+    between the first and the last whole cycle's ends; over the intervals in which the nut slides
+    (``sliding_intervals``; ``sliding_share`` of the shaking's time), ``rotation_per_path`` [rad/m] (the
+    angle over the nut's path |dx|) and ``slide_force_per_preload`` [-] (the mean of |shake force| /
+    preload) beside their closed forms; the preload at the shaking's start and end [N] and, model full,
+    ``preload_loss_per_radian`` [N/rad] (the line through the cycle ends' preload against angle); the
+    rings' shares of sliding and open point-samples over the shaking and the flank's mean load spread."""
+    t = np.asarray(traj["t"], float)
+    angle = np.asarray(traj["angle"], float)
+    theory = joint_closed_forms(p)
+    shaking = t > p.load_time
+    ends = cycle_ends(p, t[-1])
+    s = dict(cycles=float(len(ends)), undefined=dict(theory["undefined"]),
+             rotation=float(angle[-1] - np.interp(p.load_time, t, angle)),
+             rotation_per_cycle=None, rotation_per_path=None, slide_force_per_preload=None,
+             preload_loss_per_radian=None)
+    for k in ("rotation_per_path_theory", "slide_force_per_preload_theory", "preload_loss_per_radian_theory"):
+        s[k] = theory[k]
+    at = np.interp(ends, t, angle)
+    x = np.asarray(traj["x"], float)
+    s["rotation_per_path_all"] = None
+    if len(ends) >= 2:
+        s["rotation_per_cycle"] = float((at[-1] - at[0]) / (len(ends) - 1))
+        whole = (t[1:] > ends[0]) & (t[:-1] < ends[-1])
+        s["rotation_per_path_all"] = float((at[-1] - at[0]) / np.abs(np.diff(x))[whole].sum())
+    else:
+        why = "fewer than 2 whole cycles of the shaking: run longer"
+        s["undefined"].update(rotation_per_cycle=why, rotation_per_path_all=why)
+    slide = sliding_intervals(traj) & shaking[1:]
+    path = np.abs(np.diff(x))[slide].sum()
+    s["sliding_share"] = float(np.sum(np.diff(t)[slide]) / max(t[-1] - p.load_time, 1e-300))
+    if path > 0.0:
+        s["rotation_per_path"] = float(np.diff(angle)[slide].sum() / path)
+        mid = np.flatnonzero(slide) + 1
+        s["slide_force_per_preload"] = float(np.mean(np.abs(np.asarray(traj["drag_force"], float)[mid])
+                                                     / np.asarray(traj["preload"], float)[mid]))
+    else:
+        why = "the nut never slid with both rings free of sticking points: shake wider or longer"
+        s["undefined"].update(rotation_per_path=why, slide_force_per_preload=why)
+    preload = np.asarray(traj["preload"], float)
+    s["preload_start"] = float(np.interp(p.load_time, t, preload))
+    s["preload_end"] = float(preload[-1])
+    if p.model == "full" and len(ends) >= 2 and np.ptp(at) > 0.0:
+        s["preload_loss_per_radian"] = float(-np.polyfit(at, np.interp(ends, t, preload), 1)[0])
+    elif p.model == "full":
+        s["undefined"]["preload_loss_per_radian"] = "fewer than 2 whole cycles, or the nut did not turn"
+    else:
+        s["undefined"]["preload_loss_per_radian"] = ("model rings holds the rings' loads (the closed form's "
+                                                     "assumption): model full lets the preload fall")
+    for ring in ("thread", "bearing"):
+        for state in ("slip", "open"):
+            s[f"{ring}_{state}_share"] = float(np.mean(np.asarray(traj[f"{ring}_{state}_fraction"])[shaking]))
+    s["flank_load_spread"] = float(np.mean(np.interp(ends, t, traj["flank_load_spread"]))) if len(ends) else None
+    if s["flank_load_spread"] is None:
+        s["undefined"]["flank_load_spread"] = "no whole cycle of the shaking: run longer"
+    return s
+
+
+def joint_energy_terms(p, traj, contacts, plate=None, nut_motion=None):
+    """The joint's energy terms (energy.ledger's arguments): work in, the shaker's spring over its
+    driver's travel, plus (model rings) the lead's torque over the angle or (model full) the preload's
+    rising force over the plate's travel; kinetic, the nut's (and the plate's); potential, the shaker's
+    springs (and the joint's spring); stored and dissipated, the contacts' (``contacts``: (law, motion
+    relative to the master, body-local points, history) each) and the dashpots'. plate (model full):
+    dict z, vz (n,) of the plate; nut_motion: the nut's RigidMotion (model full)."""
+    t = np.asarray(traj["t"], float)
+    x, y = np.asarray(traj["x"], float), np.asarray(traj["y"], float)
+    vx, vy = np.asarray(traj["vx"], float), np.asarray(traj["vy"], float)
+    s, s_t = shake_travels(p, t)
+    work = energy.work_trapezoid(traj["drag_force"], s)
+    springs = 0.5 * p.drag_stiffness * ((s - x) ** 2 + y ** 2)
+    dashpots = (energy.work_trapezoid(p.drag_damping * (s_t - vx), s - x)
+                + energy.work_trapezoid(p.drag_damping * vy, y))
+    if p.model == "full":
+        z, vz = plate["z"], plate["vz"]
+        work = work + energy.work_trapezoid(spring_load_at(p, t), z)
+        springs = springs + 0.5 * p.joint_stiffness * z ** 2
+        dashpots = dashpots + energy.work_trapezoid(p.joint_damping * vz, z)
+        kinetic = energy.rigid_kinetic(nut_motion, p.nut_mass, np.diag(nut_inertia_tensor(p))) + 0.5 * p.plate_mass * vz ** 2
+    else:
+        work = work + energy.work_trapezoid(lead_torque(p, t), traj["angle"])
+        kinetic = 0.5 * p.nut_mass * (vx ** 2 + vy ** 2) + 0.5 * p.nut_inertia * np.asarray(traj["omega"], float) ** 2
+    stored = np.zeros_like(t)
+    diss = dashpots
+    for law, motion, points, H in contacts:
+        st, di = energy.rigid_contact_energy(law, motion, points, H)
+        stored, diss = stored + st, diss + di
+    return dict(work_in=work, kinetic=kinetic, potential=springs, stored=stored, dissipated=diss)
+
+
+def nut_inertia_tensor(p):
+    """The full nut's principal moments [kg m^2]: nut_inertia about the axis, nut_inertia / 2 +
+    nut_mass nut_height^2 / 12 across it (a ring's)."""
+    across = 0.5 * p.nut_inertia + p.nut_mass * p.nut_height ** 2 / 12.0
+    return np.array([across, across, p.nut_inertia])

@@ -1,0 +1,99 @@
+"""The loosening scene's preloaded joint (exu_aniso.scenes.bolted_joint, case="joint"): a nut clamping a
+plate onto a bolt, shaken across the bolt's axis.
+
+Oracles:
+* the closed forms (exu_aniso.scenes.threads): the torque balance of two uniform sliding rings, its
+  limits (a bearing ring alone is the bearing case's spin ratio; no lead, no turning; the lead's
+  torque at the rings' whole friction, no steady state) and the sliding force's;
+* model rings (the closed form's uniform rings): the nut's rotation per metre of slip path within
+  1e-3 of the torque balance and the hysteresis loop's plateau within 1e-4 of the rings' sliding
+  force, on a square and a 60 degree thread;
+* model full (the nut on the bolt's helicoid, the plate on the joint's spring): the preload lost per
+  radian turned loose within 1 % of the joint's stiffness times P / (2 pi) (with the contacts'
+  compliances in series); the energy ledger closes.
+"""
+import math
+
+import pytest
+
+from exu_aniso.scenes import threads
+from exu_aniso.scenes.loosening import LooseningParams, simulate_loosening
+
+M10 = dict(d2=9.026e-3, pitch=1.5e-3, mu_thread=0.12, mu_bearing=0.12, bearing_radius=6.6e-3)
+
+
+def _rotation_per_path(flank_deg, **over):
+    args = {**M10, **over}
+    return threads.joint_rotation_per_path(args["d2"], args["pitch"], math.radians(flank_deg), args["mu_thread"],
+                                           args["mu_bearing"], args["bearing_radius"])
+
+
+def test_the_torque_balance_of_two_sliding_rings():
+    """The root meets the balance it solves; with the thread's friction vanishing it is the bearing
+    ring's own spin ratio (the bearing case's closed form) over r_K; with no lead, no turning."""
+    h, r2, rK = M10["pitch"] / (2 * math.pi), M10["d2"] / 2, M10["bearing_radius"]
+    for flank in (0.0, 60.0):
+        c = _rotation_per_path(flank)
+        mu_t = M10["mu_thread"] * threads.flank_load_per_axial_force(M10["d2"], M10["pitch"], math.radians(flank))
+        torque = mu_t * r2 * threads.ring_torque_factor(c * r2) + M10["mu_bearing"] * rK * threads.ring_torque_factor(c * rK)
+        assert torque == pytest.approx(h, rel=1e-10)
+    alone = _rotation_per_path(0.0, mu_thread=1e-12)
+    assert alone * rK == pytest.approx(threads.ring_spin_ratio(h / (M10["mu_bearing"] * rK)), rel=1e-8)
+    assert _rotation_per_path(0.0, pitch=1e-12) == pytest.approx(0.0, abs=1e-6)
+    with pytest.raises(ValueError, match="mu_thread, mu_bearing.*not self-locking"):
+        _rotation_per_path(0.0, mu_thread=0.01, mu_bearing=0.01)
+    assert threads.flank_load_per_axial_force(M10["d2"], M10["pitch"], math.radians(60.0)) == pytest.approx(
+        1.0 / math.cos(math.radians(30.0)), rel=2e-3)                     # W / r: 1 / cos(beta / 2) at a small lead
+    slide = threads.joint_slide_force_per_preload(M10["d2"], M10["pitch"], 0.0, M10["mu_thread"], M10["mu_bearing"], rK)
+    assert 0.0 < slide < M10["mu_thread"] * 1.0014 + M10["mu_bearing"]      # the turning takes part of the grip
+
+
+@pytest.fixture(scope="module")
+def run():
+    from exu_aniso.models.loosening import RunLoosening
+    cache = {}
+
+    def get(**values):
+        key = tuple(sorted(values.items()))
+        if key not in cache:
+            cache[key] = RunLoosening(LooseningParams(case="joint", **values), show=False)
+        return cache[key]
+    return get
+
+
+@pytest.mark.parametrize("flank_angle", [0.0, 60.0])
+def test_uniform_rings_turn_loose_by_the_torque_balance(run, flank_angle):
+    """Model rings, two cycles at dt 4e-4: the rotation per metre of slip path within 1e-3 of
+    threads.joint_rotation_per_path and the loop's plateau within 1e-4 of the rings' sliding force."""
+    r = run(model="rings", flank_angle=flank_angle, dt=4e-4, t_end=0.005 + 2 / 12.5)
+    s = r.summary
+    assert s["energy_ok"], s["energy"]
+    assert s["rotation_per_path"] == pytest.approx(s["rotation_per_path_theory"], rel=1e-3)
+    assert s["slide_force_per_preload"] == pytest.approx(s["slide_force_per_preload_theory"], rel=1e-4)
+    assert s["rotation"] > 0.0 and s["thread_open_share"] == 0.0
+
+
+@pytest.mark.parametrize("flank_angle", [0.0, 60.0])
+def test_the_preload_falls_by_the_joint_stiffness_per_radian(run, flank_angle):
+    """Model full, two cycles at dt 2e-5: the preload at the cycles' ends against the angle turned loose
+    falls by threads.clamp_force_per_angle (the lead over the joint's and the contacts' compliances)
+    within 1 %; the run starts at the preload asked (the plate's spring load makes up the contacts'
+    compression) and its ledger closes."""
+    r = run(model="full", flank_angle=flank_angle, dt=2e-5, t_end=0.005 + 2 / 12.5, shake_displacement=2e-4)
+    s = r.summary
+    assert s["energy_ok"], s["energy"]
+    assert s["rotation"] > 0.01
+    assert s["preload_loss_per_radian"] == pytest.approx(s["preload_loss_per_radian_theory"], rel=1e-2)
+    assert s["preload_start"] == pytest.approx(1e4, rel=1e-3)
+
+
+def test_the_joint_runs_on_exudyn_only():
+    with pytest.raises(ValueError, match="case: the reference engine runs the loosening's case bearing"):
+        simulate_loosening(LooseningParams(case="joint"))
+
+
+@pytest.mark.parametrize("name, value, rule", [("points_per_turn", 2, "points_per_turn must be >= 3"),
+                                                ("flank_angle", 180.0, r"flank_angle must lie in \[0, 180\)")])
+def test_bad_thread_is_refused(name, value, rule):
+    with pytest.raises(ValueError, match=rule):
+        LooseningParams(case="joint", **{name: value})
