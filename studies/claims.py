@@ -112,6 +112,10 @@ _UNTIGHTEN = ("fastening", "--set", "reverse_time=1.5", "--set", "t_end=1.7")
 _NUTRUNNER = ("fastening", "--set", "tool=nutrunner", "--set", "shutoff_torque=20", "--set", "tool_inertia=1e-2",
               "--set")
 _ONSET = ("loosening", "--set", "drag=ramp", "--set", "force_rate=1e3", "--set", "t_end=1.14")
+_JOINT = ("loosening", "--set", "case=joint", "--set", "t_end=0.325")
+_JOINT_SQUARE = ("loosening", "--set", "case=joint", "--set", "flank_angle=0", "--set", "t_end=0.645")
+_FULL = ("loosening", "--set", "case=joint", "--set", "model=full", "--set", "dt=2e-5", "--set", "t_end=0.645")
+_FULL_SQUARE = _FULL + ("--set", "flank_angle=0")
 _SOFT = _NUTRUNNER + ("rotation_speed=10", "--set", "joint_stiffness=2e6", "--set", "t_end=2.9")
 _QUASI_STATIC = [("capstan", "--set", f"ramp_rate={r}", "--set", f"dt=2.5e-4/{r}", "--set", f"t_end={t}")
                  for r, t in (("5.5", "0.7"), ("12.4", "0.4"))]
@@ -238,6 +242,33 @@ RUNS = [
              "{:.1f}"),
     RunClaim("docs/guide/scenes.md", _ONSET, "N against {} N. Shaken", "1124.7", lambda s: s["onset_force_theory"],
              "{:.1f}"),
+    # the loosening's joint: the uniform rings against the torque balance, the full nut's preload and departure
+    *[RunClaim("docs/guide/scenes.md", args, text, quoted, (lambda k: lambda s: s[k])(key), fmt)
+      for args, text, quoted, key, fmt in (
+          (_JOINT, "(four cycles) turns {} rad per metre", "58.390", "rotation_per_path", "{:.3f}"),
+          (_JOINT, "of slip path against the balance's {}, and", "58.368", "rotation_per_path_theory", "{:.3f}"),
+          (_JOINT, "its loop's plateau is {} of the preload", "0.251683", "slide_force_per_preload", "{:.6f}"),
+          (_JOINT, "of the preload against {}; the square", "0.251687", "slide_force_per_preload_theory", "{:.6f}"),
+          (_JOINT_SQUARE, "--set t_end=0.645`) turns {} against", "61.160", "rotation_per_path", "{:.3f}"),
+          (_JOINT_SQUARE, "turns 61.160 against {} (`tests", "61.119", "rotation_per_path_theory", "{:.3f}"),
+          (_FULL, "(eight cycles) loses {} N of preload", "23360", "preload_loss_per_radian", "{:.0f}"),
+          (_FULL, "against the closed form's {} N/rad", "23328", "preload_loss_per_radian_theory", "{:.0f}"),
+          (_FULL_SQUARE, "(`--set flank_angle=0`) {} against", "23403", "preload_loss_per_radian", "{:.0f}"),
+          (_FULL_SQUARE, "23403 against {} (`tests", "23404", "preload_loss_per_radian_theory", "{:.0f}"),
+          (_FULL, "are open in {} of their samples", "0.62", "thread_open_share", "{:.2f}"),
+          (_FULL_SQUARE, "(0.56 on the square one)", "0.56", "thread_open_share", "{:.2f}"),
+          (_FULL, "load spreads over {} times its mean", "1.56", "flank_load_spread", "{:.2f}"),
+          (_FULL_SQUARE, "most loaded point ({}), and", "1.52", "flank_load_spread", "{:.2f}"),
+          (_FULL, "no sticking point only {} of the time", "0.30", "sliding_share", "{:.2f}"),
+          (_FULL_SQUARE, "of the time ({}). While", "0.48", "sliding_share", "{:.2f}"),
+          (_FULL, "the rings' rate ({} rad/m against", "55.4", "rotation_per_path", "{:.1f}"),
+          (_FULL_SQUARE, "58.4; square {} against 61.1)", "47.2", "rotation_per_path", "{:.1f}"),
+          (_FULL, "per cycle it turns {} rad where", "0.0114", "rotation_per_cycle", "{:.4f}"),
+          (_JOINT, "the uniform rings turn {} (square", "0.0395", "rotation_per_cycle", "{:.4f}"),
+          (_FULL_SQUARE, "(square {} against 0.0419)", "0.0253", "rotation_per_cycle", "{:.4f}"),
+          (_JOINT_SQUARE, "0.0253 against {}): the wedge", "0.0419", "rotation_per_cycle", "{:.4f}"),
+          (_FULL, "sideways force is {} of the preload", "0.815", "slide_force_per_preload", "{:.3f}"),
+      )],
 ]
 
 

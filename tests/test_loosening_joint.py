@@ -35,7 +35,8 @@ def test_the_torque_balance_of_two_sliding_rings():
     for flank in (0.0, 60.0):
         c = _rotation_per_path(flank)
         mu_t = M10["mu_thread"] * threads.flank_load_per_axial_force(M10["d2"], M10["pitch"], math.radians(flank))
-        torque = mu_t * r2 * threads.ring_torque_factor(c * r2) + M10["mu_bearing"] * rK * threads.ring_torque_factor(c * rK)
+        torque = (mu_t * r2 * threads.ring_torque_factor(c * r2)
+                  + M10["mu_bearing"] * rK * threads.ring_torque_factor(c * rK))
         assert torque == pytest.approx(h, rel=1e-10)
     alone = _rotation_per_path(0.0, mu_thread=1e-12)
     assert alone * rK == pytest.approx(threads.ring_spin_ratio(h / (M10["mu_bearing"] * rK)), rel=1e-8)

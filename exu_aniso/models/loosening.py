@@ -13,8 +13,9 @@ The scene (the ring, the plate, the drag, the closed forms) is ``exu_aniso.scene
   function of time; the lead's torque a ``LoadCoordinate`` on the angle;
 * case joint, model full: the nut ``mbs.CreateRigidBody`` (6 DOF, Euler parameters) on the bolt's
   helicoid (fixed to ground) and on the plate, a rigid body held by a ``GenericJoint`` to move along
-  the axis only, where a C++ spring and dashpot (the joint's) and a ``LoadCoordinate`` (the force that settles
-  at the preload, rising: ``bolted_joint.spring_load_at``) act; the shaker as above, on the nut's x, and a C++ spring drive holding its y.
+  the axis only, where a C++ spring and dashpot (the joint's) and a ``LoadCoordinate`` (the force that
+  settles at the preload, rising: ``bolted_joint.spring_load_at``) act; the shaker as above, on the
+  nut's x, and a C++ spring drive holding its y.
 
 ``RunLoosening`` returns the same ``Result`` as ``exu_aniso.scenes.loosening.simulate_loosening``. Run
 ``python -m exu_aniso.models.loosening`` for a plot of the default scene.
@@ -126,13 +127,15 @@ def _BuildRings(mbs, p, options):
 def _BuildFullJoint(mbs, p, options):
     ground = mbs.CreateGround()
     zc = bj.centre_height(p)
-    oNut = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=p.nut_mass, inertiaTensor=np.diag(bj.nut_inertia_tensor(p))),
+    inertia = RigidBodyInertia(mass=p.nut_mass, inertiaTensor=np.diag(bj.nut_inertia_tensor(p)))
+    oNut = mbs.CreateRigidBody(inertia=inertia,
                                referencePosition=[0.0, 0.0, zc], nodeType=NODE_TYPES["EP"],
                                graphicsDataList=NutGraphics(p))
     nNut = mbs.GetObject(oNut)["nodeNumber"]
     zp = bj.plate_height(p)
     side = 3.0 * p.bearing_radius
-    oPlate = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=p.plate_mass, inertiaTensor=np.eye(3) * p.plate_mass * side ** 2 / 6.0),
+    plate_inertia = RigidBodyInertia(mass=p.plate_mass, inertiaTensor=np.eye(3) * p.plate_mass * side ** 2 / 6.0)
+    oPlate = mbs.CreateRigidBody(inertia=plate_inertia,
                                  referencePosition=[0.0, 0.0, zp], nodeType=NODE_TYPES["EP"],
                                  graphicsDataList=[graphics.Brick(centerPoint=[0.0, 0.0, -0.25 * side],
                                                                   size=[2 * side, 2 * side, 0.5 * side],
@@ -143,10 +146,11 @@ def _BuildFullJoint(mbs, p, options):
     mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nPlate, coordinate=2))
     mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround(
         visualization=VNodePointGround(show=False))), coordinate=0))
-    mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[mGround, mZ], stiffness=p.joint_stiffness,
-                                                        damping=p.joint_damping,
-                                                        visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
-    mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=0.0, loadUserFunction=lambda mbs, t, _: float(bj.spring_load_at(p, t))))
+    mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
+        markerNumbers=[mGround, mZ], stiffness=p.joint_stiffness, damping=p.joint_damping,
+        visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
+    mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=0.0,
+                               loadUserFunction=lambda mbs, t, _: float(bj.spring_load_at(p, t))))
     e = np.eye(7)
     AddSpringDrive(mbs, nNut, e[0], p.drag_stiffness, 0.0, damping=p.drag_damping,
                    travel=lambda t: bj.shake_travel(p, t))
@@ -200,7 +204,8 @@ def ReadLoosening(model, complete):
         return traj, {}, dict(motion=_PlanarMotion(traj, held_gap(p)), law=laws["bearing"], H=H)
     if full:
         nut = SensorMotion(model)
-        plate = dict(z=mbs.GetSensorStoredData(S["sPlate"])[:, 3], vz=mbs.GetSensorStoredData(S["sPlateVelocity"])[:, 3])
+        plate = dict(z=mbs.GetSensorStoredData(S["sPlate"])[:, 3],
+                     vz=mbs.GetSensorStoredData(S["sPlateVelocity"])[:, 3])
         shift = np.column_stack([np.zeros_like(t), np.zeros_like(t), plate["z"] + bj.plate_height(p)])
         on_plate = energy.RigidMotion(nut.position - shift, nut.rotation,
                                       nut.velocity - np.column_stack([0 * t, 0 * t, plate["vz"]]), nut.omega)

@@ -319,7 +319,8 @@ def joint_energy_terms(p, traj, contacts, plate=None, nut_motion=None):
         work = work + energy.work_trapezoid(spring_load_at(p, t), z)
         springs = springs + 0.5 * p.joint_stiffness * z ** 2
         dashpots = dashpots + energy.work_trapezoid(p.joint_damping * vz, z)
-        kinetic = energy.rigid_kinetic(nut_motion, p.nut_mass, np.diag(nut_inertia_tensor(p))) + 0.5 * p.plate_mass * vz ** 2
+        kinetic = (energy.rigid_kinetic(nut_motion, p.nut_mass, np.diag(nut_inertia_tensor(p)))
+                   + 0.5 * p.plate_mass * vz ** 2)
     else:
         work = work + energy.work_trapezoid(lead_torque(p, t), traj["angle"])
         kinetic = 0.5 * p.nut_mass * (vx ** 2 + vy ** 2) + 0.5 * p.nut_inertia * np.asarray(traj["omega"], float) ** 2

@@ -70,8 +70,9 @@ LOOSENING_PARAMS = {
     "plate_mass": (0.2, "kg", "case joint, model full: the clamped plate's mass", "> 0"),
     "nut_height": (8e-3, "m", "case joint, model full: height of the nut (its inertia across the axis: "
                    "nut_inertia / 2 + nut_mass nut_height^2 / 12)", "> 0"),
-    "shake_displacement": (5e-4, "m", "case joint: the shaker's amplitude D (the nut's centre pulled to "
-                           "D sin(2 pi shake_frequency (t - load_time)) along x)", ">= 0"),
+    "shake_displacement": (2e-4, "m", "case joint: the shaker's amplitude D (the nut's centre pulled to "
+                           "D sin(2 pi shake_frequency (t - load_time)) along x; the model's flank has no crest or "
+                           "root, a real thread's radial play bounds the slip at the thread)", ">= 0"),
     "bearing_stiffness": (1e10, "N/m", "normal penalty stiffness of the bearing contact (total)", "> 0"),
     "sticking_stiffness": (2e8, "N/m", "sticking stiffness of the bearing contact, and of the thread's (total each; 6 um "
                            "of elastic stick at the default friction limit)", "> 0"),
@@ -296,8 +297,8 @@ def loosening_energy(p, traj, **inputs):
 
 
 def bearing_energy_terms(p, traj, motion, law, H):
-    """The bearing case's energy terms (energy.ledger's arguments): work in, the drag springs' forces over the ring's travel and
-    the torque over its angle; kinetic; the drag springs' own energy and the contact's stored energy;
+    """The bearing case's energy terms (energy.ledger's arguments): work in, the drag springs' forces
+    over the ring's travel and the torque over its angle; kinetic; the drag springs' own energy and the contact's stored energy;
     the contact's and the drag dashpots' dissipation."""
     x, y = np.asarray(traj["x"], float), np.asarray(traj["y"], float)
     vx, vy = np.asarray(traj["vx"], float), np.asarray(traj["vy"], float)
