@@ -15,7 +15,8 @@ The scene (the ring, the plate, the drag, the closed forms) is ``exu_aniso.scene
   helicoid (fixed to ground) and on the plate, a rigid body held by a ``GenericJoint`` to move along
   the axis only, where a C++ spring and dashpot (the joint's) and a ``LoadCoordinate`` (the force that
   settles at the preload, rising: ``bolted_joint.spring_load_at``) act; the shaker as above, on the
-  nut's x, and a C++ spring drive holding its y.
+  nut's x, and a C++ spring drive holding its y; a pre-step function ends the run at the end of the
+  cycle in which the joint came loose (``bolted_joint.LOOSE_SHARE``).
 
 ``RunLoosening`` returns the same ``Result`` as ``exu_aniso.scenes.loosening.simulate_loosening``. Run
 ``python -m exu_aniso.models.loosening`` for a plot of the default scene.
@@ -54,13 +55,14 @@ dt 2e-5 fails at the first slip with 1e-10 and runs at 1e-8 (docs/guide/scenes.m
 
 
 def BuildLoosening(p: LooseningParams, jacobian="analytic", implementation="auto", newton="modified",
-                   newtonTolerance=None, rhoInf=0.8, show=True):
+                   newtonTolerance=None, rhoInf=None, show=True):
     """Build the loosening scene; returns dict with SC, mbs, simulationSettings, solverType, params, oNut,
     nNut, contacts (dict name -> dict of CreateAnisotropicContact: bearing, and case joint thread) and
     sensors (and case joint model full nPlate). Options as BuildBlock, but newtonTolerance None: the
-    case's, NEWTON_TOLERANCE; show: draw the nets and the points."""
+    case's, NEWTON_TOLERANCE, and rhoInf None: p.spectral_radius; show: draw the nets and the points."""
     check_instance("p", p, LooseningParams)
     newtonTolerance = NEWTON_TOLERANCE[p.case] if newtonTolerance is None else newtonTolerance
+    rhoInf = p.spectral_radius if rhoInf is None else rhoInf
     SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
     options = dict(jacobian=jacobian, initializeHistory=True, implementation=implementation, show=show,
@@ -161,6 +163,18 @@ def _BuildFullJoint(mbs, p, options):
                                              graphicsSize=side, **options),
         thread=mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=oNut, localPoints=bj.thread_points(p),
                                             contactLaw=bj.thread_law(p), graphicsSize=p.d2, **options))
+    coordinates = exu.OutputVariableType.Coordinates
+    check = dict(next=p.load_time + 1.0 / p.shake_frequency)
+
+    def go_on(mbs, t):
+        """The pre-step function: at each cycle's end, end the run if the joint is loose
+        (bolted_joint.LOOSE_SHARE; reading the plate allocates, so not in every step)."""
+        if t < check["next"]:
+            return True
+        check["next"] += 1.0 / p.shake_frequency
+        plate_z = mbs.GetNodeOutput(nPlate, coordinates)[2]
+        return not bj.loose(p, t, bj.spring_load_at(p, t) - p.joint_stiffness * plate_z)
+    mbs.SetPreStepUserFunction(go_on)
     sensors = _NodeSensors(mbs, nNut, (("sPosition", "Position"), ("sVelocity", "Velocity"),
                                        ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")))
     sensors.update(_NodeSensors(mbs, nPlate, (("sPlate", "Coordinates"), ("sPlateVelocity", "Coordinates_t"))))

@@ -47,6 +47,11 @@ from exu_aniso.scenes import threads
 
 _STATUS, _NORMAL = HISTORY_FIELDS.index("status"), HISTORY_FIELDS.index("normal")
 BEARING_GAP = 0.3           # the bearing face's height below the nut's lowest thread point [pitches]
+LOOSE_SHARE = 0.1
+"""The joint is loose once its preload falls under this share of ``preload`` after the shaking began.
+Model full ends its run there (``loose``): the model's flank has no crest or root, so a nut that no
+preload holds on it rides off the flank sideways (a run at D 0.1 mm went on until a thread point
+reached the bolt's axis)."""
 
 
 # ----------------------------------------------------------------------------------------------
@@ -134,6 +139,11 @@ def contact_compliance(p):
     flank's axial stiffness (``threads.thread_axial_stiffness`` at mu 0)."""
     k_axial = threads.thread_axial_stiffness(p.thread_stiffness, p.d2, p.pitch, flank_angle_rad(p), 0.0)
     return 1.0 / p.bearing_stiffness + 1.0 / k_axial
+
+
+def loose(p, t, preload):
+    """Whether the joint is loose at time t [s] under the preload [N] (``LOOSE_SHARE``)."""
+    return t > p.load_time and preload < LOOSE_SHARE * p.preload
 
 
 def spring_load_at(p, t):
@@ -246,8 +256,10 @@ def joint_summary(traj, p):
     (``sliding_intervals``; ``sliding_share`` of the shaking's time), ``rotation_per_path`` [rad/m] (the
     angle over the nut's path |dx|) and ``slide_force_per_preload`` [-] (the mean of |shake force| /
     preload) beside their closed forms; the preload at the shaking's start and end [N] and, model full,
-    ``preload_loss_per_radian`` [N/rad] (the line through the cycle ends' preload against angle); the
-    rings' shares of sliding and open point-samples over the shaking and the flank's mean load spread."""
+    ``preload_loss_per_radian`` [N/rad] (the line through the cycle ends' preload against angle);
+    ``cycles_to_loose``, the cycles until the preload fell under LOOSE_SHARE of ``preload`` (model full
+    ends its run at that cycle's end); the rings' shares of sliding and open point-samples over the shaking and the
+    flank's mean load spread."""
     t = np.asarray(traj["t"], float)
     angle = np.asarray(traj["angle"], float)
     theory = joint_closed_forms(p)
@@ -283,6 +295,10 @@ def joint_summary(traj, p):
     preload = np.asarray(traj["preload"], float)
     s["preload_start"] = float(np.interp(p.load_time, t, preload))
     s["preload_end"] = float(preload[-1])
+    came = np.flatnonzero((t > p.load_time) & (preload < LOOSE_SHARE * p.preload))
+    s["cycles_to_loose"] = float((t[came[0]] - p.load_time) * p.shake_frequency) if len(came) else None
+    if not len(came):
+        s["undefined"]["cycles_to_loose"] = f"the preload held above {LOOSE_SHARE:g} of its value to the end"
     if p.model == "full" and len(ends) >= 2 and np.ptp(at) > 0.0:
         s["preload_loss_per_radian"] = float(-np.polyfit(at, np.interp(ends, t, preload), 1)[0])
     elif p.model == "full":

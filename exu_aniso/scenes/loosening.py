@@ -96,7 +96,10 @@ LOOSENING_PARAMS = {
     "return_map": (DEFAULT_RETURN_MAP, "-", "sliding return map", RETURN_MAPS),
     "t_end": (0.05, "s", "simulated time", "> 0"),
     "dt": (1e-4, "s", "time step", "> 0"),
-    "solver": ("trapezoidal", "-", "time integrator", SOLVERS),
+    "solver": ("trapezoidal", "-", "time integrator (case joint, model full: generalized_alpha with spectral_radius "
+               "0; the trapezoidal rule's long runs at dt 1e-4 fail: docs/guide/scenes.md)", SOLVERS),
+    "spectral_radius": (0.8, "-", "solver generalized_alpha: its rho_inf in [0, 1] (0 damps the contacts' unresolved "
+                        "chatter most)", ">= 0"),
 }
 
 
@@ -116,6 +119,8 @@ class LooseningParams(SceneParams):
             raise ValueError(f"points must be >= 3 (a ring); got {self.points!r}")
         if self.points_per_turn < 3:
             raise ValueError(f"points_per_turn must be >= 3 (a ring); got {self.points_per_turn!r}")
+        if not 0.0 <= self.spectral_radius <= 1.0:
+            raise ValueError(f"spectral_radius must lie in [0, 1]; got {self.spectral_radius!r}")
         if not 0.0 <= self.flank_angle < 180.0:
             raise ValueError(f"flank_angle must lie in [0, 180) deg; got {self.flank_angle!r}")
 

@@ -167,7 +167,9 @@ class Progress:
             c0, _, s0 = self.first if self.first is not None else (self.t0, 0.0, 0)
             rate = f", {(steps - s0) / (now - c0):.0f} steps/s" if steps and now > c0 else ""
             its = f", {newton_iterations} Newton iterations" if newton_iterations is not None else ""
-            text = f"{head}100.0 % (t = {self.end_time:.4g} s) in {format_duration(elapsed)}{rate}{its}"
+            ended = (f"100.0 % (t = {self.end_time:.4g} s)" if t is None or t >= self.end_time * (1.0 - 1e-9)
+                     else f"ended by the model at t = {t:.4g} of {self.end_time:.4g} s")
+            text = f"{head}{ended} in {format_duration(elapsed)}{rate}{its}"
         else:
             where = f" at t = {t:.4g} of {self.end_time:.4g} s" if t is not None else ""
             text = f"{head}stopped{where} after {format_duration(elapsed)}"

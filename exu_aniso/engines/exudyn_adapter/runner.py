@@ -270,8 +270,9 @@ def SolveTimed(mbs, simulationSettings, solverType, contacts=(), progress=None):
     it = mbs.sys["dynamicSolver"].it
     steps = int(it.currentStepIndex) - 1 if solverType in SOLVER_TYPES.values() else int(it.currentStepIndex)
     if prog is not None:                        # end the progress line before anything else is printed
-        prog.finish(t=float(mbs.systemData.GetTime(exu.ConfigurationType.StartOfStep)), steps=steps,
-                    newton_iterations=int(it.newtonStepsCount), ok=error is None)
+        reached = exu.ConfigurationType.Current if error is None else exu.ConfigurationType.StartOfStep
+        prog.finish(t=float(mbs.systemData.GetTime(reached)), steps=steps, newton_iterations=int(it.newtonStepsCount),
+                    ok=error is None)          # a model may end a run early (a pre-step function returning False)
     if capture is not None and error is None and capture.getvalue():
         sys.stdout.write(capture.getvalue())
     if error is None:
