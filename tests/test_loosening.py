@@ -95,10 +95,11 @@ def test_below_the_onset_a_thousand_cycles_turn_nothing():
 
 
 def test_loosening_study_quick(tmp_path, quick_study):
-    """studies/loosening.py --quick: the spin rate within 1e-3 and the onset within 1e-3 at every step."""
+    """studies/loosening.py --quick: the spin rate, the onset, the joint's uniform rings' rotation per slip
+    path and the full joint's preload loss per radian within 1e-3 of their closed forms at every step."""
     from exu_aniso.util.output import read_table
     quick_study("loosening", tmp_path)
     T = read_table(tmp_path / "refinement.csv")
-    assert set(T["case [-]"]) == {"spin", "onset"}
+    assert set(T["case [-]"]) == {"spin", "onset", "joint_rings", "joint_full"}
     assert all(abs(e) < 1e-3 for e in T["error [-]"])
     assert "python studies/loosening.py" in (tmp_path / "report.md").read_text()

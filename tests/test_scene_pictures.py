@@ -58,6 +58,20 @@ def test_every_scenes_snapshot_shows_its_surface(scene):
         assert _changed_share(shown, hidden) > DRAWN_BY_THE_CONTACT[scene], (scene, _changed_share(shown, hidden))
 
 
+@pytest.mark.parametrize("model", ["rings", "full"])
+def test_the_joints_snapshot_shows_the_thread_and_the_faces(model):
+    """The loosening's joint (case joint) fills its picture, and its two contacts draw their surfaces
+    (the thread's and the plate's nets, the full nut's flank inside a see-through nut): hiding them
+    changes a twentieth of the picture or more."""
+    from exu_aniso.engines.exudyn_adapter.runner import SnapshotImage
+    from exu_aniso.scenes.loosening import LooseningParams
+    built = MODELS["loosening"].build(LooseningParams(case="joint", model=model))
+    shown = SnapshotImage(built, size=(240, 180))
+    assert _drawn_share(shown) > 0.15, _drawn_share(shown)
+    _without_contact_graphics(built["mbs"], list(built["contacts"].values()))
+    assert _changed_share(shown, SnapshotImage(built, size=(240, 180))) > 0.05
+
+
 SURFACES = {
     "plane": lambda: __import__("exu_aniso").Plane(),
     "cylinder": lambda: __import__("exu_aniso").Cylinder(0.3, side="outside"),

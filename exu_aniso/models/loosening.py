@@ -54,6 +54,17 @@ there Newton stalls above 1e-10 (full or modified) and the step falls to its flo
 dt 2e-5 fails at the first slip with 1e-10 and runs at 1e-8 (docs/guide/scenes.md, the loosening)."""
 
 
+SEE_THROUGH = [0.27, 0.51, 0.71, 0.35]     # steel blue: the thread's flank and points show inside
+
+
+def JointNutGraphics(p):
+    """The full joint's nut in its own frame: a see-through hexagonal tube (across the corners 2.4
+    bearing_radius, the bore d2 / 2) of nut_height from its bearing face up."""
+    zb = bj.bearing_points(p)[0, 2]
+    return [graphics.Cylinder(pAxis=[0.0, 0.0, zb], vAxis=[0.0, 0.0, p.nut_height], radius=1.2 * p.bearing_radius,
+                              innerRadius=0.5 * p.d2, nTiles=6, color=SEE_THROUGH)]
+
+
 def BuildLoosening(p: LooseningParams, jacobian="analytic", implementation="auto", newton="modified",
                    newtonTolerance=None, rhoInf=None, show=True):
     """Build the loosening scene; returns dict with SC, mbs, simulationSettings, solverType, params, oNut,
@@ -127,12 +138,15 @@ def _BuildRings(mbs, p, options):
 
 
 def _BuildFullJoint(mbs, p, options):
-    ground = mbs.CreateGround()
     zc = bj.centre_height(p)
+    core = 0.5 * p.d2 - 0.6 * p.pitch          # the bolt's core inside the flank, so the flank drawn shows round it
+    ground = mbs.CreateGround(graphicsDataList=[graphics.Cylinder(
+        pAxis=[0.0, 0.0, bj.plate_height(p) - 1.5 * p.bearing_radius], vAxis=[0.0, 0.0, 2.0 * zc + 2.0 * p.nut_height],
+        radius=core, nTiles=24, color=graphics.color.grey)])
     inertia = RigidBodyInertia(mass=p.nut_mass, inertiaTensor=np.diag(bj.nut_inertia_tensor(p)))
     oNut = mbs.CreateRigidBody(inertia=inertia,
                                referencePosition=[0.0, 0.0, zc], nodeType=NODE_TYPES["EP"],
-                               graphicsDataList=NutGraphics(p))
+                               graphicsDataList=JointNutGraphics(p))
     nNut = mbs.GetObject(oNut)["nodeNumber"]
     zp = bj.plate_height(p)
     side = 3.0 * p.bearing_radius

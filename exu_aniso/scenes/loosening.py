@@ -2,7 +2,7 @@
 
 A preloaded joint loosens when its nut, or the clamped plate, is shaken across the bolt's axis: while a
 contact ring slides sideways, its friction resists turning only in proportion to the spin rate, so the
-pitch's torque turns the nut back. Today the scene has one case, the mechanism on the bearing face:
+pitch's torque turns the nut back. The scene has two cases, the mechanism on one ring and the joint:
 
 * ``case="bearing"``: the nut's bearing ring (``points`` points on the radius ``bearing_radius``),
   pressed onto the clamped plate (the plane z = 0, its friction ``mu_bearing`` isotropic) by the
