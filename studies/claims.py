@@ -119,6 +119,9 @@ _FULL = ("loosening", "--set", "case=joint", "--set", "model=full", "--set", "so
          "spectral_radius=0", "--set", "t_end=0.645")
 _FULL_SQUARE = _FULL + ("--set", "flank_angle=0")
 _FULL_LOOSE = _FULL[:-1] + ("t_end=8.005",)
+_UM = dict(plate_amplitude=1e6, critical_amplitude_theory=1e6)     # the page's um
+_BEAM = _FULL[:-1] + ("t_end=0.165", "--set", "shank=guided_beam", "--set")
+_BEAM_LONG = _FULL[:-1] + ("t_end=0.645", "--set", "shank=guided_beam", "--set", "shake_displacement=110e-6")
 _SOFT = _NUTRUNNER + ("rotation_speed=10", "--set", "joint_stiffness=2e6", "--set", "t_end=2.9")
 _QUASI_STATIC = [("capstan", "--set", f"ramp_rate={r}", "--set", f"dt=2.5e-4/{r}", "--set", f"t_end={t}")
                  for r, t in (("5.5", "0.7"), ("12.4", "0.4"))]
@@ -246,7 +249,8 @@ RUNS = [
     RunClaim("docs/guide/scenes.md", _ONSET, "N against {} N. Shaken", "1124.7", lambda s: s["onset_force_theory"],
              "{:.1f}"),
     # the loosening's joint: the uniform rings against the torque balance, the full nut's preload and departure
-    *[RunClaim("docs/guide/scenes.md", args, text, quoted, (lambda k: lambda s: s[k])(key), fmt)
+    *[RunClaim("docs/guide/scenes.md", args, text, quoted, (lambda k, f: lambda s: f * s[k])(key, _UM.get(key, 1.0)),
+               fmt)
       for args, text, quoted, key, fmt in (
           (_JOINT, "(four cycles) turns {} rad per metre", "58.390", "rotation_per_path", "{:.3f}"),
           (_JOINT, "of slip path against the balance's {}, and", "58.368", "rotation_per_path_theory", "{:.3f}"),
@@ -272,6 +276,18 @@ RUNS = [
           (_FULL, "path it turns {} rad/m against", "30.9", "rotation_per_path_all", "{:.1f}"),
           (_FULL_SQUARE, "(square {} against 61.1)", "33.6", "rotation_per_path_all", "{:.1f}"),
           (_FULL, "sideways force is {} of the preload", "0.821", "slide_force_per_preload", "{:.3f}"),
+          (_BEAM + ("shake_displacement=65e-6",), "shifts the plate by {} um and the ring never", "53.70",
+           "plate_amplitude", "{:.2f}"),
+          (_BEAM + ("shake_displacement=66e-6",), "66 um shifts it by {} um and it does", "54.57",
+           "plate_amplitude", "{:.2f}"),
+          (_BEAM + ("shake_displacement=65e-6",), "the closed form says {} um", "53.88",
+           "critical_amplitude_theory", "{:.2f}"),
+          (_BEAM_LONG, "the bearing slides in {} of its point-samples", "0.43", "bearing_slip_share", "{:.2f}"),
+          (_BEAM_LONG, "and the nut turns {} rad in all", "0.00033", "rotation", "{:.5f}"),
+          (_BEAM_LONG + ("--set", "flank_angle=0"), "at the thread too ({} of its point-samples)", "0.48",
+           "thread_slip_share", "{:.2f}"),
+          (_BEAM_LONG + ("--set", "flank_angle=0"), "turns loose by {} rad per cycle", "0.0042",
+           "rotation_per_cycle", "{:.4f}"),
       )],
 ]
 

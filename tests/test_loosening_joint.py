@@ -11,7 +11,8 @@ Oracles:
 * model full (the nut on the bolt's helicoid, the plate on the joint's spring): the preload lost per
   radian turned loose within 1 % of the joint's stiffness times P / (2 pi) (with the contacts'
   compliances in series), to the cycle where the joint comes loose and the run ends; the energy
-  ledger closes.
+  ledger closes; with the shank a guided beam (the plate shaken), the plate's shift at which the
+  bearing ring slides against the beam's closed form (1 %).
 """
 import math
 
@@ -103,6 +104,33 @@ def test_the_full_joint_ends_its_run_when_it_comes_loose(run):
     assert s["preload_end"] < LOOSE_SHARE * 1e4
     predicted = s["preload_start"] - s["preload_loss_per_radian_theory"] * s["rotation"]
     assert s["preload_end"] == pytest.approx(predicted, abs=1e-2 * 1e4)
+
+
+def test_the_guided_beam_shank_slides_the_bearing_at_its_critical_amplitude():
+    """Shank guided_beam on the 60 degree thread, the plate shaken for two cycles: bisecting the shaker's
+    amplitude between a run whose bearing ring never slides as a whole and one whose ring does, the
+    plate's largest shift there brackets the guided beam's closed form mu_K F (1 / k_shank + 1 /
+    sticking_stiffness) (bolted_joint.joint_closed_forms) within 1 %: while the bearing sticks, the nut
+    and the bolt's end follow the plate and the bent shank's force grows to the bearing's friction."""
+    from exu_aniso.models.loosening import RunLoosening
+
+    def run(amplitude):
+        p = LooseningParams(case="joint", shank="guided_beam", shake_displacement=amplitude, t_end=0.005 + 2 / 12.5,
+                            **FULL)
+        s = RunLoosening(p, show=False).summary
+        assert s["energy_ok"], s["energy"]
+        return s["bearing_slid"], s["plate_amplitude"], s["critical_amplitude_theory"]
+    lo, hi = (5e-5, None), (8e-5, None)
+    for _ in range(7):
+        mid = 0.5 * (lo[0] + hi[0])
+        slid, amplitude, theory = run(mid)
+        if slid:
+            hi = (mid, amplitude)
+        else:
+            lo = (mid, amplitude)
+    assert lo[1] is not None and hi[1] is not None, (lo, hi)
+    assert lo[1] < hi[1]
+    assert lo[1] > 0.99 * theory and hi[1] < 1.01 * theory, (lo, hi, theory)
 
 
 def test_the_joint_runs_on_exudyn_only():

@@ -157,8 +157,9 @@ def _BuildFullJoint(mbs, p, options):
                                                                   size=[2 * side, 2 * side, 0.5 * side],
                                                                   color=graphics.color.lightgrey)])
     nPlate = mbs.GetObject(oPlate)["nodeNumber"]
-    mbs.CreateGenericJoint(itemNumbers=[ground, oPlate], position=[0.0, 0.0, zp], constrainedAxes=[1, 1, 0, 1, 1, 1],
-                           show=False)
+    beam = p.shank == "guided_beam"             # the plate shaken along x, the bolt's end on its shank
+    mbs.CreateGenericJoint(itemNumbers=[ground, oPlate], position=[0.0, 0.0, zp],
+                           constrainedAxes=[0 if beam else 1, 1, 0, 1, 1, 1], show=False)
     mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nPlate, coordinate=2))
     mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround(
         visualization=VNodePointGround(show=False))), coordinate=0))
@@ -168,15 +169,27 @@ def _BuildFullJoint(mbs, p, options):
     mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=0.0,
                                loadUserFunction=lambda mbs, t, _: float(bj.spring_load_at(p, t))))
     e = np.eye(7)
-    AddSpringDrive(mbs, nNut, e[0], p.drag_stiffness, 0.0, damping=p.drag_damping,
+    AddSpringDrive(mbs, nPlate if beam else nNut, e[0], p.drag_stiffness, 0.0, damping=p.drag_damping,
                    travel=lambda t: bj.shake_travel(p, t))
-    AddSpringDrive(mbs, nNut, e[1], p.drag_stiffness, 0.0, damping=p.drag_damping)
+    bolt = {}
+    if beam:                                    # the bolt's end: a body moving across only, on the shank's stiffness
+        k, c = bj.shank_stiffness(p), p.drag_damping
+        oBolt = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=p.bolt_mass, inertiaTensor=np.eye(3) * 1e-6),
+                                    referencePosition=[0.0, 0.0, 0.0], nodeType=NODE_TYPES["EP"])
+        mbs.CreateGenericJoint(itemNumbers=[ground, oBolt], position=[0.0, 0.0, 0.0],
+                               constrainedAxes=[0, 0, 1, 1, 1, 1],
+                               show=False)
+        mbs.CreateCartesianSpringDamper(itemNumbers=[ground, oBolt], stiffness=[k, k, 0.0], damping=[c, c, 0.0],
+                                        show=False)
+        bolt = dict(masterBodyNumber=oBolt)
+    else:
+        AddSpringDrive(mbs, nNut, e[1], p.drag_stiffness, 0.0, damping=p.drag_damping)
     contacts = dict(
         bearing=mbs.CreateAnisotropicContact(name="bearingContact", bodyNumber=oNut, localPoints=bj.bearing_points(p),
                                              contactLaw=bj.bearing_law(p), masterBodyNumber=oPlate,
                                              graphicsSize=side, **options),
         thread=mbs.CreateAnisotropicContact(name="threadContact", bodyNumber=oNut, localPoints=bj.thread_points(p),
-                                            contactLaw=bj.thread_law(p), graphicsSize=p.d2, **options))
+                                            contactLaw=bj.thread_law(p), graphicsSize=p.d2, **bolt, **options))
     coordinates = exu.OutputVariableType.Coordinates
     check = dict(next=p.load_time + 1.0 / p.shake_frequency)
 
@@ -192,6 +205,9 @@ def _BuildFullJoint(mbs, p, options):
     sensors = _NodeSensors(mbs, nNut, (("sPosition", "Position"), ("sVelocity", "Velocity"),
                                        ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")))
     sensors.update(_NodeSensors(mbs, nPlate, (("sPlate", "Coordinates"), ("sPlateVelocity", "Coordinates_t"))))
+    if beam:
+        sensors.update(_NodeSensors(mbs, mbs.GetObject(bolt["masterBodyNumber"])["nodeNumber"],
+                                    (("sBolt", "Coordinates"), ("sBoltVelocity", "Coordinates_t"))))
     return dict(oNut=oNut, nNut=nNut, oPlate=oPlate, nPlate=nPlate, contacts=contacts, sensors=sensors)
 
 
@@ -216,34 +232,48 @@ def ReadLoosening(model, complete):
         V = mbs.GetSensorStoredData(S["sVelocities"])
         t = Q[:, 0]
         traj = dict(t=t, x=Q[:, 1], y=Q[:, 2], angle=Q[:, 3], vx=V[:, 1], vy=V[:, 2], omega=V[:, 3])
-    if p.case == "joint":
-        traj.update(drag_force=bj.shake_force(p, traj["x"], traj["vx"], t),
-                    dissipated_energy=diss + histories["thread"][0], slip_distance=slip)
-        bj.finish_joint_trajectory(traj, H, histories["thread"][2])
-        traj.setdefault("tilt", np.zeros_like(t))
-    else:
+    if p.case == "bearing":
         traj.update(drag_force=drag_force(p, traj["x"], traj["y"], traj["vx"], traj["vy"], t)[0],
                     dissipated_energy=diss, slip_distance=slip)
         finish_trajectory(traj, H)
+        if not complete:
+            return traj, {}, None
+        return traj, {}, dict(motion=_PlanarMotion(traj, held_gap(p)), law=model["contacts"]["bearing"]["law"], H=H)
+    zero = np.zeros_like(t)
+    plate = bolt = None
+    shaken = {k: traj[k] for k in ("x", "y", "vx", "vy")}
+    if full:
+        C, C_t = mbs.GetSensorStoredData(S["sPlate"]), mbs.GetSensorStoredData(S["sPlateVelocity"])
+        plate = dict(x=C[:, 1], vx=C_t[:, 1], z=C[:, 3], vz=C_t[:, 3])
+        if "sBolt" in S:
+            B, B_t = mbs.GetSensorStoredData(S["sBolt"]), mbs.GetSensorStoredData(S["sBoltVelocity"])
+            bolt = dict(x=B[:, 1], y=B[:, 2], vx=B_t[:, 1], vy=B_t[:, 2])
+            shaken = dict(x=plate["x"], y=zero, vx=plate["vx"], vy=zero)
+            traj.update(plate_x=plate["x"], bolt_x=bolt["x"], bolt_y=bolt["y"])
+    traj.update(drag_force=bj.shake_force(p, shaken["x"], shaken["vx"], t),
+                dissipated_energy=diss + histories["thread"][0], slip_distance=slip)
+    bj.finish_joint_trajectory(traj, H, histories["thread"][2])
+    traj.setdefault("tilt", zero)
     if not complete:
         return traj, {}, None
     laws = {name: c["law"] for name, c in model["contacts"].items()}
-    if p.case == "bearing":
-        return traj, {}, dict(motion=_PlanarMotion(traj, held_gap(p)), law=laws["bearing"], H=H)
     if full:
         nut = SensorMotion(model)
-        plate = dict(z=mbs.GetSensorStoredData(S["sPlate"])[:, 3],
-                     vz=mbs.GetSensorStoredData(S["sPlateVelocity"])[:, 3])
-        shift = np.column_stack([np.zeros_like(t), np.zeros_like(t), plate["z"] + bj.plate_height(p)])
-        on_plate = energy.RigidMotion(nut.position - shift, nut.rotation,
-                                      nut.velocity - np.column_stack([0 * t, 0 * t, plate["vz"]]), nut.omega)
+        on_plate = _Relative(nut, plate["x"], zero, plate["z"] + bj.plate_height(p), plate["vx"], zero, plate["vz"])
+        on_bolt = nut if bolt is None else _Relative(nut, bolt["x"], bolt["y"], zero, bolt["vx"], bolt["vy"], zero)
         contacts = [(laws["bearing"], on_plate, bj.bearing_points(p), H),
-                    (laws["thread"], nut, bj.thread_points(p), histories["thread"][2])]
-        return traj, {}, dict(contacts=contacts, plate=plate, nut_motion=nut)
+                    (laws["thread"], on_bolt, bj.thread_points(p), histories["thread"][2])]
+        return traj, {}, dict(contacts=contacts, shaken=shaken, plate=plate, nut_motion=nut, bolt=bolt)
     gaps = bj.held_gaps(p)
     contacts = [(laws[name], _PlanarMotion(traj, gaps[name]), points, histories[name][2])
                 for name, points in (("bearing", bj.bearing_points(p)), ("thread", bj.thread_points(p)))]
-    return traj, {}, dict(contacts=contacts)
+    return traj, {}, dict(contacts=contacts, shaken=shaken)
+
+
+def _Relative(motion, x, y, z, vx, vy, vz):
+    """energy.RigidMotion of a body relative to a master that translates by (x, y, z) at (vx, vy, vz)."""
+    return energy.RigidMotion(motion.position - np.column_stack([x, y, z]), motion.rotation,
+                              motion.velocity - np.column_stack([vx, vy, vz]), motion.omega)
 
 
 def _PlanarMotion(traj, height):

@@ -17,13 +17,18 @@ prescribes the displacement) and holds it at y = 0. Two models:
 * ``model="full"``: a 6-DOF nut on the bolt's helicoid flank (``turns`` turns of
   ``points_per_turn`` points at the pitch radius), its bearing ring on the plate; the plate moves
   along the axis only, on the joint's spring (``joint_stiffness``, a dashpot ``joint_damping``)
-  that is compressed by F: when the nut backs off, the plate follows and the preload falls.
+  that is compressed by F: when the nut backs off, the plate follows and the preload falls. With
+  ``shank="guided_beam"`` the bolt's threaded end moves across on its shank's lateral stiffness
+  (``shank_stiffness``: a beam of ``clamp_length`` clamped at the head and guided at the nut, so its
+  end shifts without turning) and the shaker drives the plate instead, as a Junker test does.
 
 Closed forms (``scenes.threads``): with both rings uniform, closed and sliding, the nut turns loose by
 ``joint_rotation_per_path`` radians per metre of its sideways slip path, against a sideways force of
 F ``joint_slide_force_per_preload`` (the hysteresis loop's plateau), and each radian backs it off by
 P / (2 pi), which loses the preload ``threads.clamp_force_per_angle`` (the joint's spring and the two
-contacts' normal compliances in series).
+contacts' normal compliances in series). With the guided-beam shank the bearing ring slides as a whole
+once the plate's shift reaches mu_bearing F (1 / k_shank + 1 / sticking_stiffness), the critical
+amplitude (``joint_closed_forms``).
 
 A nut shaken sideways on a helicoid wedges its flank: the shift moves each thread point along the
 helix by the shift's component along e_phi over r, so the flank's height under it changes by h / r
@@ -120,6 +125,12 @@ def bearing_law(p):
     K = p.points
     return ContactLaw(Plane(), Adhesion.isotropic(p.sticking_stiffness / K), Friction.isotropic(p.mu_bearing),
                       normal_stiffness=p.bearing_stiffness / K, return_map=p.return_map)
+
+
+def shank_stiffness(p):
+    """Shank guided_beam: the bolt's threaded end's lateral stiffness [N/m], a beam clamped at the head
+    and guided at the nut (``threads.guided_beam_stiffness``)."""
+    return threads.guided_beam_stiffness(p.youngs_modulus, p.shank_diameter, p.clamp_length)
 
 
 def held_gaps(p):
@@ -219,7 +230,12 @@ def joint_closed_forms(p):
     ``slide_force_per_preload_theory`` [-] (``threads.joint_slide_force_per_preload``) and
     ``preload_loss_per_radian_theory`` [N/rad] (``threads.clamp_force_per_angle`` with the bearing's and
     the flank's axial compliances, ``threads.thread_axial_stiffness`` at mu 0, in series with the
-    joint's spring); None with the reason where undefined."""
+    joint's spring) and, with the guided-beam shank, ``critical_amplitude_theory`` [m]: the plate's
+    shift at which the bearing ring slides as a whole, mu_bearing F (1 / k_shank + 1 /
+    sticking_stiffness): while it sticks the nut and the bolt's end follow the plate, and the shank's
+    bending force (``shank_stiffness``) and the bearing's elastic stick take the shift until that force
+    reaches the bearing's friction (the thread, whose 60 degree flank wedges against a sideways slide,
+    holds on); None with the reason where undefined."""
     args = (p.d2, p.pitch, flank_angle_rad(p), p.mu_thread, p.mu_bearing, p.bearing_radius)
     out = dict(undefined={})
     try:
@@ -230,6 +246,13 @@ def joint_closed_forms(p):
         out["undefined"].update(rotation_per_path_theory=str(e), slide_force_per_preload_theory=str(e))
     out["preload_loss_per_radian_theory"] = threads.clamp_force_per_angle(p.joint_stiffness, p.pitch,
                                                                           (contact_compliance(p),))
+    if p.model == "full" and p.shank == "guided_beam":
+        out["critical_amplitude_theory"] = p.mu_bearing * p.preload * (1.0 / shank_stiffness(p)
+                                                                       + 1.0 / p.sticking_stiffness)
+    else:
+        out["critical_amplitude_theory"] = None
+        out["undefined"]["critical_amplitude_theory"] = ("the critical amplitude is the guided-beam shank's "
+                                                         "(model full, shank guided_beam)")
     return out
 
 
@@ -258,8 +281,9 @@ def joint_summary(traj, p):
     preload) beside their closed forms; the preload at the shaking's start and end [N] and, model full,
     ``preload_loss_per_radian`` [N/rad] (the line through the cycle ends' preload against angle);
     ``cycles_to_loose``, the cycles until the preload fell under LOOSE_SHARE of ``preload`` (model full
-    ends its run at that cycle's end); the rings' shares of sliding and open point-samples over the shaking and the
-    flank's mean load spread."""
+    ends its run at that cycle's end); with the guided-beam shank ``plate_amplitude`` [m], the plate's
+    largest shift, and ``bearing_slid``, whether the bearing ring ever slid as a whole; the rings'
+    shares of sliding and open point-samples over the shaking and the flank's mean load spread."""
     t = np.asarray(traj["t"], float)
     angle = np.asarray(traj["angle"], float)
     theory = joint_closed_forms(p)
@@ -269,7 +293,8 @@ def joint_summary(traj, p):
              rotation=float(angle[-1] - np.interp(p.load_time, t, angle)),
              rotation_per_cycle=None, rotation_per_path=None, slide_force_per_preload=None,
              preload_loss_per_radian=None)
-    for k in ("rotation_per_path_theory", "slide_force_per_preload_theory", "preload_loss_per_radian_theory"):
+    for k in ("rotation_per_path_theory", "slide_force_per_preload_theory", "preload_loss_per_radian_theory",
+              "critical_amplitude_theory"):
         s[k] = theory[k]
     at = np.interp(ends, t, angle)
     x = np.asarray(traj["x"], float)
@@ -295,6 +320,9 @@ def joint_summary(traj, p):
     preload = np.asarray(traj["preload"], float)
     s["preload_start"] = float(np.interp(p.load_time, t, preload))
     s["preload_end"] = float(preload[-1])
+    if "plate_x" in traj:         # the guided-beam shank: the plate's shift, and whether the bearing ever slid whole
+        s["plate_amplitude"] = float(np.max(np.abs(np.asarray(traj["plate_x"], float)[shaking])))
+        s["bearing_slid"] = bool(np.any(np.asarray(traj["bearing_slip_fraction"])[shaking] == 1.0))
     came = np.flatnonzero((t > p.load_time) & (preload < LOOSE_SHARE * p.preload))
     s["cycles_to_loose"] = float((t[came[0]] - p.load_time) * p.shake_frequency) if len(came) else None
     if not len(came):
@@ -315,16 +343,17 @@ def joint_summary(traj, p):
     return s
 
 
-def joint_energy_terms(p, traj, contacts, plate=None, nut_motion=None):
+def joint_energy_terms(p, traj, contacts, shaken, plate=None, nut_motion=None, bolt=None):
     """The joint's energy terms (energy.ledger's arguments): work in, the shaker's spring over its
     driver's travel, plus (model rings) the lead's torque over the angle or (model full) the preload's
-    rising force over the plate's travel; kinetic, the nut's (and the plate's); potential, the shaker's
-    springs (and the joint's spring); stored and dissipated, the contacts' (``contacts``: (law, motion
-    relative to the master, body-local points, history) each) and the dashpots'. plate (model full):
-    dict z, vz (n,) of the plate; nut_motion: the nut's RigidMotion (model full)."""
+    rising force over the plate's travel; kinetic, the bodies'; potential, the springs' (the shaker's, the
+    joint's, the shank's); stored and dissipated, the contacts' (``contacts``: (law, motion relative to
+    the master, body-local points, history) each) and the dashpots'. shaken: dict x, y, vx, vy (n,) of the
+    body the shaker drives along x and its spring holds at y = 0 (the nut, or with the guided-beam shank
+    the plate, whose y its joint holds at 0); model full: plate, dict x, vx, z, vz (n,) of the plate, and
+    nut_motion, the nut's RigidMotion; shank guided_beam: bolt, dict x, y, vx, vy (n,) of the bolt's end."""
     t = np.asarray(traj["t"], float)
-    x, y = np.asarray(traj["x"], float), np.asarray(traj["y"], float)
-    vx, vy = np.asarray(traj["vx"], float), np.asarray(traj["vy"], float)
+    x, y, vx, vy = (np.asarray(shaken[k], float) for k in ("x", "y", "vx", "vy"))
     s, s_t = shake_travels(p, t)
     work = energy.work_trapezoid(traj["drag_force"], s)
     springs = 0.5 * p.drag_stiffness * ((s - x) ** 2 + y ** 2)
@@ -336,10 +365,16 @@ def joint_energy_terms(p, traj, contacts, plate=None, nut_motion=None):
         springs = springs + 0.5 * p.joint_stiffness * z ** 2
         dashpots = dashpots + energy.work_trapezoid(p.joint_damping * vz, z)
         kinetic = (energy.rigid_kinetic(nut_motion, p.nut_mass, np.diag(nut_inertia_tensor(p)))
-                   + 0.5 * p.plate_mass * vz ** 2)
+                   + 0.5 * p.plate_mass * (plate["vx"] ** 2 + vz ** 2))
     else:
         work = work + energy.work_trapezoid(lead_torque(p, t), traj["angle"])
         kinetic = 0.5 * p.nut_mass * (vx ** 2 + vy ** 2) + 0.5 * p.nut_inertia * np.asarray(traj["omega"], float) ** 2
+    if bolt is not None:
+        bx, by, bvx, bvy = (np.asarray(bolt[k], float) for k in ("x", "y", "vx", "vy"))
+        springs = springs + 0.5 * shank_stiffness(p) * (bx ** 2 + by ** 2)
+        dashpots = dashpots + energy.work_trapezoid(p.drag_damping * bvx, bx) + energy.work_trapezoid(
+            p.drag_damping * bvy, by)
+        kinetic = kinetic + 0.5 * p.bolt_mass * (bvx ** 2 + bvy ** 2)
     stored = np.zeros_like(t)
     diss = dashpots
     for law, motion, points, H in contacts:

@@ -68,14 +68,21 @@ LOOSENING_PARAMS = {
     "joint_damping": (9e3, "N s/m", "case joint, model full: the dashpot beside it (about critical with plate_mass)",
                       ">= 0"),
     "plate_mass": (0.2, "kg", "case joint, model full: the clamped plate's mass", "> 0"),
+    "shank": ("rigid", "-", "case joint, model full: rigid (the bolt fixed, the nut shaken) or guided_beam (the bolt's "
+              "threaded end on its shank's lateral stiffness, a beam clamped at the head and guided at the nut, "
+              "12 E I / clamp_length^3; the plate shaken, as in a Junker test)", ("rigid", "guided_beam")),
+    "clamp_length": (0.03, "m", "shank guided_beam: the shank's bending length between head and nut", "> 0"),
+    "shank_diameter": (8.6e-3, "m", "shank guided_beam: the shank's diameter (M10's stress diameter: 8.6 mm)", "> 0"),
+    "youngs_modulus": (2.1e11, "Pa", "shank guided_beam: the bolt's Young's modulus (steel)", "> 0"),
+    "bolt_mass": (0.02, "kg", "shank guided_beam: the mass of the bolt's end moving with the nut", "> 0"),
     "nut_height": (8e-3, "m", "case joint, model full: height of the nut (its inertia across the axis: "
                    "nut_inertia / 2 + nut_mass nut_height^2 / 12)", "> 0"),
     "shake_displacement": (2e-4, "m", "case joint: the shaker's amplitude D (the nut's centre pulled to "
                            "D sin(2 pi shake_frequency (t - load_time)) along x; the model's flank has no crest or "
                            "root, a real thread's radial play bounds the slip at the thread)", ">= 0"),
     "bearing_stiffness": (1e10, "N/m", "normal penalty stiffness of the bearing contact (total)", "> 0"),
-    "sticking_stiffness": (2e8, "N/m", "sticking stiffness of the bearing contact, and of the thread's (total each; 6 um "
-                           "of elastic stick at the default friction limit)", "> 0"),
+    "sticking_stiffness": (2e8, "N/m", "sticking stiffness of the bearing contact, and of the thread's (total "
+                           "each; 6 um of elastic stick at the default friction limit)", "> 0"),
     "drag": ("speed", "-", "how the ring is moved across the plate along x: speed (a stiff spring to a driver at "
              "slip_speed), ramp (a force rising at force_rate: the slip onset) or shake (a force shake_amplitude "
              "sin(2 pi shake_frequency t))", ("speed", "ramp", "shake")),
@@ -130,6 +137,7 @@ COLUMNS = {"t": "s", "x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s
            "preload": "N", "thread_load": "N", "bearing_load": "N", "thread_slip_fraction": "-",
            "thread_stick_fraction": "-", "thread_open_fraction": "-", "bearing_slip_fraction": "-",
            "bearing_stick_fraction": "-", "bearing_open_fraction": "-", "flank_load_spread": "-", "tilt": "rad",
+           "plate_x": "m", "bolt_x": "m", "bolt_y": "m",
            **LEDGER_COLUMNS}
 """trajectory.csv: the ring's (the nut's) centre, its angle (case joint: turned loose, positive) and
 their rates, the transverse force on it along x (the drag or shaker spring's, or the applied force), the
@@ -137,7 +145,8 @@ share of its bearing points that slide, the slip distance and the dissipated ene
 (work in: the driver's or the force's work along x and the torque's over the angle, or the preload's;
 kinetic: the nut's and the plate's). Case joint only (``bolted_joint.finish_joint_trajectory``): the
 preload (the bearing's normal force), the rings' normal forces and shares of sliding, sticking and open
-points, the flank's load spread ((max - min) / mean over the thread's points) and the nut's tilt."""
+points, the flank's load spread ((max - min) / mean over the thread's points) and the nut's tilt; with
+the guided-beam shank, the plate's shift and the bolt's end (x, y)."""
 TITLE_KEYS = dict(bearing=("spin_rate", "spin_rate_theory"),
                   joint=("rotation_per_path", "rotation_per_path_theory"))
 STEADY_SHARE = 0.5      # the steady state: the last half of the run
@@ -303,8 +312,8 @@ def loosening_energy(p, traj, **inputs):
 
 def bearing_energy_terms(p, traj, motion, law, H):
     """The bearing case's energy terms (energy.ledger's arguments): work in, the drag springs' forces
-    over the ring's travel and the torque over its angle; kinetic; the drag springs' own energy and the contact's stored energy;
-    the contact's and the drag dashpots' dissipation."""
+    over the ring's travel and the torque over its angle; kinetic; the drag springs' own energy and the
+    contact's stored energy; the contact's and the drag dashpots' dissipation."""
     x, y = np.asarray(traj["x"], float), np.asarray(traj["y"], float)
     vx, vy = np.asarray(traj["vx"], float), np.asarray(traj["vy"], float)
     t = np.asarray(traj["t"], float)

@@ -261,3 +261,13 @@ def joint_slide_force_per_preload(d2, pitch, flank_angle, mu_thread, mu_bearing,
     h, r2, mu_t = _joint_rings(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius)
     c = joint_rotation_per_path(d2, pitch, flank_angle, mu_thread, mu_bearing, bearing_radius)
     return mu_t * ring_drag_factor(c * r2) + mu_bearing * ring_drag_factor(c * bearing_radius)
+
+
+def guided_beam_stiffness(youngs_modulus, diameter, length):
+    """The lateral stiffness [N/m] of a round beam clamped at one end and guided at the other (the end
+    shifts without turning): 12 E I / L^3 with I = pi d^4 / 64, the bolt's shank between a head and a
+    nut that hold it square."""
+    for name, v in (("youngs_modulus", youngs_modulus), ("diameter", diameter), ("length", length)):
+        if not (math.isfinite(v) and v > 0.0):
+            raise ValueError(f"{name} must be a finite number > 0; got {v!r}")
+    return 12.0 * youngs_modulus * math.pi * diameter ** 4 / 64.0 / length ** 3
