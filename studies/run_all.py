@@ -29,6 +29,7 @@ from _lib.studylib import ROOT, write_text  # noqa: E402
 # order of the sections in the results document (bench_kernels.py and baseline.py are not part of it:
 # the kernel timing is quoted in README.md, the baseline table is a section of benchmarks)
 STUDIES = ["block_paths", "screw_driving", "tapered_thread", "particle", "capstan", "feeder", "fastening", "nut", "loosening",
+           "junker",
            "fe_block", "fe_screw", "screw_ratio_sweep", "calibration",
            "return_maps", "hard_cases",
            "benchmarks",
