@@ -27,8 +27,7 @@ from exu_aniso.scenes.loosening import LooseningParams
 
 QUICK = os.environ.get("EXU_ANISO_QUICK") == "1"      # the test suite's short form
 cycles = 6 if QUICK else 80
-full = dict(case="joint", model="full", solver="generalized_alpha", spectral_radius=0.0,
-            t_end=0.005 + cycles / 12.5)
+full = dict(case="joint", model="full", t_end=0.005 + cycles / 12.5)
 
 fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4.2))
 for flank, color in ((60.0, "C0"), (0.0, "C3")):

@@ -19,7 +19,7 @@ from _lib.studylib import Timer, finish, markdown_table, parse_args, read_table,
 from exu_aniso.scenes.bolted_joint import joint_closed_forms  # noqa: E402
 from exu_aniso.scenes.loosening import LooseningParams  # noqa: E402
 
-BASE = dict(case="joint", model="full", solver="generalized_alpha", spectral_radius=0.0, shank="guided_beam")
+BASE = dict(case="joint", model="full", shank="guided_beam")
 BISECTIONS = 9
 RATE_CYCLES = 8
 
@@ -88,8 +88,7 @@ def main(argv=None):
     C, R = read_table(cpath), read_table(rpath)
     body = f"""
 Scene: `exu_aniso/scenes/loosening.py`, its joint (`exu_aniso/scenes/bolted_joint.py`) with the full nut on a
-flexible shank: `exu-aniso run loosening --set case=joint --set model=full --set solver=generalized_alpha --set
-spectral_radius=0 --set shank=guided_beam`. An M10 bolt's threaded end moves across on its shank's lateral
+flexible shank: `exu-aniso run loosening --set case=joint --set model=full --set shank=guided_beam`. An M10 bolt's threaded end moves across on its shank's lateral
 stiffness, a beam of {1e3 * p.clamp_length:g} mm clamped at the head and guided at the nut (12 E I / L^3,
 {1e3 * p.shank_diameter:g} mm, E {p.youngs_modulus:g} Pa), and the plate is shaken at {p.shake_frequency:g} Hz.
 

@@ -76,7 +76,7 @@ def test_uniform_rings_turn_loose_by_the_torque_balance(run, flank_angle):
     assert s["rotation"] > 0.0 and s["thread_open_share"] == 0.0
 
 
-FULL = dict(model="full", solver="generalized_alpha", spectral_radius=0.0, dt=1e-4)
+FULL = dict(model="full", dt=1e-4)
 
 
 @pytest.mark.parametrize("flank_angle", [0.0, 60.0])
