@@ -54,9 +54,8 @@ _STATUS, _NORMAL = HISTORY_FIELDS.index("status"), HISTORY_FIELDS.index("normal"
 BEARING_GAP = 0.3           # the bearing face's height below the nut's lowest thread point [pitches]
 LOOSE_SHARE = 0.1
 """The joint is loose once its preload falls under this share of ``preload`` after the shaking began.
-Model full ends its run there (``loose``): the model's flank has no crest or root, so a nut that no
-preload holds on it rides off the flank sideways (a run at D 0.1 mm went on until a thread point
-reached the bolt's axis)."""
+Model full ends its run there (``loose``): past it the loosening has nothing more to show, and the
+model's flank has no crest or root to keep a nut that no preload holds on the bolt."""
 
 
 # ----------------------------------------------------------------------------------------------
@@ -170,26 +169,22 @@ def lead_torque(p, t):
 
 
 def shake_travel(p, t):
-    """The shaker's driver: its travel D sin(2 pi f tau) [m] and rate, tau = t - load_time, at rest
-    before (a number, for the spring's user function)."""
-    tau = t - p.load_time
-    if tau <= 0.0:
-        return 0.0, 0.0
+    """The shaker's driver: its travel D sin(2 pi f tau) [m] and rate [m/s], tau = t - load_time, at rest
+    before; t a number (the spring's user function, every Newton iteration: no arrays) or an array."""
     w = 2.0 * math.pi * p.shake_frequency
-    return p.shake_displacement * math.sin(w * tau), p.shake_displacement * w * math.cos(w * tau)
-
-
-def shake_travels(p, t):
-    """shake_travel over an array of times (travel, rate)."""
+    if np.ndim(t) == 0:
+        tau = t - p.load_time
+        if tau <= 0.0:
+            return 0.0, 0.0
+        return p.shake_displacement * math.sin(w * tau), p.shake_displacement * w * math.cos(w * tau)
     tau = np.maximum(np.asarray(t, float) - p.load_time, 0.0)
-    w = 2.0 * math.pi * p.shake_frequency
-    on = tau > 0.0
-    return p.shake_displacement * np.sin(w * tau), np.where(on, p.shake_displacement * w * np.cos(w * tau), 0.0)
+    return p.shake_displacement * np.sin(w * tau), np.where(tau > 0.0, p.shake_displacement * w * np.cos(w * tau), 0.0)
 
 
 def shake_force(p, x, vx, t):
-    """The shaker's spring and dashpot force on the nut along x [N] (arrays)."""
-    s, s_t = shake_travels(p, t)
+    """The shaker's spring and dashpot force along x [N] (arrays) on the body it drives (the nut, or the
+    plate with the guided-beam shank) at x, vx."""
+    s, s_t = shake_travel(p, t)
     return p.drag_stiffness * (s - x) + p.drag_damping * (s_t - vx)
 
 
@@ -197,26 +192,25 @@ def shake_force(p, x, vx, t):
 # the rings' states
 
 def ring_states(H, prefix):
-    """The shares of a ring's points that slide, stick and are open from its history H (n, K, 9), and
-    its normal forces' total [N] and spread ((max - min) / mean over the loaded points, 0 where none
-    is loaded)."""
+    """The shares of a ring's points that slide, stick and are open and its normal forces' total [N]
+    from its history H (n, K, 9), named ``prefix``_..., and their spread ((max - min) / mean over its
+    points, 0 where none is loaded)."""
     status, N = H[:, :, _STATUS], -H[:, :, _NORMAL]
     total = N.sum(axis=1)
     mean = total / N.shape[1]
     spread = np.where(mean > 0.0, (N.max(axis=1) - N.min(axis=1)) / np.where(mean > 0.0, mean, 1.0), 0.0)
-    out = {f"{prefix}_slip_fraction": (status == SLIP).mean(axis=1),
-           f"{prefix}_stick_fraction": (status == STICK).mean(axis=1),
-           f"{prefix}_open_fraction": ((status != SLIP) & (status != STICK)).mean(axis=1),
-           f"{prefix}_load": total}
-    if prefix == "thread":
-        out["flank_load_spread"] = spread
-    return out
+    return {f"{prefix}_slip_fraction": (status == SLIP).mean(axis=1),
+            f"{prefix}_stick_fraction": (status == STICK).mean(axis=1),
+            f"{prefix}_open_fraction": ((status != SLIP) & (status != STICK)).mean(axis=1),
+            f"{prefix}_load": total}, spread
 
 
 def finish_joint_trajectory(traj, H_bearing, H_thread):
-    """Add the rings' states (``ring_states``) and the preload (the bearing's normal force) to traj."""
-    traj.update(ring_states(H_bearing, "bearing"))
-    traj.update(ring_states(H_thread, "thread"))
+    """Add the rings' states (``ring_states``), the flank's load spread and the preload (the bearing's
+    normal force) to traj."""
+    bearing, _ = ring_states(H_bearing, "bearing")
+    thread, traj["flank_load_spread"] = ring_states(H_thread, "thread")
+    traj.update(bearing, **thread)
     traj["slip_fraction"] = traj["bearing_slip_fraction"]
     traj["preload"] = traj["bearing_load"]
     return traj
@@ -354,7 +348,7 @@ def joint_energy_terms(p, traj, contacts, shaken, plate=None, nut_motion=None, b
     nut_motion, the nut's RigidMotion; shank guided_beam: bolt, dict x, y, vx, vy (n,) of the bolt's end."""
     t = np.asarray(traj["t"], float)
     x, y, vx, vy = (np.asarray(shaken[k], float) for k in ("x", "y", "vx", "vy"))
-    s, s_t = shake_travels(p, t)
+    s, s_t = shake_travel(p, t)
     work = energy.work_trapezoid(traj["drag_force"], s)
     springs = 0.5 * p.drag_stiffness * ((s - x) ** 2 + y ** 2)
     dashpots = (energy.work_trapezoid(p.drag_damping * (s_t - vx), s - x)
