@@ -36,8 +36,8 @@ from exu_aniso.engines.exudyn_adapter.runner import (NODE_TYPES, AddSpringDrive,
                                                      SceneView, SensorMotion, SimulationSettingsFor, Unwrap)
 from exu_aniso.engines import energy
 from exu_aniso.scenes import bolted_joint as bj
-from exu_aniso.scenes.loosening import (SCENE, LooseningParams, bearing_contact_law, drag_force, finish_trajectory,
-                                        held_gap, ring_points, torque_at, transverse_force)
+from exu_aniso.scenes.loosening import (SCENE, LooseningParams, drag_force, finish_trajectory, held_gap, torque_at,
+                                        transverse_force)
 from exu_aniso.util.validation import check_instance
 
 
@@ -115,10 +115,10 @@ def _BuildBearing(mbs, p, options):
         mbs.AddLoad(LoadCoordinate(markerNumber=mX, load=0.0,
                                    loadUserFunction=lambda mbs, t, load: float(transverse_force(p, t))))
     _AngleLoad(mbs, nNut, p.torque, lambda t: torque_at(p, t))
-    points = ring_points(p)
+    points = bj.bearing_ring(p)
     points[:, 2] = held_gap(p)                  # the plane's points at the height that carries the preload
     contact = mbs.CreateAnisotropicContact(name="bearingContact", bodyNumber=oNut, localPoints=points,
-                                           contactLaw=bearing_contact_law(p), graphicsSize=3.0 * p.bearing_radius,
+                                           contactLaw=bj.bearing_law(p), graphicsSize=3.0 * p.bearing_radius,
                                            **options)
     return dict(oNut=oNut, nNut=nNut, contacts=dict(bearing=contact), sensors=sensors)
 
@@ -166,8 +166,9 @@ def _BuildFullJoint(mbs, p, options):
     mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
         markerNumbers=[mGround, mZ], stiffness=p.joint_stiffness, damping=p.joint_damping,
         visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
+    factor = bj.spring_load_factor(p)           # once: the load's user function runs every Newton iteration
     mbs.AddLoad(LoadCoordinate(markerNumber=mZ, load=0.0,
-                               loadUserFunction=lambda mbs, t, _: float(bj.spring_load_at(p, t))))
+                               loadUserFunction=lambda mbs, t, _: factor * float(bj.preload_at(p, t))))
     e = np.eye(7)
     AddSpringDrive(mbs, nPlate if beam else nNut, e[0], p.drag_stiffness, 0.0, damping=p.drag_damping,
                    travel=lambda t: bj.shake_travel(p, t))
@@ -200,7 +201,7 @@ def _BuildFullJoint(mbs, p, options):
             return True
         check["next"] += 1.0 / p.shake_frequency
         plate_z = mbs.GetNodeOutput(nPlate, coordinates)[2]
-        return not bj.loose(p, t, bj.spring_load_at(p, t) - p.joint_stiffness * plate_z)
+        return not bj.loose(p, t, factor * float(bj.preload_at(p, t)) - p.joint_stiffness * plate_z)
     mbs.SetPreStepUserFunction(go_on)
     sensors = _NodeSensors(mbs, nNut, (("sPosition", "Position"), ("sVelocity", "Velocity"),
                                        ("sRotation", "RotationMatrix"), ("sOmega", "AngularVelocity")))

@@ -96,12 +96,20 @@ def thread_points(p):
     return np.column_stack([0.5 * p.d2 * np.cos(phi), 0.5 * p.d2 * np.sin(phi), z])
 
 
-def bearing_points(p):
-    """Body-local bearing points (points, 3) on bearing_radius: model full, BEARING_GAP pitches below
-    the lowest thread point; model rings, in the plane z = 0."""
+def bearing_ring(p):
+    """The bearing ring (points, 3): ``points`` points on bearing_radius in the plane z = 0 (the bearing
+    case's ring, and the rings model's)."""
     a = 2.0 * math.pi * np.arange(p.points) / p.points
-    z = -centre_height(p) - BEARING_GAP * p.pitch if p.model == "full" else 0.0
-    return np.column_stack([p.bearing_radius * np.cos(a), p.bearing_radius * np.sin(a), np.full(p.points, z)])
+    return np.column_stack([p.bearing_radius * np.cos(a), p.bearing_radius * np.sin(a), np.zeros(p.points)])
+
+
+def bearing_points(p):
+    """Body-local bearing points (points, 3): the bearing ring, model full BEARING_GAP pitches below the
+    lowest thread point."""
+    ring = bearing_ring(p)
+    if p.model == "full":
+        ring[:, 2] = -centre_height(p) - BEARING_GAP * p.pitch
+    return ring
 
 
 def plate_height(p):
@@ -120,7 +128,7 @@ def thread_law(p):
 
 def bearing_law(p):
     """ContactLaw of the bearing face on the plate (the plane z = 0 of the plate's frame, isotropic
-    mu_bearing), stiffnesses split over the points."""
+    mu_bearing), stiffnesses split over the points: both cases' bearing ring."""
     K = p.points
     return ContactLaw(Plane(), Adhesion.isotropic(p.sticking_stiffness / K), Friction.isotropic(p.mu_bearing),
                       normal_stiffness=p.bearing_stiffness / K, return_map=p.return_map)
@@ -156,11 +164,17 @@ def loose(p, t, preload):
     return t > p.load_time and preload < LOOSE_SHARE * p.preload
 
 
-def spring_load_at(p, t):
-    """Model full: the force [N] on the plate that, against the joint's spring, settles at the preload
-    ``preload_at(p, t)`` once the contacts have taken their compression: the plate rises by F times
+def spring_load_factor(p):
+    """Model full: the force on the plate that, against the joint's spring, settles at a preload F once
+    the contacts have taken their compression, over F [-]: the plate rises by F times
     ``contact_compliance`` and the spring takes back joint_stiffness times that."""
-    return preload_at(p, t) * (1.0 + p.joint_stiffness * contact_compliance(p))
+    return 1.0 + p.joint_stiffness * contact_compliance(p)
+
+
+def spring_load_at(p, t):
+    """Model full: that force at time t [s] (a number or an array) [N], ``preload_at`` times
+    ``spring_load_factor`` (a user function that runs every Newton iteration takes the factor once)."""
+    return preload_at(p, t) * spring_load_factor(p)
 
 
 def lead_torque(p, t):

@@ -34,12 +34,10 @@ from exu_aniso.engines import energy
 from exu_aniso.engines.reference import RUN_OPTIONS, PlanarBody, run
 from exu_aniso.engines.result import Result
 from exu_aniso.engines.timing import smooth_rise
-from exu_aniso.fields.tensor_fields import Adhesion, Friction
-from exu_aniso.geometry import Plane
-from exu_aniso.kernel.contact_law import ContactLaw
 from exu_aniso.law.history import HISTORY_FIELDS, SLIP
 from exu_aniso.law.return_maps import DEFAULT_RETURN_MAP, RETURN_MAPS
 from exu_aniso.scenes import bolted_joint, threads
+from exu_aniso.scenes.bolted_joint import bearing_law, bearing_ring
 from exu_aniso.scenes.base import LEDGER_COLUMNS, SOLVERS, SceneParams, energy_ledger, scene_parameters
 from exu_aniso.scenes.plotting import drawn, labelled
 from exu_aniso.scenes.scene import Scene
@@ -158,19 +156,8 @@ ONSET_SPEED = 1e-2      # m/s: gross slip, the ring runs away (below the limit t
 # ----------------------------------------------------------------------------------------------
 # geometry, law, the drag
 
-def ring_points(p):
-    """Body-local points of the bearing ring (points, 3) on bearing_radius, z = 0."""
-    a = 2.0 * math.pi * np.arange(p.points) / p.points
-    return np.column_stack([p.bearing_radius * np.cos(a), p.bearing_radius * np.sin(a), np.zeros(p.points)])
-
-
-def bearing_contact_law(p):
-    """ContactLaw of the bearing face on the plate (the plane z = 0, isotropic), stiffnesses split over the
-    points."""
-    K = p.points
-    return ContactLaw(Plane(), Adhesion.isotropic(p.sticking_stiffness / K), Friction.isotropic(p.mu_bearing),
-                      normal_stiffness=p.bearing_stiffness / K, return_map=p.return_map)
-
+# the bearing ring's points and contact law are the joint's (``bolted_joint.bearing_ring``,
+# ``bolted_joint.bearing_law``): one ring, one law, in both cases
 
 def held_gap(p):
     """The points' height over the plate that carries the preload [m] (negative: a penetration)."""
@@ -292,7 +279,7 @@ def bearing_summary(traj, p):
     else:
         angle = np.asarray(traj["angle"], float)
         whole = np.flatnonzero(np.asarray(traj["slip_fraction"], float) == 1.0)
-        ends = p.load_time + np.arange(1, int((t[-1] - p.load_time) * p.shake_frequency + 1e-9) + 1) / p.shake_frequency
+        ends = bolted_joint.cycle_ends(p, t[-1])
         at = np.interp(ends, t, angle)
         s.update(rotation_max=float(np.max(np.abs(angle - angle[0]))), slid_as_a_whole=bool(len(whole)),
                  cycles=float(len(ends)), rotation_per_cycle=None)
@@ -305,7 +292,8 @@ def bearing_summary(traj, p):
 
 def loosening_energy(p, traj, **inputs):
     """Energy ledger of a run (any engine), the case's: ``bearing_energy`` (inputs motion, law, H) or,
-    case joint, ``bolted_joint.joint_energy_terms``' (inputs contacts, plate, nut_motion)."""
+    case joint, ``bolted_joint.joint_energy_terms``' (inputs contacts, shaken, and model full plate,
+    nut_motion and the guided-beam shank's bolt)."""
     terms = (bolted_joint.joint_energy_terms(p, traj, **inputs) if p.case == "joint"
              else bearing_energy_terms(p, traj, **inputs))
     return energy_ledger(terms, traj, "loosening run")
@@ -329,7 +317,7 @@ def bearing_energy_terms(p, traj, motion, law, H):
         dashpots = dashpots + energy.work_trapezoid(p.drag_damping * (p.slip_speed - vx), stretch_x)
     else:                       # the applied force's work along x
         work = work + energy.work_trapezoid(traj["drag_force"], x)
-    stored, diss = energy.rigid_contact_energy(law, motion, ring_points(p), H)     # motion: at the held height
+    stored, diss = energy.rigid_contact_energy(law, motion, bearing_ring(p), H)     # motion: at the held height
     kinetic = 0.5 * p.nut_mass * (vx ** 2 + vy ** 2) + 0.5 * p.nut_inertia * np.asarray(traj["omega"], float) ** 2
     return dict(work_in=work, kinetic=kinetic, potential=springs, stored=stored, dissipated=diss + dashpots)
 
@@ -381,7 +369,7 @@ def PlotJoint(traj, p, fig):
 class _BearingRing(PlanarBody):
     def __init__(self, p, law):
         self.p = p
-        super().__init__(law, ring_points(p)[:, :2], p.nut_mass, p.nut_inertia, p.bearing_radius,
+        super().__init__(law, bearing_ring(p)[:, :2], p.nut_mass, p.nut_inertia, p.bearing_radius,
                          [0.0, 0.0, 0.0], held_gap(p), held_gap(p))
 
     def drive(self, q, v, t):
@@ -408,7 +396,7 @@ def simulate_loosening(params=None, **options):
         raise ValueError(f"case: the reference engine runs the loosening's case bearing; case {p.case!r} runs on "
                          "Exudyn (exu_aniso.models.loosening)")
     options.setdefault("rho_inf", p.spectral_radius)
-    model = _BearingRing(p, bearing_contact_law(p))
+    model = _BearingRing(p, bearing_law(p))
     traj, wall, iters, steps, info, motion, H = run(model, p, floor=1e-6 * p.preload, **options)
     finish_trajectory(traj, H)
     summary = loosening_summary(traj, p, wall, steps, iters)
@@ -441,12 +429,12 @@ class LooseningScene(Scene):
     def law(self, p):
         if p.case == "joint":
             return dict(bearing=bolted_joint.bearing_law(p), thread=bolted_joint.thread_law(p))
-        return bearing_contact_law(p)
+        return bearing_law(p)
 
     def points(self, p):
         if p.case == "joint":
-            return dict(bearing=bolted_joint.bearing_points(p), thread=bolted_joint.thread_points(p))
-        return ring_points(p)
+            return dict(bearing=bolted_joint.beabearing_ring(p), thread=bolted_joint.thread_points(p))
+        return bearing_ring(p)
 
 
 SCENE = LooseningScene()
