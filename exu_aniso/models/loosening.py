@@ -25,9 +25,11 @@ from __future__ import annotations
 
 import exudyn as exu
 from exudyn import graphics
-from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodePointGround, NodeRigidBody2D,
-                                  ObjectConnectorCoordinateSpringDamper, ObjectRigidBody2D, SensorNode,
-                                  VNodePointGround, VObjectConnectorCoordinateSpringDamper, VObjectRigidBody2D)
+from exudyn.itemInterface import (CoordinateConstraint, LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2,
+                                  NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinateSpringDamper,
+                                  ObjectGenericODE2, ObjectRigidBody2D, SensorNode, VCoordinateConstraint,
+                                  VNodePointGround, VObjectConnectorCoordinateSpringDamper, VObjectGenericODE2,
+                                  VObjectRigidBody2D)
 from exudyn.rigidBodyUtilities import RigidBodyInertia
 import numpy as np
 
@@ -157,7 +159,7 @@ def _BuildFullJoint(mbs, p, options):
                                                                   size=[2 * side, 2 * side, 0.5 * side],
                                                                   color=graphics.color.lightgrey)])
     nPlate = mbs.GetObject(oPlate)["nodeNumber"]
-    beam = p.shank == "guided_beam"             # the plate shaken along x, the bolt's end on its shank
+    beam = p.shank in bj.SHANKS                 # the plate shaken along x, the bolt's end on its shank
     mbs.CreateGenericJoint(itemNumbers=[ground, oPlate], position=[0.0, 0.0, zp],
                            constrainedAxes=[0 if beam else 1, 1, 0, 1, 1, 1], show=False)
     mZ = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nPlate, coordinate=2))
@@ -173,15 +175,13 @@ def _BuildFullJoint(mbs, p, options):
     AddSpringDrive(mbs, nPlate if beam else nNut, e[0], p.drag_stiffness, 0.0, damping=p.drag_damping,
                    travel=lambda t: bj.shake_travel(p, t))
     bolt = {}
-    if beam:                                    # the bolt's end: a body moving across only, on the shank's stiffness
-        k, c = bj.shank_stiffness(p), p.drag_damping
+    if beam:                                    # the bolt's end: a body moving across only, on its shank
         oBolt = mbs.CreateRigidBody(inertia=RigidBodyInertia(mass=p.bolt_mass, inertiaTensor=np.eye(3) * 1e-6),
                                     referencePosition=[0.0, 0.0, 0.0], nodeType=NODE_TYPES["EP"])
         mbs.CreateGenericJoint(itemNumbers=[ground, oBolt], position=[0.0, 0.0, 0.0],
                                constrainedAxes=[0, 0, 1, 1, 1, 1],
                                show=False)
-        mbs.CreateCartesianSpringDamper(itemNumbers=[ground, oBolt], stiffness=[k, k, 0.0], damping=[c, c, 0.0],
-                                        show=False)
+        shank = _SHANKS[p.shank](mbs, p, ground, oBolt)
         bolt = dict(masterBodyNumber=oBolt)
     else:
         AddSpringDrive(mbs, nNut, e[1], p.drag_stiffness, 0.0, damping=p.drag_damping)
@@ -209,7 +209,42 @@ def _BuildFullJoint(mbs, p, options):
     if beam:
         sensors.update(_NodeSensors(mbs, mbs.GetObject(bolt["masterBodyNumber"])["nodeNumber"],
                                     (("sBolt", "Coordinates"), ("sBoltVelocity", "Coordinates_t"))))
-    return dict(oNut=oNut, nNut=nNut, oPlate=oPlate, nPlate=nPlate, contacts=contacts, sensors=sensors)
+        sensors.update(_NodeSensors(mbs, shank["node"], (("sShank", "Coordinates"),
+                                                         ("sShankVelocity", "Coordinates_t"))))
+    return dict(oNut=oNut, nNut=nNut, oPlate=oPlate, nPlate=nPlate, contacts=contacts, sensors=sensors,
+                shank_columns=shank["columns"] if beam else None)
+
+
+def _LumpedShank(mbs, p, ground, oBolt):
+    """Shank guided_beam: a C++ Cartesian spring and dashpot from ground to the bolt's end (the K and D
+    of ``bolted_joint.shank_matrices``, whose coordinates are the end's x and y)."""
+    _, D, K, _ = bj.shank_matrices(p)
+    mbs.CreateCartesianSpringDamper(itemNumbers=[ground, oBolt], stiffness=[K[0, 0], K[1, 1], 0.0],
+                                    damping=[D[0, 0], D[1, 1], 0.0], show=False)
+    return dict(node=mbs.GetObject(oBolt)["nodeNumber"], columns=slice(1, 3))
+
+
+def _BeamShank(mbs, p, ground, oBolt):
+    """Shank fe_beam: the shank's matrices (``bolted_joint.shank_matrices``) as one ObjectGenericODE2 on a
+    NodeGenericODE2, the guided end's x and y tied to the bolt's end by CoordinateConstraints."""
+    M, D, K, tip = bj.shank_matrices(p)
+    zero = [0.0] * M.shape[0]
+    nShank = mbs.AddNode(NodeGenericODE2(numberOfODE2Coordinates=M.shape[0], referenceCoordinates=zero,
+                                         initialCoordinates=zero, initialCoordinates_t=zero))
+    mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nShank], massMatrix=M, dampingMatrix=D, stiffnessMatrix=K,
+                                    visualization=VObjectGenericODE2(show=False)))
+    nBolt = mbs.GetObject(oBolt)["nodeNumber"]
+    for axis, i in enumerate(tip):
+        mbs.AddObject(CoordinateConstraint(markerNumbers=[
+            mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nBolt, coordinate=axis)),
+            mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nShank, coordinate=i))],
+            visualization=VCoordinateConstraint(show=False)))
+    return dict(node=nShank, columns=slice(1, None))
+
+
+_SHANKS = {"guided_beam": _LumpedShank, "fe_beam": _BeamShank}
+"""The flexible shanks' builds by name (``bolted_joint.SHANKS``): f(mbs, p, ground, oBolt) -> dict node (whose
+Coordinates sensor holds the shank's coordinates) and columns (theirs in that sensor's rows)."""
 
 
 _BUILD = {("bearing", None): _BuildBearing, ("joint", "rings"): _BuildRings, ("joint", "full"): _BuildFullJoint}
@@ -241,7 +276,7 @@ def ReadLoosening(model, complete):
             return traj, {}, None
         return traj, {}, dict(motion=_PlanarMotion(traj, held_gap(p)), law=model["contacts"]["bearing"]["law"], H=H)
     zero = np.zeros_like(t)
-    plate = bolt = None
+    plate = bolt = shank = None
     shaken = {k: traj[k] for k in ("x", "y", "vx", "vy")}
     if full:
         C, C_t = mbs.GetSensorStoredData(S["sPlate"]), mbs.GetSensorStoredData(S["sPlateVelocity"])
@@ -249,6 +284,9 @@ def ReadLoosening(model, complete):
         if "sBolt" in S:
             B, B_t = mbs.GetSensorStoredData(S["sBolt"]), mbs.GetSensorStoredData(S["sBoltVelocity"])
             bolt = dict(x=B[:, 1], y=B[:, 2], vx=B_t[:, 1], vy=B_t[:, 2])
+            columns = model["shank_columns"]
+            shank = dict(q=mbs.GetSensorStoredData(S["sShank"])[:, columns],
+                         q_t=mbs.GetSensorStoredData(S["sShankVelocity"])[:, columns])
             shaken = dict(x=plate["x"], y=zero, vx=plate["vx"], vy=zero)
             traj.update(plate_x=plate["x"], bolt_x=bolt["x"], bolt_y=bolt["y"])
     traj.update(drag_force=bj.shake_force(p, shaken["x"], shaken["vx"], t),
@@ -264,7 +302,7 @@ def ReadLoosening(model, complete):
         on_bolt = nut if bolt is None else _Relative(nut, bolt["x"], bolt["y"], zero, bolt["vx"], bolt["vy"], zero)
         contacts = [(laws["bearing"], on_plate, bj.bearing_points(p), H),
                     (laws["thread"], on_bolt, bj.thread_points(p), histories["thread"][2])]
-        return traj, {}, dict(contacts=contacts, shaken=shaken, plate=plate, nut_motion=nut, bolt=bolt)
+        return traj, {}, dict(contacts=contacts, shaken=shaken, plate=plate, nut_motion=nut, bolt=bolt, shank=shank)
     gaps = bj.held_gaps(p)
     contacts = [(laws[name], _PlanarMotion(traj, gaps[name]), points, histories[name][2])
                 for name, points in (("bearing", bj.bearing_points(p)), ("thread", bj.thread_points(p)))]

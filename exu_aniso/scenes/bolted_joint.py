@@ -39,11 +39,13 @@ how much (``thread_open_share``, ``flank_load_spread``) and what it costs agains
 from __future__ import annotations
 
 import math
+from typing import Callable, NamedTuple
 
 import numpy as np
 
 from exu_aniso.engines import energy
 from exu_aniso.engines.timing import smooth_rise
+from exu_aniso.fe.beam import ShankMatrices, guided_shank, round_section
 from exu_aniso.fields.tensor_fields import Adhesion, Friction
 from exu_aniso.geometry import Helicoid, Plane
 from exu_aniso.kernel.contact_law import ContactLaw
@@ -134,10 +136,50 @@ def bearing_law(p):
                       normal_stiffness=p.bearing_stiffness / K, return_map=p.return_map)
 
 
+def shank_section(p):
+    """The bolt's shank's section (``fe.beam.RoundSection``)."""
+    return round_section(p.youngs_modulus, p.poissons_ratio, p.shank_diameter, p.shank_density)
+
+
+class Shank(NamedTuple):
+    """A flexible shank: the closed form of its guided end's lateral stiffness [N/m] and its matrices
+    (``fe.beam.ShankMatrices``), each a function of the scene's parameters."""
+    stiffness: Callable
+    matrices: Callable
+
+
+def _lumped_matrices(p):
+    """Shank guided_beam: the bolt's end's (x, y) on the spring 12 E I / L^3 and the dashpot
+    drag_damping; no mass (the end's own is bolt_mass)."""
+    k = SHANKS["guided_beam"].stiffness(p)
+    return ShankMatrices(np.zeros((2, 2)), p.drag_damping * np.eye(2), k * np.eye(2), (0, 1))
+
+
+def _beam_matrices(p):
+    """Shank fe_beam: shank_elements Timoshenko elements over the clamp length (``fe.beam.guided_shank``),
+    damped by D = beta K with beta = drag_damping / k_shank: the lumped shank's dashpot at the end."""
+    return guided_shank(shank_section(p), p.clamp_length, p.shank_elements,
+                        p.drag_damping / SHANKS["fe_beam"].stiffness(p))
+
+
+SHANKS = {
+    "guided_beam": Shank(lambda p: threads.guided_beam_stiffness(p.youngs_modulus, p.shank_diameter, p.clamp_length),
+                         _lumped_matrices),
+    "fe_beam": Shank(lambda p: threads.guided_shear_beam_stiffness(shank_section(p), p.clamp_length),
+                     _beam_matrices),
+}
+"""The flexible shanks by name (``shank``; ``rigid`` has none): a beam clamped at the head and guided at
+the nut, lumped at its end on 12 E I / L^3, or of finite elements with its shear and its mass."""
+
+
 def shank_stiffness(p):
-    """Shank guided_beam: the bolt's threaded end's lateral stiffness [N/m], a beam clamped at the head
-    and guided at the nut (``threads.guided_beam_stiffness``)."""
-    return threads.guided_beam_stiffness(p.youngs_modulus, p.shank_diameter, p.clamp_length)
+    """A flexible shank's closed-form lateral stiffness at the nut [N/m] (``SHANKS``)."""
+    return SHANKS[p.shank].stiffness(p)
+
+
+def shank_matrices(p):
+    """A flexible shank's ``fe.beam.ShankMatrices`` (``SHANKS``)."""
+    return SHANKS[p.shank].matrices(p)
 
 
 def held_gaps(p):
@@ -238,7 +280,7 @@ def joint_closed_forms(p):
     ``slide_force_per_preload_theory`` [-] (``threads.joint_slide_force_per_preload``) and
     ``preload_loss_per_radian_theory`` [N/rad] (``threads.clamp_force_per_angle`` with the bearing's and
     the flank's axial compliances, ``threads.thread_axial_stiffness`` at mu 0, in series with the
-    joint's spring) and, with the guided-beam shank, ``critical_amplitude_theory`` [m]: the plate's
+    joint's spring) and, with a flexible shank, ``critical_amplitude_theory`` [m]: the plate's
     shift at which the bearing ring slides as a whole, mu_bearing F (1 / k_shank + 1 /
     sticking_stiffness): while it sticks the nut and the bolt's end follow the plate, and the shank's
     bending force (``shank_stiffness``) and the bearing's elastic stick take the shift until that force
@@ -254,13 +296,13 @@ def joint_closed_forms(p):
         out["undefined"].update(rotation_per_path_theory=str(e), slide_force_per_preload_theory=str(e))
     out["preload_loss_per_radian_theory"] = threads.clamp_force_per_angle(p.joint_stiffness, p.pitch,
                                                                           (contact_compliance(p),))
-    if p.model == "full" and p.shank == "guided_beam":
+    if p.model == "full" and p.shank in SHANKS:
         out["critical_amplitude_theory"] = p.mu_bearing * p.preload * (1.0 / shank_stiffness(p)
                                                                        + 1.0 / p.sticking_stiffness)
     else:
         out["critical_amplitude_theory"] = None
-        out["undefined"]["critical_amplitude_theory"] = ("the critical amplitude is the guided-beam shank's "
-                                                         "(model full, shank guided_beam)")
+        out["undefined"]["critical_amplitude_theory"] = ("the critical amplitude is a flexible shank's "
+                                                         f"(model full, shank {' or '.join(SHANKS)})")
     return out
 
 
@@ -351,7 +393,7 @@ def joint_summary(traj, p):
     return s
 
 
-def joint_energy_terms(p, traj, contacts, shaken, plate=None, nut_motion=None, bolt=None):
+def joint_energy_terms(p, traj, contacts, shaken, plate=None, nut_motion=None, bolt=None, shank=None):
     """The joint's energy terms (energy.ledger's arguments): work in, the shaker's spring over its
     driver's travel, plus (model rings) the lead's torque over the angle or (model full) the preload's
     rising force over the plate's travel; kinetic, the bodies'; potential, the springs' (the shaker's, the
@@ -359,7 +401,8 @@ def joint_energy_terms(p, traj, contacts, shaken, plate=None, nut_motion=None, b
     the master, body-local points, history) each) and the dashpots'. shaken: dict x, y, vx, vy (n,) of the
     body the shaker drives along x and its spring holds at y = 0 (the nut, or with the guided-beam shank
     the plate, whose y its joint holds at 0); model full: plate, dict x, vx, z, vz (n,) of the plate, and
-    nut_motion, the nut's RigidMotion; shank guided_beam: bolt, dict x, y, vx, vy (n,) of the bolt's end."""
+    nut_motion, the nut's RigidMotion; a flexible shank: bolt, dict vx, vy (n,) of the bolt's end, and
+    shank, dict q, q_t (n, m) of the shank's coordinates (``shank_matrices``)."""
     t = np.asarray(traj["t"], float)
     x, y, vx, vy = (np.asarray(shaken[k], float) for k in ("x", "y", "vx", "vy"))
     s, s_t = shake_travel(p, t)
@@ -378,11 +421,12 @@ def joint_energy_terms(p, traj, contacts, shaken, plate=None, nut_motion=None, b
         work = work + energy.work_trapezoid(lead_torque(p, t), traj["angle"])
         kinetic = 0.5 * p.nut_mass * (vx ** 2 + vy ** 2) + 0.5 * p.nut_inertia * np.asarray(traj["omega"], float) ** 2
     if bolt is not None:
-        bx, by, bvx, bvy = (np.asarray(bolt[k], float) for k in ("x", "y", "vx", "vy"))
-        springs = springs + 0.5 * shank_stiffness(p) * (bx ** 2 + by ** 2)
-        dashpots = dashpots + energy.work_trapezoid(p.drag_damping * bvx, bx) + energy.work_trapezoid(
-            p.drag_damping * bvy, by)
-        kinetic = kinetic + 0.5 * p.bolt_mass * (bvx ** 2 + bvy ** 2)
+        M, D, K, _ = shank_matrices(p)
+        q, q_t = np.asarray(shank["q"], float), np.asarray(shank["q_t"], float)
+        springs = springs + 0.5 * np.einsum("ni,ij,nj->n", q, K, q)
+        dashpots = dashpots + energy.work_trapezoid(q_t @ D, q)
+        kinetic = kinetic + 0.5 * np.einsum("ni,ij,nj->n", q_t, M, q_t) + 0.5 * p.bolt_mass * (
+            np.asarray(bolt["vx"], float) ** 2 + np.asarray(bolt["vy"], float) ** 2)
     stored = np.zeros_like(t)
     diss = dashpots
     for law, motion, points, H in contacts:

@@ -66,13 +66,19 @@ LOOSENING_PARAMS = {
     "joint_damping": (9e3, "N s/m", "case joint, model full: the dashpot beside it (about critical with plate_mass)",
                       ">= 0"),
     "plate_mass": (0.2, "kg", "case joint, model full: the clamped plate's mass", "> 0"),
-    "shank": ("rigid", "-", "case joint, model full: rigid (the bolt fixed, the nut shaken) or guided_beam (the bolt's "
-              "threaded end on its shank's lateral stiffness, a beam clamped at the head and guided at the nut, "
-              "12 E I / clamp_length^3; the plate shaken, as in a Junker test)", ("rigid", "guided_beam")),
-    "clamp_length": (0.03, "m", "shank guided_beam: the shank's bending length between head and nut", "> 0"),
-    "shank_diameter": (8.6e-3, "m", "shank guided_beam: the shank's diameter (M10's stress diameter: 8.6 mm)", "> 0"),
-    "youngs_modulus": (2.1e11, "Pa", "shank guided_beam: the bolt's Young's modulus (steel)", "> 0"),
-    "bolt_mass": (0.02, "kg", "shank guided_beam: the mass of the bolt's end moving with the nut", "> 0"),
+    "shank": ("rigid", "-", "case joint, model full: rigid (the bolt fixed, the nut shaken), or the bolt's threaded "
+              "end on its shank, a beam clamped at the head and guided at the nut, the plate shaken as in a Junker "
+              "test: guided_beam (lumped at the end: 12 E I / clamp_length^3) or fe_beam (shank_elements Timoshenko "
+              "beam elements: its shear and its mass; damped by drag_damping / k_shank times its stiffness)",
+              ("rigid", "guided_beam", "fe_beam")),
+    "clamp_length": (0.03, "m", "flexible shank: the shank's bending length between head and nut", "> 0"),
+    "shank_diameter": (8.6e-3, "m", "flexible shank: the shank's diameter (M10's stress diameter: 8.6 mm)", "> 0"),
+    "youngs_modulus": (2.1e11, "Pa", "flexible shank: the bolt's Young's modulus (steel)", "> 0"),
+    "poissons_ratio": (0.3, "-", "shank fe_beam: the bolt's Poisson's ratio (its shear modulus), in [0, 0.5)", ">= 0"),
+    "shank_density": (7850.0, "kg/m^3", "shank fe_beam: the bolt's density (steel)", "> 0"),
+    "shank_elements": (1, "-", "shank fe_beam: beam elements over the clamp length (one is exact under the end's "
+                       "load alone; studies/junker.py sets more against it)", "int >= 1"),
+    "bolt_mass": (0.02, "kg", "flexible shank: the mass of the bolt's end moving with the nut", "> 0"),
     "nut_height": (8e-3, "m", "case joint, model full: height of the nut (its inertia across the axis: "
                    "nut_inertia / 2 + nut_mass nut_height^2 / 12)", "> 0"),
     "shake_displacement": (2e-4, "m", "case joint: the shaker's amplitude D (the nut's centre pulled to "
@@ -127,6 +133,8 @@ class LooseningParams(SceneParams):
             raise ValueError(f"points_per_turn must be >= 3 (a ring); got {self.points_per_turn!r}")
         if not 0.0 <= self.spectral_radius <= 1.0:
             raise ValueError(f"spectral_radius must lie in [0, 1]; got {self.spectral_radius!r}")
+        if not 0.0 <= self.poissons_ratio < 0.5:
+            raise ValueError(f"poissons_ratio must lie in [0, 0.5); got {self.poissons_ratio!r}")
         if not 0.0 <= self.flank_angle < 180.0:
             raise ValueError(f"flank_angle must lie in [0, 180) deg; got {self.flank_angle!r}")
 

@@ -271,3 +271,14 @@ def guided_beam_stiffness(youngs_modulus, diameter, length):
         if not (math.isfinite(v) and v > 0.0):
             raise ValueError(f"{name} must be a finite number > 0; got {v!r}")
     return 12.0 * youngs_modulus * math.pi * diameter ** 4 / 64.0 / length ** 3
+
+
+def guided_shear_beam_stiffness(section, length):
+    """The lateral stiffness [N/m] of the guided beam of ``guided_beam_stiffness`` when its shear
+    counts too (a Timoshenko beam): 1 / (L^3 / (12 E I) + L / (kappa G A)), the bending's and the
+    shear's compliances in series (the clamped-guided beam carries a constant shear force Q and a
+    moment that runs from Q L / 2 to -Q L / 2). section: an ``exu_aniso.fe.beam.RoundSection``
+    (E I [N m^2], kappa G A [N])."""
+    if not (math.isfinite(length) and length > 0.0):
+        raise ValueError(f"length must be a finite number > 0; got {length!r}")
+    return 1.0 / (length ** 3 / (12.0 * section.bending_stiffness) + length / section.shear_stiffness)
