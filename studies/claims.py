@@ -122,6 +122,8 @@ _COARSE = ("loosening", "--set", "case=joint", "--set", "dt=1e-3", "--set", "t_e
 _UM = dict(plate_amplitude=1e6, critical_amplitude_theory=1e6)     # the page's um
 _BEAM = _FULL[:-1] + ("t_end=0.165", "--set", "shank=guided_beam", "--set")
 _BEAM_LONG = _FULL[:-1] + ("t_end=0.645", "--set", "shank=guided_beam", "--set", "shake_displacement=110e-6")
+_FE_BEAM = _FULL[:-1] + ("t_end=0.165", "--set", "shank=fe_beam", "--set")
+_FE_BEAM_LONG = _FULL[:-1] + ("t_end=0.645", "--set", "shank=fe_beam", "--set", "shake_displacement=110e-6")
 _SOFT = _NUTRUNNER + ("rotation_speed=10", "--set", "joint_stiffness=2e6", "--set", "t_end=2.9")
 _QUASI_STATIC = [("capstan", "--set", f"ramp_rate={r}", "--set", f"dt=2.5e-4/{r}", "--set", f"t_end={t}")
                  for r, t in (("5.5", "0.7"), ("12.4", "0.4"))]
@@ -293,6 +295,15 @@ RUNS = [
            "thread_slip_share", "{:.2f}"),
           (_BEAM_LONG + ("--set", "flank_angle=0"), "turns loose by {} rad per cycle", "0.0042",
            "rotation_per_cycle", "{:.4f}"),
+          (_FE_BEAM + ("shake_displacement=73e-6",), "rises to {} um", "62.54", "critical_amplitude_theory",
+           "{:.2f}"),
+          (_FE_BEAM + ("shake_displacement=73e-6",), "shifts the plate by {} um and the ring never slides whole",
+           "61.72", "plate_amplitude", "{:.2f}"),
+          (_FE_BEAM + ("shake_displacement=74e-6",), "74 um shifts it by {} um and it does (", "62.60",
+           "plate_amplitude", "{:.2f}"),
+          (_FE_BEAM_LONG, "(the nut turns {} rad in all)", "0.00033", "rotation", "{:.5f}"),
+          (_FE_BEAM_LONG + ("--set", "flank_angle=0"), "turns loose by {} rad per cycle, against the lumped",
+           "0.0035", "rotation_per_cycle", "{:.4f}"),
       )],
 ]
 
