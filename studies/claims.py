@@ -122,6 +122,7 @@ _COARSE = ("loosening", "--set", "case=joint", "--set", "dt=1e-3", "--set", "t_e
 _UM = dict(plate_amplitude=1e6, critical_amplitude_theory=1e6)     # the page's um
 _BEAM = _FULL[:-1] + ("t_end=0.165", "--set", "shank=guided_beam", "--set")
 _BEAM_LONG = _FULL[:-1] + ("t_end=0.645", "--set", "shank=guided_beam", "--set", "shake_displacement=110e-6")
+_THREAD = _JOINT + ("--set", "mu_bearing=1e-6")
 _FE_BEAM = _FULL[:-1] + ("t_end=0.165", "--set", "shank=fe_beam", "--set")
 _FE_BEAM_LONG = _FULL[:-1] + ("t_end=0.645", "--set", "shank=fe_beam", "--set", "shake_displacement=110e-6")
 _SOFT = _NUTRUNNER + ("rotation_speed=10", "--set", "joint_stiffness=2e6", "--set", "t_end=2.9")
@@ -295,6 +296,17 @@ RUNS = [
            "thread_slip_share", "{:.2f}"),
           (_BEAM_LONG + ("--set", "flank_angle=0"), "turns loose by {} rad per cycle", "0.0042",
            "rotation_per_cycle", "{:.4f}"),
+          (_THREAD, "--set case=joint --set mu_bearing=1e-6 --set t_end=0.325` slides at {} F", "0.119285",
+           "slide_force_per_preload", "{:.6f}"),
+          (_THREAD, "h: {} F.", "0.119272", "slide_force_per_preload_theory", "{:.6f}"),
+          (_THREAD + ("--set", "flank_angle=0"), "flank_angle=0`: {} against", "0.098066", "slide_force_per_preload",
+           "{:.6f}"),
+          (_THREAD + ("--set", "flank_angle=0"), "against {}) and turns", "0.098014",
+           "slide_force_per_preload_theory", "{:.6f}"),
+          (_THREAD, "and turns {} rad per metre of slip path against", "156.57", "rotation_per_path", "{:.2f}"),
+          (_THREAD, "rad per metre of slip path against {}. Shaken", "156.67", "rotation_per_path_theory", "{:.2f}"),
+          (_THREAD[:-3] + ("t_end=0.645", "--set", "mu_bearing=1e-6", "--set", "shake_displacement=3e-6"),
+           "and the nut turns {} rad per cycle (", "4.3e-19", "rotation_per_cycle", "{:.1e}"),
           (_FE_BEAM + ("shake_displacement=73e-6",), "rises to {} um", "62.54", "critical_amplitude_theory",
            "{:.2f}"),
           (_FE_BEAM + ("shake_displacement=73e-6",), "shifts the plate by {} um and the ring never slides whole",

@@ -7,7 +7,8 @@ Oracles:
   torque at the rings' whole friction, no steady state) and the sliding force's;
 * model rings (the closed form's uniform rings): the nut's rotation per metre of slip path within
   1e-3 of the torque balance and the hysteresis loop's plateau within 1e-4 of the rings' sliding
-  force, on a square and a 60 degree thread;
+  force, on a square and a 60 degree thread; with the bearing all but frictionless, the thread's own
+  slip onset under the lead's torque (1e-3), and below it no slip and no turning;
 * model full (the nut on the bolt's helicoid, the plate on the joint's spring): the preload lost per
   radian turned loose within 1 % of the joint's stiffness times P / (2 pi) (with the contacts'
   compliances in series), to the cycle where the joint comes loose and the run ends; the energy
@@ -75,6 +76,28 @@ def test_uniform_rings_turn_loose_by_the_torque_balance(run, flank_angle):
     assert s["rotation_per_path"] == pytest.approx(s["rotation_per_path_theory"], rel=1e-3)
     assert s["slide_force_per_preload"] == pytest.approx(s["slide_force_per_preload_theory"], rel=1e-4)
     assert s["rotation"] > 0.0 and s["thread_open_share"] == 0.0
+
+
+@pytest.mark.parametrize("flank_angle, flank_limit", [(0.0, 0.1202), (60.0, 0.1387)])
+def test_the_thread_alone_slides_at_its_flanks_limit_under_the_leads_torque(run, flank_angle, flank_limit):
+    """Model rings with the bearing all but frictionless (mu 1e-6), four cycles at dt 4e-4: the thread's
+    ring alone holds the lead's torque and resists the slide. The loop's plateau, the force at which the
+    nut slides as a whole, lies within 1e-3 of the thread ring's limit under that torque,
+    mu_t (W / r) D(c r2) with mu_t (W / r) r2 G(c r2) = h (threads.joint_slide_force_per_preload at
+    mu_K 1e-6), below the flank's Coulomb limit mu_t W / r (1 / cos(beta / 2) at a small lead); the
+    nut turns by the balance within 1e-2. Shaken by 3 um, below that onset, no thread point slips and
+    the nut turns by round-off only."""
+    s = run(model="rings", mu_bearing=1e-6, flank_angle=flank_angle, dt=4e-4, t_end=0.005 + 4 / 12.5).summary
+    assert s["energy_ok"], s["energy"]
+    limit = M10["mu_thread"] * threads.flank_load_per_axial_force(M10["d2"], M10["pitch"], math.radians(flank_angle))
+    assert limit == pytest.approx(flank_limit, abs=5e-5)
+    assert s["slide_force_per_preload"] == pytest.approx(s["slide_force_per_preload_theory"], rel=1e-3)
+    assert s["slide_force_per_preload_theory"] < 0.9 * limit                # the lead's torque lowers the onset
+    assert s["rotation_per_path"] == pytest.approx(s["rotation_per_path_theory"], rel=1e-2)
+    below = run(model="rings", mu_bearing=1e-6, flank_angle=flank_angle, shake_displacement=3e-6, dt=4e-4,
+                t_end=0.005 + 8 / 12.5).summary
+    assert below["energy_ok"] and below["thread_slip_share"] == 0.0
+    assert abs(below["rotation_per_cycle"]) < 1e-15
 
 
 FULL = dict(model="full", dt=1e-4)
