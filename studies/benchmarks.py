@@ -28,7 +28,8 @@ Outputs (``--out``, default docs/results/benchmarks): ``benchmarks.csv`` (one ro
 targets, ``studies/_lib/targets.py``: each scene / a cube on as many C++ springs at Exudyn's defaults,
 median [min-max] of interleaved repeats, with its floor; the compiled call's fixed and per-point cost),
 ``force_call.csv`` (one force call of a contact set on K = 1 to 256 points, and the fit), ``scale.csv`` (M cubes: one set each, one group, C++ springs,
-the floor; ``studies/_lib/scale.py``), ``memory.csv`` (peak memory), ``benchmarks.json``
+the floor; ``studies/_lib/scale.py``), ``memory.csv`` (peak memory), ``long_run.csv`` (the shaken joint for
+1000 cycles against its C++ yardstick and floor; ``studies/_lib/long_run.py``), ``benchmarks.json``
 (fits of cost = a + b K with R^2, ratios; machine-readable), ``cost_vs_points.png``, ``report.md``.
 """
 from __future__ import annotations
@@ -43,7 +44,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 
-from _lib import baseline, scale, studylib, target_tables, target_timing  # noqa: E402
+from _lib import baseline, long_run, scale, studylib, target_tables, target_timing  # noqa: E402
 from _lib.implementations import IMPLEMENTATIONS  # noqa: E402
 from _lib.studylib import finish, markdown_table, parse_args, read_table, sweep, table, write_json  # noqa: E402
 
@@ -328,6 +329,11 @@ def main(argv=None):
     mres = scale.memory_rows(args.quick)
     table(os.path.join(args.out, "memory.csv"), scale.MEMORY_COLUMNS, scale.memory_table_rows(mres))
 
+    # 6. a long run: the shaken joint for 1000 cycles against its C++ yardstick and floor (studies/_lib/long_run.py)
+    lpath = table(os.path.join(args.out, "long_run.csv"), long_run.LONG_COLUMNS, long_run.measure(args.quick))
+    LR = read_table(lpath)
+    long_rows = [[LR[c][j] for c in long_run.LONG_COLUMNS] for j in range(len(LR["model [-]"]))]
+
     # analysis from the CSV files written above
     fits = fits_from_csv(bench_csv)
     B = read_table(os.path.join(args.out, "baseline.csv"))
@@ -451,7 +457,18 @@ history sensor's data is 9 numbers per point and step:
 
 {markdown_table(["bodies", "points", "steps", "history sensor", "MB after building", "MB peak", "history sensor data MB"],
                 [[r["bodies"], r["points"], r["steps"], "on" if r["store_history"] else "off", r["built_mb"],
-                  r["peak_mb"], r["history_mb"]] for r in mres])}"""
+                  r["peak_mb"], r["history_mb"]] for r in mres])}
+### A long run: the shaken joint for {long_rows[0][2]} cycles
+
+The loosening scene's joint (`exu-aniso run loosening --set case=joint --set t_end=T`: the rings model, 48
+points, dt 1e-4 s) against the same planar nut on as many C++ springs, shaken by C++ items, at Exudyn's
+defaults and at the scene's settings, and the floor (the latter with the contact's items and empty callbacks;
+`studies/_lib/long_run.py`). Process CPU time and wall time of the solve alone, medians [min-max] of
+{long_rows[0][-1]} interleaved repeats; ours / this repeat by repeat.
+
+{markdown_table(["model", "settings", "steps", "cpu [s]", "min", "max", "wall [s]", "ours / this", "min", "max"],
+                [[r[0], r[1], int(r[3]), r[4], r[5], r[6], r[7], r[10], r[11], r[12]] for r in long_rows],
+                fmt="{:.3g}")}"""
     finish(args, timer, body, "Benchmarks: cost per step, per point, and against Exudyn's C++ springs")
     return 0
 

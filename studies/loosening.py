@@ -1,7 +1,7 @@
 """Loosening: the nut's bearing ring dragged across the plate while a torque turns it, its spin rate and
 its slip onset against the ring integral, and the preloaded joint shaken across the bolt (its uniform
 rings' rotation per slip path, the full nut's preload lost per radian), under step refinement (speed
-against error); the full nut's departure from the uniform rings; a 1000-cycle run's wall time.
+against error); the full nut's departure from the uniform rings; a 1000-cycle run's ledger.
 
 Usage: python studies/loosening.py [--quick] [--serial] [--out DIR]
 """
@@ -11,13 +11,11 @@ import os
 import sys
 import warnings
 
-import numpy as np
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 if HERE not in sys.path:
     sys.path.insert(0, HERE)
 from _lib.studylib import (Timer, finish, markdown_table, parse_args, plot_error_against_wall, read_table,  # noqa: E402
-                           sweep, table, with_args)
+                           sweep, table)
 
 from exu_aniso.scenes.loosening import LooseningParams  # noqa: E402
 
@@ -62,15 +60,11 @@ def main(argv=None):
     wedge = [dict(model=m, flank_angle=b) for b in (0.0, 60.0) for m in ("rings", "full")]
     departure = sweep(run_departure, wedge, args)
     cycles = 20 if args.quick else 1000        # the quick form: one short run
-    long_runs = sweep(run_long, [dict(repeat=i, cycles=cycles) for i in range(1 if args.quick else 3)],
-                      with_args(args, serial=True),
-                      progress=False)             # one at a time: their wall times are the figure
+    long = run_long(dict(cycles=cycles))
     dep_path = table(os.path.join(args.out, "departure.csv"), DEP_COLS,
                      [[c["flank_angle"], c["model"]] + [o[k] for k in DEP_KEYS] for c, o in zip(wedge, departure)])
-    walls = [o["wall"] for o in long_runs]
     long_path = table(os.path.join(args.out, "long_run.csv"), LONG_COLS,
-                      [["joint rings", cycles, median(walls), min(walls), max(walls), len(walls), long_runs[0]["steps"],
-                        long_runs[0]["rotation"], all(o["ok"] for o in long_runs)]])
+                      [["joint rings", cycles, long["steps"], long["rotation"], long["residual"], long["ok"]]])
     path = table(os.path.join(args.out, "refinement.csv"), COLS,
                  [[c["case"], c["dt"], o["measured"], o["theory"], o["error"], o["residual"], o["wall"], o["steps"]]
                   for c, o in zip(cases, out)])
@@ -110,10 +104,10 @@ flank's load spread ((max - min) / mean over its points at the cycles' ends).
 {markdown_table(DEP_COLS, [[D[c][i] for c in DEP_COLS] for i in range(len(wedge))], fmt="{:.4g}")}
 
 **A {cycles}-cycle run** (`exu-aniso run loosening --set case=joint --set t_end={0.005 + cycles / 12.5:g}`, the
-default rings model at dt {p.dt:g} s, one run at a time): the solve's wall time, median {L["wall [s]"][0]:.1f} s
-(from {L["wall_min [s]"][0]:.1f} to {L["wall_max [s]"][0]:.1f} s over {len(long_runs)} runs) for
-{int(L["steps [-]"][0])} steps; the nut turns {L["rotation [rad]"][0]:.1f} rad, for the rings hold their loads (the full
-nut comes loose long before).
+default rings model at dt {p.dt:g} s): {int(L["steps [-]"][0])} steps; the nut turns {L["rotation [rad]"][0]:.1f} rad,
+for the rings hold their loads (the full nut comes loose long before), and the energy ledger's residual is at most
+{L["energy_residual [-]"][0]:.2g} of the largest energy term ({"within" if L["energy_ok [-]"][0] else "OUTSIDE"} its tolerance).
+Its speed against Exudyn's C++ springs is in the benchmark's section "A long run" (`python studies/benchmarks.py`).
 """
     finish(args, timer, body, "Loosening: a bearing ring's spin and slip onset against the ring integral")
     return 0
@@ -124,8 +118,7 @@ DEP_KEYS = ["rotation_per_cycle", "rotation_per_path", "rotation_per_path_all", 
 DEP_COLS = ["flank_angle [deg]", "model [-]", "rotation_per_cycle [rad]", "rotation_per_path [rad/m]",
             "rotation_per_path_all [rad/m]", "rotation_per_path_theory [rad/m]", "sliding_share [-]",
             "thread_open_share [-]", "flank_load_spread [-]"]
-LONG_COLS = ["model [-]", "cycles [-]", "wall [s]", "wall_min [s]", "wall_max [s]", "runs [-]", "steps [-]",
-             "rotation [rad]", "energy_ok [-]"]
+LONG_COLS = ["model [-]", "cycles [-]", "steps [-]", "rotation [rad]", "energy_residual [-]", "energy_ok [-]"]
 
 
 def run_departure(c):
@@ -139,14 +132,10 @@ def run_departure(c):
 
 
 def run_long(c):
-    """The long run of the default joint (``cycles`` cycles): its solve's wall time."""
+    """The long run of the default joint (``cycles`` cycles): its steps, its turn and its ledger."""
     from exu_aniso.models.loosening import RunLoosening
     s = RunLoosening(LooseningParams(case="joint", t_end=0.005 + c["cycles"] / 12.5)).summary
-    return dict(wall=s["wall_s"], steps=s["steps"], rotation=s["rotation"], ok=s["energy_ok"])
-
-
-def median(values):
-    return float(np.median(np.asarray(values, float)))
+    return dict(steps=s["steps"], rotation=s["rotation"], residual=s["energy"]["residual"], ok=s["energy_ok"])
 
 
 def unresolved(T):

@@ -84,6 +84,36 @@ def test_benchmark_timings_positive_and_finite(bench_out):
             assert 1.0 < per_residual < 2.0, (M, c, f)     # one call per residual, plus the initial ones
     Mem = read_table(bench_out / "memory.csv")
     assert _positive_finite(Mem["peak [MB]"]) and all(p >= b for p, b in zip(Mem["peak [MB]"], Mem["after_build [MB]"]))
+    # the long run: ours, the C++ springs at both settings and the floor, the same steps each
+    L = read_table(bench_out / "long_run.csv")
+    assert list(zip(L["model [-]"], L["settings [-]"])) == [("ours", "ours"), ("C++ springs", "exudyn"),
+                                                            ("C++ springs", "ours"), ("floor", "ours")]
+    assert _positive_finite(L["cpu [s]"]) and _positive_finite(L["ours_over_this [-]"])
+    assert len(set(L["steps [-]"])) == 1 and "A long run" in (bench_out / "report.md").read_text()
+
+
+def test_the_long_runs_yardstick_is_a_shaken_nut_on_springs():
+    """The long run's yardstick (studies/_lib/long_run.py) is the model it claims: no item of it has a
+    Python user function, and over two cycles its nut follows the driver's D sin(2 pi f t) by the springs
+    in series, k_drag / (k_drag + 2 k_stick) of it: its largest shift within 5 %, and at every step
+    within 10 % of that amplitude (the shaker's spring detunes the heavy driver by drag_stiffness /
+    (DRIVER_MASS (2 pi f)^2), 1.6 %, which shifts its phase by 0.1 rad over two cycles)."""
+    from _lib import long_run
+    p = long_run.joint_params(2)
+    m = long_run.BuildShakenNut(p, "ours")
+    mbs = m["mbs"]
+    for kind, count, get in (("object", mbs.systemData.NumberOfObjects(), mbs.GetObject),
+                             ("load", mbs.systemData.NumberOfLoads(), mbs.GetLoad)):
+        for i in range(count):
+            functions = {k: v for k, v in get(i).items() if k.endswith("UserFunction") and v != 0}
+            assert not functions, (kind, i, functions)
+    assert mbs.SolveDynamic(m["simulationSettings"], solverType=m["solverType"])
+    X = mbs.GetSensorStoredData(0)
+    t = X[:, 0]
+    D = p.shake_displacement
+    share = p.drag_stiffness / (p.drag_stiffness + 2.0 * p.sticking_stiffness)
+    assert np.max(np.abs(X[:, 1])) == pytest.approx(share * D, rel=5e-2)
+    assert np.max(np.abs(X[:, 1] - share * D * np.sin(2 * np.pi * p.shake_frequency * t))) < 0.1 * share * D
 
 
 def test_target_yardstick_is_a_cube_on_springs():
