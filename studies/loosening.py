@@ -73,6 +73,7 @@ def main(argv=None):
     fig = plot_error_against_wall(args.out, "refinement.csv", "case [-]", tuple(CASES), "loosening.png")
     D, L = read_table(dep_path), read_table(long_path)
     p = LooseningParams()
+    closes = "within" if L["energy_ok [-]"][0] else "OUTSIDE"
     body = f"""
 Scene: `exu_aniso/scenes/loosening.py` (LooseningParams; Exudyn model `exu_aniso/models/loosening.py`), its case
 `bearing`: an M10 nut's bearing ring ({p.points} points on r_K = {1e3 * p.bearing_radius:g} mm) pressed by
@@ -106,7 +107,7 @@ flank's load spread ((max - min) / mean over its points at the cycles' ends).
 **A {cycles}-cycle run** (`exu-aniso run loosening --set case=joint --set t_end={0.005 + cycles / 12.5:g}`, the
 default rings model at dt {p.dt:g} s): {int(L["steps [-]"][0])} steps; the nut turns {L["rotation [rad]"][0]:.1f} rad,
 for the rings hold their loads (the full nut comes loose long before), and the energy ledger's residual is at most
-{L["energy_residual [-]"][0]:.2g} of the largest energy term ({"within" if L["energy_ok [-]"][0] else "OUTSIDE"} its tolerance).
+{L["energy_residual [-]"][0]:.2g} of the largest energy term ({closes} its tolerance).
 Its speed against Exudyn's C++ springs is in the benchmark's section "A long run" (`python studies/benchmarks.py`).
 """
     finish(args, timer, body, "Loosening: a bearing ring's spin and slip onset against the ring integral")
