@@ -169,8 +169,11 @@ def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, s
     coordinate to it. The driven coordinate is q_i itself for a unit vector d = e_i, else a massless
     slider w held at d.q by an ``ObjectConnectorCoordinateVector`` on velocity level from consistent
     initial values (the position-level form drifts under generalized-alpha), which passes the
-    spring force to the node. python=True (explicit solvers, which cannot solve constraints): the
-    same spring as a Python ``ObjectGenericODE2`` with its exact Jacobian (``AddNodeDrive``)."""
+    spring force to the node. A hold (speed 0, no start, ramp or travel) is the spring and dashpot to
+    ground alone, with no driver: Exudyn allocates two matrices per Newton iteration for a coordinate
+    constraint in a model with Euler-parameter nodes (measured with ``exu.special.InfoStat``), and a
+    hold needs none. python=True (explicit solvers, which cannot solve constraints): the same spring as
+    a Python ``ObjectGenericODE2`` with its exact Jacobian (``AddNodeDrive``)."""
     d = np.asarray(direction, dtype=float)
     k, speed = float(stiffness), float(speed)
     start, ramp = check_nonnegative("start", start), check_nonnegative("ramp", ramp)
@@ -209,6 +212,12 @@ def AddSpringDrive(mbs, nodeNumber, direction, stiffness, speed, python=False, s
         mDriven = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nSlider, coordinate=0))
     nGround = mbs.AddNode(NodePointGround(visualization=VNodePointGround(show=False)))
     mGround = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
+    if speed == 0.0 and start == 0.0 and ramp == 0.0 and travel is None:
+        # a hold: the spring to ground itself; a driver held by a constraint would cost Exudyn two
+        # matrix allocations per Newton iteration on a model with Euler-parameter nodes
+        return mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[mDriven, mGround], stiffness=k, damping=c,
+            visualization=VObjectConnectorCoordinateSpringDamper(show=False)))
     if start > 0.0 or ramp > 0.0 or travel is not None:
         # the driver's travel in the spring's force itself: a prescribed velocity that jumps would put
         # an index-2 solver's integrated driver half a step off
