@@ -16,7 +16,11 @@ The scene (the ring, the plate, the drag, the closed forms) is ``exu_aniso.scene
   the axis only, where a C++ spring and dashpot (the joint's) and a ``LoadCoordinate`` (the force that
   settles at the preload, rising: ``bolted_joint.spring_load_at``) act; the shaker as above, on the
   nut's x, and a C++ spring drive holding its y; a pre-step function ends the run at the end of the
-  cycle in which the joint came loose (``bolted_joint.LOOSE_SHARE``).
+  cycle in which the joint came loose (``bolted_joint.LOOSE_SHARE``); a flexible shank: the bolt's end
+  a rigid body that moves across only (the thread contact's master), on a C++ Cartesian spring
+  (``guided_beam``) or carrying the guided end of the shank's beam elements, one ``ObjectGenericODE2``
+  of constant mass, damping and stiffness matrices over their inner coordinates and the bolt's end's
+  node (``fe_beam``), and the shaker on the plate.
 
 ``RunLoosening`` returns the same ``Result`` as ``exu_aniso.scenes.loosening.simulate_loosening``. Run
 ``python -m exu_aniso.models.loosening`` for a plot of the default scene.
@@ -25,9 +29,9 @@ from __future__ import annotations
 
 import exudyn as exu
 from exudyn import graphics
-from exudyn.itemInterface import (CoordinateConstraint, LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2,
+from exudyn.itemInterface import (LoadCoordinate, MarkerNodeCoordinate, NodeGenericODE2,
                                   NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinateSpringDamper,
-                                  ObjectGenericODE2, ObjectRigidBody2D, SensorNode, VCoordinateConstraint,
+                                  ObjectGenericODE2, ObjectRigidBody2D, SensorNode,
                                   VNodePointGround, VObjectConnectorCoordinateSpringDamper, VObjectGenericODE2,
                                   VObjectRigidBody2D)
 from exudyn.rigidBodyUtilities import RigidBodyInertia
@@ -209,42 +213,50 @@ def _BuildFullJoint(mbs, p, options):
     if beam:
         sensors.update(_NodeSensors(mbs, mbs.GetObject(bolt["masterBodyNumber"])["nodeNumber"],
                                     (("sBolt", "Coordinates"), ("sBoltVelocity", "Coordinates_t"))))
-        sensors.update(_NodeSensors(mbs, shank["node"], (("sShank", "Coordinates"),
-                                                         ("sShankVelocity", "Coordinates_t"))))
+        if shank["node"] is not None:
+            sensors.update(_NodeSensors(mbs, shank["node"], (("sShank", "Coordinates"),
+                                                             ("sShankVelocity", "Coordinates_t"))))
     return dict(oNut=oNut, nNut=nNut, oPlate=oPlate, nPlate=nPlate, contacts=contacts, sensors=sensors,
-                shank_columns=shank["columns"] if beam else None)
+                shank=shank if beam else None)
 
 
 def _LumpedShank(mbs, p, ground, oBolt):
     """Shank guided_beam: a C++ Cartesian spring and dashpot from ground to the bolt's end (the K and D
     of ``bolted_joint.shank_matrices``, whose coordinates are the end's x and y)."""
-    _, D, K, _ = bj.shank_matrices(p)
+    _, D, K, tip = bj.shank_matrices(p)
     mbs.CreateCartesianSpringDamper(itemNumbers=[ground, oBolt], stiffness=[K[0, 0], K[1, 1], 0.0],
                                     damping=[D[0, 0], D[1, 1], 0.0], show=False)
-    return dict(node=mbs.GetObject(oBolt)["nodeNumber"], columns=slice(1, 3))
+    return dict(node=None, inner=[], tip=tip)
 
 
 def _BeamShank(mbs, p, ground, oBolt):
-    """Shank fe_beam: the shank's matrices (``bolted_joint.shank_matrices``) as one ObjectGenericODE2 on a
-    NodeGenericODE2, the guided end's x and y tied to the bolt's end by CoordinateConstraints."""
+    """Shank fe_beam: the shank's matrices (``bolted_joint.shank_matrices``) as one ObjectGenericODE2 over
+    a NodeGenericODE2 of its inner coordinates (none for one element) and the bolt's end's node, whose x
+    and y are the guided end's: M, D, K mapped onto those coordinates, so that no constraint ties them
+    (beside Euler-parameter nodes Exudyn allocates two matrices per Newton iteration for a coordinate
+    constraint)."""
     M, D, K, tip = bj.shank_matrices(p)
-    zero = [0.0] * M.shape[0]
-    nShank = mbs.AddNode(NodeGenericODE2(numberOfODE2Coordinates=M.shape[0], referenceCoordinates=zero,
-                                         initialCoordinates=zero, initialCoordinates_t=zero))
-    mbs.AddObject(ObjectGenericODE2(nodeNumbers=[nShank], massMatrix=M, dampingMatrix=D, stiffnessMatrix=K,
-                                    visualization=VObjectGenericODE2(show=False)))
+    inner = [i for i in range(M.shape[0]) if i not in tip]
     nBolt = mbs.GetObject(oBolt)["nodeNumber"]
-    for axis, i in enumerate(tip):
-        mbs.AddObject(CoordinateConstraint(markerNumbers=[
-            mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nBolt, coordinate=axis)),
-            mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nShank, coordinate=i))],
-            visualization=VCoordinateConstraint(show=False)))
-    return dict(node=nShank, columns=slice(1, None))
+    nodes, nShank = [], None
+    if inner:
+        zero = [0.0] * len(inner)
+        nShank = mbs.AddNode(NodeGenericODE2(numberOfODE2Coordinates=len(inner), referenceCoordinates=zero,
+                                             initialCoordinates=zero, initialCoordinates_t=zero))
+        nodes.append(nShank)
+    bolt = len(mbs.GetNodeParameter(nBolt, "referenceCoordinates"))
+    P = np.zeros((M.shape[0], len(inner) + bolt))        # the shank's coordinates from the object's
+    P[inner, np.arange(len(inner))] = 1.0
+    P[tip[0], len(inner)], P[tip[1], len(inner) + 1] = 1.0, 1.0    # the bolt's end's x and y
+    mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes + [nBolt], massMatrix=P.T @ M @ P, dampingMatrix=P.T @ D @ P,
+                                    stiffnessMatrix=P.T @ K @ P, visualization=VObjectGenericODE2(show=False)))
+    return dict(node=nShank, inner=inner, tip=tip)
 
 
 _SHANKS = {"guided_beam": _LumpedShank, "fe_beam": _BeamShank}
-"""The flexible shanks' builds by name (``bolted_joint.SHANKS``): f(mbs, p, ground, oBolt) -> dict node (whose
-Coordinates sensor holds the shank's coordinates) and columns (theirs in that sensor's rows)."""
+"""The flexible shanks' builds by name (``bolted_joint.SHANKS``): f(mbs, p, ground, oBolt) -> dict node (a
+NodeGenericODE2 of the shank's inner coordinates, or None), inner (their indices among the shank's
+coordinates) and tip (the indices of the guided end's x and y, the bolt's end's)."""
 
 
 _BUILD = {("bearing", None): _BuildBearing, ("joint", "rings"): _BuildRings, ("joint", "full"): _BuildFullJoint}
@@ -284,9 +296,7 @@ def ReadLoosening(model, complete):
         if "sBolt" in S:
             B, B_t = mbs.GetSensorStoredData(S["sBolt"]), mbs.GetSensorStoredData(S["sBoltVelocity"])
             bolt = dict(x=B[:, 1], y=B[:, 2], vx=B_t[:, 1], vy=B_t[:, 2])
-            columns = model["shank_columns"]
-            shank = dict(q=mbs.GetSensorStoredData(S["sShank"])[:, columns],
-                         q_t=mbs.GetSensorStoredData(S["sShankVelocity"])[:, columns])
+            shank = _ShankCoordinates(model["shank"], bolt, lambda k: mbs.GetSensorStoredData(S[k])[:, 1:])
             shaken = dict(x=plate["x"], y=zero, vx=plate["vx"], vy=zero)
             traj.update(plate_x=plate["x"], bolt_x=bolt["x"], bolt_y=bolt["y"])
     traj.update(drag_force=bj.shake_force(p, shaken["x"], shaken["vx"], t),
@@ -307,6 +317,19 @@ def ReadLoosening(model, complete):
     contacts = [(laws[name], _PlanarMotion(traj, gaps[name]), points, histories[name][2])
                 for name, points in (("bearing", bj.bearing_points(p)), ("thread", bj.thread_points(p)))]
     return traj, {}, dict(contacts=contacts, shaken=shaken)
+
+
+def _ShankCoordinates(shank, bolt, stored):
+    """The shank's coordinates q and rates q_t (n, m) of a solved model: its inner ones from their node's
+    sensors (stored(name) -> (n, len(inner))), its guided end's x and y the bolt's end's (bolt: dict x, y,
+    vx, vy)."""
+    m = len(shank["inner"]) + 2
+    q, q_t = np.zeros((len(bolt["x"]), m)), np.zeros((len(bolt["x"]), m))
+    if shank["inner"]:
+        q[:, shank["inner"]], q_t[:, shank["inner"]] = stored("sShank"), stored("sShankVelocity")
+    for i, (x, v) in zip(shank["tip"], (("x", "vx"), ("y", "vy"))):
+        q[:, i], q_t[:, i] = bolt[x], bolt[v]
+    return dict(q=q, q_t=q_t)
 
 
 def _Relative(motion, x, y, z, vx, vy, vz):

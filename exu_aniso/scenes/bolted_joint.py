@@ -17,18 +17,21 @@ prescribes the displacement) and holds it at y = 0. Two models:
 * ``model="full"``: a 6-DOF nut on the bolt's helicoid flank (``turns`` turns of
   ``points_per_turn`` points at the pitch radius), its bearing ring on the plate; the plate moves
   along the axis only, on the joint's spring (``joint_stiffness``, a dashpot ``joint_damping``)
-  that is compressed by F: when the nut backs off, the plate follows and the preload falls. With
-  ``shank="guided_beam"`` the bolt's threaded end moves across on its shank's lateral stiffness
-  (``shank_stiffness``: a beam of ``clamp_length`` clamped at the head and guided at the nut, so its
-  end shifts without turning) and the shaker drives the plate instead, as a Junker test does.
+  that is compressed by F: when the nut backs off, the plate follows and the preload falls. With a
+  flexible shank (``SHANKS``) the bolt's threaded end moves across on its shank, a beam of
+  ``clamp_length`` clamped at the head and guided at the nut (its end shifts without turning), and
+  the shaker drives the plate instead, as a Junker test does: ``shank="guided_beam"`` lumps it at its
+  end on 12 E I / L^3, ``shank="fe_beam"`` is ``shank_elements`` Timoshenko beam elements
+  (``exu_aniso.fe.beam``) with their shear and mass.
 
 Closed forms (``scenes.threads``): with both rings uniform, closed and sliding, the nut turns loose by
 ``joint_rotation_per_path`` radians per metre of its sideways slip path, against a sideways force of
 F ``joint_slide_force_per_preload`` (the hysteresis loop's plateau), and each radian backs it off by
 P / (2 pi), which loses the preload ``threads.clamp_force_per_angle`` (the joint's spring and the two
-contacts' normal compliances in series). With the guided-beam shank the bearing ring slides as a whole
-once the plate's shift reaches mu_bearing F (1 / k_shank + 1 / sticking_stiffness), the critical
-amplitude (``joint_closed_forms``).
+contacts' normal compliances in series). With a flexible shank the bearing ring slides as a whole once
+the plate's shift reaches mu_bearing F (1 / k_shank + 1 / sticking_stiffness), the critical amplitude
+(``joint_closed_forms``), with k_shank the guided beam's lateral stiffness (``shank_stiffness``:
+``threads.guided_beam_stiffness``, or with shear ``threads.guided_shear_beam_stiffness``).
 
 A nut shaken sideways on a helicoid wedges its flank: the shift moves each thread point along the
 helix by the shift's component along e_phi over r, so the flank's height under it changes by h / r
