@@ -178,7 +178,10 @@ def test_the_joint_runs_on_exudyn_only():
 
 
 @pytest.mark.parametrize("name, value, rule", [("points_per_turn", 2, "points_per_turn must be >= 3"),
-                                                ("flank_angle", 180.0, r"flank_angle must lie in \[0, 180\)")])
+                                                ("flank_angle", 180.0, r"flank_angle must lie in \[0, 180\)"),
+                                                ("poissons_ratio", 0.5, r"poissons_ratio must lie in \[0, 0.5\)"),
+                                                ("shank_elements", 0, "shank_elements"),
+                                                ("shank", "fe_beam", "a flexible shank .* is the full joint's")])
 def test_bad_thread_is_refused(name, value, rule):
     with pytest.raises(ValueError, match=rule):
         LooseningParams(case="joint", **{name: value})

@@ -133,6 +133,9 @@ class LooseningParams(SceneParams):
             raise ValueError(f"points_per_turn must be >= 3 (a ring); got {self.points_per_turn!r}")
         if not 0.0 <= self.spectral_radius <= 1.0:
             raise ValueError(f"spectral_radius must lie in [0, 1]; got {self.spectral_radius!r}")
+        if self.shank != "rigid" and (self.case, self.model) != ("joint", "full"):
+            raise ValueError(f"shank: a flexible shank ({self.shank!r}) is the full joint's (case='joint', "
+                             f"model='full'); got case={self.case!r}, model={self.model!r}")
         if not 0.0 <= self.poissons_ratio < 0.5:
             raise ValueError(f"poissons_ratio must lie in [0, 0.5); got {self.poissons_ratio!r}")
         if not 0.0 <= self.flank_angle < 180.0:
