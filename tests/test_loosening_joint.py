@@ -142,6 +142,7 @@ def test_the_full_joint_ends_its_run_when_it_comes_loose(run):
     assert s["preload_end"] == pytest.approx(predicted, abs=1e-2 * 1e4)
 
 
+@pytest.mark.slow          # the Junker study's quick form (tests/test_junker.py) brackets both at mu 0.12 by default
 @pytest.mark.parametrize("shank", ["guided_beam", "fe_beam"])
 def test_a_flexible_shank_slides_the_bearing_at_its_critical_amplitude(shank):
     """A flexible shank on the 60 degree thread, the plate shaken for two cycles: bisecting the shaker's
@@ -185,27 +186,3 @@ def test_the_joint_runs_on_exudyn_only():
 def test_bad_thread_is_refused(name, value, rule):
     with pytest.raises(ValueError, match=rule):
         LooseningParams(case="joint", **{name: value})
-
-
-def test_junker_study_quick(tmp_path, quick_study):
-    """studies/junker.py --quick: the bracketed critical amplitude within 1 % of the guided beam's closed
-    form at mu 0.12 (the default joint) on the beam elements and on the lumped shank, the shear's
-    compliance raising the elements' onset, one element's onset as two's, and the onset's order in mu;
-    on the square thread the nut turns loose above it and holds below, on the 60 degree thread it
-    holds."""
-    from exu_aniso.util.output import read_table
-    quick_study("junker", tmp_path)
-    C = read_table(tmp_path / "critical_amplitude.csv")
-    at = {(shank, mu): (m, e) for shank, mu, m, e in zip(C["shank [-]"], C["mu [-]"], C["measured [m]"],
-                                                         C["error [-]"])}
-    assert abs(at[("fe_beam", 0.12)][1]) < 1e-2 and abs(at[("guided_beam", 0.12)][1]) < 1e-2
-    assert at[("fe_beam", 0.08)][0] < at[("fe_beam", 0.12)][0]
-    assert at[("fe_beam", 0.12)][0] > 1.1 * at[("guided_beam", 0.12)][0]      # the shear's compliance
-    E = read_table(tmp_path / "shank_elements.csv")
-    assert E["measured [m]"][1] == pytest.approx(E["measured [m]"][0], rel=1e-6)
-    R = read_table(tmp_path / "loosening_rate.csv")
-    rate = {(b, a): r for b, a, r in zip(R["flank_angle [deg]"], R["amplitude [m]"], R["rotation_per_cycle [rad]"])}
-    assert rate[(0.0, 1.1e-4)] > 1e-3 > 1e-6 > abs(rate[(0.0, 6e-5)])
-    assert abs(rate[(60.0, 1.1e-4)]) < 1e-6
-    assert all(R["energy_ok [-]"])
-    assert "python studies/junker.py" in (tmp_path / "report.md").read_text()

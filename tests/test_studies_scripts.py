@@ -37,7 +37,7 @@ COVERED = {"block_paths": "test_studies_block.py", "return_maps": "test_studies_
            "tapered_thread": "test_cone_screw.py", "particle": "test_particle_scene.py",
            "capstan": "test_capstan.py", "feeder": "test_feeder.py", "fastening": "test_fastening.py",
            "nut": "test_nut.py", "loosening": "test_loosening.py",
-           "junker": "test_loosening_joint.py",
+           "junker": "test_junker.py",
            "fe_block": "test_fe_block.py", "fe_screw": "test_fe_screw.py", "fe_cost": "test_fe_block.py",
            "screw_ratio_sweep": "test_screw_sweep.py",
            "hard_cases": "test_hard_cases.py", "benchmarks": "test_benchmarks.py",
