@@ -25,7 +25,8 @@ from exu_aniso.scenes.loosening import LooseningParams  # noqa: E402
 
 BASE = dict(case="joint", model="full", shank="fe_beam")
 BISECTIONS = 9
-RATE_CYCLES = 8
+QUICK_BISECTIONS = 7            # --quick: from a bracket of +-10 % about the closed form (the full form's is +-50 %)
+RATE_CYCLES, QUICK_RATE_CYCLES = 8, 4
 CONVERGED_ELEMENTS = 64         # the shank's eigenfrequency's reference
 
 
@@ -49,15 +50,17 @@ def first_frequency(p):
 def critical(c):
     """The plate's shift at the bearing's slip onset, bracketed by bisecting the shaker's amplitude over
     BISECTIONS two-cycle runs (the largest shift of a run whose ring never slid whole, the smallest of
-    one whose ring did), against mu_K F (1 / k_shank + 1 / k_stick)."""
+    one whose ring did), against mu_K F (1 / k_shank + 1 / k_stick); c["quick"]: QUICK_BISECTIONS from a
+    narrower start."""
     values = dict(preload=c["preload"], mu_bearing=c["mu"], mu_thread=c["mu"], clamp_length=c["clamp_length"],
                   shank=c["shank"], shank_elements=c["elements"], t_end=0.005 + 2 / 12.5)
     p = LooseningParams(**{**BASE, **values})
     theory = joint_closed_forms(p)["critical_amplitude_theory"]
     spring = p.mu_bearing * p.preload / p.drag_stiffness          # the shaker's spring stretches by this at the onset
-    lo, hi = [0.5 * theory, None], [1.5 * theory + 2.0 * spring, None]
+    width, bisections = (0.1, QUICK_BISECTIONS) if c.get("quick") else (0.5, BISECTIONS)
+    lo, hi = [(1.0 - width) * theory, None], [(1.0 + width) * theory + 2.0 * spring, None]
     t0 = time.perf_counter()
-    for _ in range(BISECTIONS):
+    for _ in range(bisections):
         mid = 0.5 * (lo[0] + hi[0])
         s = _run(shake_displacement=mid, **values)
         (hi if s["bearing_slid"] else lo)[:] = [mid, s["plate_amplitude"]]
@@ -68,14 +71,20 @@ def critical(c):
                 frequency=first_frequency(p))
 
 
+def task(c):
+    """A case of the study's sweep: c["task"] is "critical" or "rate"."""
+    return TASKS[c["task"]](c)
+
+
 def rate(c):
-    """RATE_CYCLES cycles at the shaker's amplitude: the turn per cycle, the rings' sliding shares, the
+    """c["cycles"] cycles at the shaker's amplitude: the turn per cycle, the rings' sliding shares, the
     preload at the end."""
-    s = _run(flank_angle=c["flank"], shake_displacement=c["amplitude"], t_end=0.005 + RATE_CYCLES / 12.5)
+    s = _run(flank_angle=c["flank"], shake_displacement=c["amplitude"], t_end=0.005 + c["cycles"] / 12.5)
     return dict(plate=s["plate_amplitude"], per_cycle=s["rotation_per_cycle"], thread=s["thread_slip_share"],
                 bearing=s["bearing_slip_share"], preload=s["preload_end"], ok=s["energy_ok"])
 
 
+TASKS = {"critical": critical, "rate": rate}
 CRIT_COLS = ["shank [-]", "preload [N]", "mu [-]", "clamp_length [m]", "below [m]", "above [m]", "measured [m]",
              "theory [m]", "error [-]", "wall [s]"]
 ELEMENT_COLS = ["shank_elements [-]", "measured [m]", "error [-]", "run_wall [s]", "first_frequency [Hz]",
@@ -107,17 +116,19 @@ def main(argv=None):
     refined = [{**base, "elements": n} for n in (2, 4, 8)]
     amplitudes = (6e-5, 1.1e-4) if args.quick else (4e-5, 6e-5, 8e-5, 1.1e-4, 1.5e-4, 2e-4)
     if args.quick:
-        grid, refined = grid[3:5] + grid[-2:-1], refined[:1]
-    shakes = [dict(flank=b, amplitude=a) for b in (0.0, 60.0) for a in amplitudes]
-    found = sweep(critical, grid + refined, args)
-    crit, fine = found[:len(grid)], found[len(grid):]
-    rates = sweep(rate, shakes, args)
+        grid, refined = [dict(g, quick=True) for g in grid[4:5] + grid[-2:-1]], [dict(refined[0], quick=True)]
+    cycles = QUICK_RATE_CYCLES if args.quick else RATE_CYCLES
+    shakes = [dict(flank=b, amplitude=a, cycles=cycles) for b in (0.0, 60.0) for a in amplitudes]
+    found = sweep(task, [dict(c, task="critical") for c in grid + refined] + [dict(c, task="rate") for c in shakes],
+                  args)                           # one pool for both
+    crit, fine, rates = found[:len(grid)], found[len(grid):len(grid) + len(refined)], found[len(grid) + len(refined):]
     cpath = table(os.path.join(args.out, "critical_amplitude.csv"), CRIT_COLS,
                   [[c["shank"], c["preload"], c["mu"], c["clamp_length"], o["below"], o["above"], o["measured"],
                     o["theory"], o["error"], o["wall"]] for c, o in zip(grid, crit)])
     reference = first_frequency(LooseningParams(**{**BASE, "shank_elements": CONVERGED_ELEMENTS}))
     at_base = sorted(((c["elements"], o) for c, o in zip(grid + refined, crit + fine)
-                      if c == {**base, "elements": c["elements"]}), key=lambda row: row[0])
+                      if {k: v for k, v in c.items() if k != "quick"} == {**base, "elements": c["elements"]}),
+                     key=lambda row: row[0])
     walls = run_walls([n for n, _ in at_base], 1 if args.quick else TIMED_REPEATS)
     epath = table(os.path.join(args.out, "shank_elements.csv"), ELEMENT_COLS,
                   [[n, o["measured"], o["error"], walls[n], o["frequency"], o["frequency"] / reference - 1.0]
@@ -134,7 +145,8 @@ threaded end moves across on its shank, {p.shank_elements} Timoshenko beam eleme
 the nut, and the plate is shaken at {p.shake_frequency:g} Hz. `shank=guided_beam` lumps the shank at its end on
 12 E I / L^3, without shear.
 
-**The critical amplitude** (two cycles a run; the shaker's amplitude bisected {BISECTIONS} times): the plate's
+**The critical amplitude** (two cycles a run; the shaker's amplitude bisected
+{QUICK_BISECTIONS if args.quick else BISECTIONS} times): the plate's
 largest shift in the last run whose bearing ring never slid as a whole (below) and in the first whose ring did
 (above), their mean against mu_K F (1 / k_shank + 1 / k_stick) (theory), with k_shank the guided beam's lateral
 stiffness, 1 / (L^3 / (12 E I) + L / (kappa G A)) for the elements, 12 E I / L^3 for the lumped shank.
@@ -153,7 +165,7 @@ end against {CONVERGED_ELEMENTS} elements' ({reference:.6g} Hz).
 
 {element_verdict(E, p)}
 
-**The loosening rate against the amplitude** ({RATE_CYCLES} cycles at mu {p.mu_bearing:g}, {p.preload:g} N):
+**The loosening rate against the amplitude** ({cycles} cycles at mu {p.mu_bearing:g}, {p.preload:g} N):
 
 {markdown_table(RATE_COLS, [[R[c][i] for c in RATE_COLS] for i in range(len(shakes))], fmt="{:.4g}")}
 

@@ -8,8 +8,7 @@ import pytest
 def test_junker_study_quick(tmp_path, quick_study):
     """studies/junker.py --quick: the bracketed critical amplitude within 1 % of the guided beam's closed
     form at mu 0.12 (the default joint) on the beam elements and on the lumped shank, the shear's
-    compliance raising the elements' onset, one element's onset as two's, and the onset's order in mu;
-    on the square thread the nut turns loose above it and holds below, on the 60 degree thread it
+    compliance raising the elements' onset and one element's onset as two's; on the square thread the nut turns loose above it and holds below, on the 60 degree thread it
     holds."""
     from exu_aniso.util.output import read_table
     quick_study("junker", tmp_path)
@@ -17,7 +16,6 @@ def test_junker_study_quick(tmp_path, quick_study):
     at = {(shank, mu): (m, e) for shank, mu, m, e in zip(C["shank [-]"], C["mu [-]"], C["measured [m]"],
                                                          C["error [-]"])}
     assert abs(at[("fe_beam", 0.12)][1]) < 1e-2 and abs(at[("guided_beam", 0.12)][1]) < 1e-2
-    assert at[("fe_beam", 0.08)][0] < at[("fe_beam", 0.12)][0]
     assert at[("fe_beam", 0.12)][0] > 1.1 * at[("guided_beam", 0.12)][0]      # the shear's compliance
     E = read_table(tmp_path / "shank_elements.csv")
     assert E["measured [m]"][1] == pytest.approx(E["measured [m]"][0], rel=1e-6)
