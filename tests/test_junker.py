@@ -8,8 +8,8 @@ import pytest
 def test_junker_study_quick(tmp_path, quick_study):
     """studies/junker.py --quick: the bracketed critical amplitude within 1 % of the guided beam's closed
     form at mu 0.12 (the default joint) on the beam elements and on the lumped shank, the shear's
-    compliance raising the elements' onset and one element's onset as two's; on the square thread the nut turns loose above it and holds below, on the 60 degree thread it
-    holds."""
+    compliance raising the elements' onset and one element's onset as two's; on the square thread the
+    nut turns loose above it and holds below, on the 60 degree thread it holds."""
     from exu_aniso.util.output import read_table
     quick_study("junker", tmp_path)
     C = read_table(tmp_path / "critical_amplitude.csv")
