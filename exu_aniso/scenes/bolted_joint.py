@@ -318,6 +318,19 @@ def cycle_ends(p, t_end):
     return p.load_time + np.arange(1, n + 1) / p.shake_frequency
 
 
+FEW_CYCLES = "fewer than 2 whole cycles of the shaking: run longer"
+"""Why a figure per cycle is undefined."""
+
+
+def rotation_per_cycle(p, t, angle):
+    """The angle [rad] turned per cycle between the first and the last whole cycle's end (the same
+    phase of the shaking), or None with fewer than 2 whole cycles (``FEW_CYCLES``); with those ends
+    [s] and the angles there: (per cycle, ends, angles)."""
+    ends = cycle_ends(p, t[-1])
+    at = np.interp(ends, t, angle)
+    return (float((at[-1] - at[0]) / (len(ends) - 1)) if len(ends) >= 2 else None), ends, at
+
+
 def sliding_intervals(traj):
     """The sample intervals over which no point of either ring sticks (both ends): the nut slides."""
     free = (np.asarray(traj["bearing_stick_fraction"]) == 0.0) & (np.asarray(traj["thread_stick_fraction"]) == 0.0)
@@ -341,24 +354,21 @@ def joint_summary(traj, p):
     angle = np.asarray(traj["angle"], float)
     theory = joint_closed_forms(p)
     shaking = t > p.load_time
-    ends = cycle_ends(p, t[-1])
+    per_cycle, ends, at = rotation_per_cycle(p, t, angle)
     s = dict(cycles=float(len(ends)), undefined=dict(theory["undefined"]),
              rotation=float(angle[-1] - np.interp(p.load_time, t, angle)),
-             rotation_per_cycle=None, rotation_per_path=None, slide_force_per_preload=None,
+             rotation_per_cycle=per_cycle, rotation_per_path=None, slide_force_per_preload=None,
              preload_loss_per_radian=None)
     for k in ("rotation_per_path_theory", "slide_force_per_preload_theory", "preload_loss_per_radian_theory",
               "critical_amplitude_theory"):
         s[k] = theory[k]
-    at = np.interp(ends, t, angle)
     x = np.asarray(traj["x"], float)
     s["rotation_per_path_all"] = None
-    if len(ends) >= 2:
-        s["rotation_per_cycle"] = float((at[-1] - at[0]) / (len(ends) - 1))
+    if per_cycle is not None:
         whole = (t[1:] > ends[0]) & (t[:-1] < ends[-1])
         s["rotation_per_path_all"] = float((at[-1] - at[0]) / np.abs(np.diff(x))[whole].sum())
     else:
-        why = "fewer than 2 whole cycles of the shaking: run longer"
-        s["undefined"].update(rotation_per_cycle=why, rotation_per_path_all=why)
+        s["undefined"].update(rotation_per_cycle=FEW_CYCLES, rotation_per_path_all=FEW_CYCLES)
     slide = sliding_intervals(traj) & shaking[1:]
     path = np.abs(np.diff(x))[slide].sum()
     s["sliding_share"] = float(np.sum(np.diff(t)[slide]) / max(t[-1] - p.load_time, 1e-300))

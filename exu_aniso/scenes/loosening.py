@@ -290,14 +290,11 @@ def bearing_summary(traj, p):
     else:
         angle = np.asarray(traj["angle"], float)
         whole = np.flatnonzero(np.asarray(traj["slip_fraction"], float) == 1.0)
-        ends = bolted_joint.cycle_ends(p, t[-1])
-        at = np.interp(ends, t, angle)
+        per_cycle, ends, _ = bolted_joint.rotation_per_cycle(p, t, angle)
         s.update(rotation_max=float(np.max(np.abs(angle - angle[0]))), slid_as_a_whole=bool(len(whole)),
-                 cycles=float(len(ends)), rotation_per_cycle=None)
-        if len(ends) >= 2:      # the angle at the same phase of the first and the last whole cycle
-            s["rotation_per_cycle"] = float((at[-1] - at[0]) / (len(ends) - 1))
-        else:
-            s["undefined"]["rotation_per_cycle"] = "fewer than 2 whole cycles of the shaking: run longer"
+                 cycles=float(len(ends)), rotation_per_cycle=per_cycle)
+        if per_cycle is None:
+            s["undefined"]["rotation_per_cycle"] = bolted_joint.FEW_CYCLES
     return s
 
 
