@@ -14,21 +14,39 @@ from exu_aniso.scenes.block import BlockParams, orthotropic_heading
 from exu_aniso.scenes.scene import Scene
 
 
+def _choices(scene):
+    """The scene's defaults and, one parameter at a time, every other value of its choice parameters
+    (a tuple in the table's range column) that makes a valid parameter set."""
+    out = [scene.Params()]
+    for name, row in scene.Params.TABLE.items():
+        if isinstance(row[-1], tuple):
+            for value in row[-1]:
+                if value != row[0]:
+                    try:
+                        out.append(scene.Params(**{name: value}))
+                    except ValueError:          # a value that needs another parameter set with it
+                        pass
+    return out
+
+
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_scene_implements_the_interface(name):
+    """For the defaults and every choice of a choice parameter (the loosening's case joint, a model's
+    variant, ...): the scene's laws and points by contact, of one set of names, finite (K, 3) points."""
     scene = SCENES[name]
     assert isinstance(scene, Scene) and scene.name == name and MODELS[name].scene is scene
     assert issubclass(scene.Params, SceneParams)
     assert all(isinstance(u, str) and u for u in scene.columns.values()) and "t" in scene.columns
     assert len(scene.title_keys) == 2 and len(scene.figsize) == 2
-    p = scene.Params()
-    laws, points = scene.law(p), scene.points(p)
-    laws, points = (laws, points) if isinstance(laws, dict) else ({"": laws}, {"": points})
-    assert set(laws) == set(points)
-    for k in laws:
-        assert isinstance(laws[k], ContactLaw)
-        P = np.asarray(points[k])
-        assert P.ndim == 2 and P.shape[1] == 3 and len(P) >= 1 and np.all(np.isfinite(P)), (k, P.shape)
+    for p in _choices(scene):
+        assert len(scene.title_keys_for(p)) == 2
+        laws, points = scene.law(p), scene.points(p)
+        laws, points = (laws, points) if isinstance(laws, dict) else ({"": laws}, {"": points})
+        assert set(laws) == set(points), p
+        for k in laws:
+            assert isinstance(laws[k], ContactLaw)
+            P = np.asarray(points[k])
+            assert P.ndim == 2 and P.shape[1] == 3 and len(P) >= 1 and np.all(np.isfinite(P)), (p, k, P.shape)
     assert scene.reference is None or callable(scene.reference)
 
 

@@ -441,7 +441,7 @@ class LooseningScene(Scene):
 
     def points(self, p):
         if p.case == "joint":
-            return dict(bearing=bolted_joint.beabearing_ring(p), thread=bolted_joint.thread_points(p))
+            return dict(bearing=bolted_joint.bearing_points(p), thread=bolted_joint.thread_points(p))
         return bearing_ring(p)
 
 
