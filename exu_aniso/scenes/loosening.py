@@ -27,6 +27,7 @@ bolt's helicoid and the plate on the joint's spring) and their closed forms.
 from __future__ import annotations
 
 import math
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -157,8 +158,6 @@ kinetic: the nut's and the plate's). Case joint only (``bolted_joint.finish_join
 preload (the bearing's normal force), the rings' normal forces and shares of sliding, sticking and open
 points, the flank's load spread ((max - min) / mean over the thread's points) and the nut's tilt; with
 the guided-beam shank, the plate's shift and the bolt's end (x, y)."""
-TITLE_KEYS = dict(bearing=("spin_rate", "spin_rate_theory"),
-                  joint=("rotation_per_path", "rotation_per_path_theory"))
 STEADY_SHARE = 0.5      # the steady state: the last half of the run
 ONSET_SPEED = 1e-2      # m/s: gross slip, the ring runs away (below the limit the partial slip creeps at under 1 mm/s
                         # at the defaults; over the limit the ring's speed grows without bound)
@@ -212,9 +211,9 @@ def finish_trajectory(traj, H):
 # closed forms
 
 def loosening_closed_forms(p):
-    """The scene's closed forms for its case: ``bearing_closed_forms`` or
+    """The scene's closed forms for its case (``CASES``): ``bearing_closed_forms`` or
     ``bolted_joint.joint_closed_forms``."""
-    return bolted_joint.joint_closed_forms(p) if p.case == "joint" else bearing_closed_forms(p)
+    return CASES[p.case].closed_forms(p)
 
 
 def bearing_closed_forms(p):
@@ -250,12 +249,11 @@ def onset_force(p):
 # summary, energy
 
 def loosening_summary(traj, p, wall_s, steps, newton_iterations):
-    """The cost, the slip distance and the dissipated energy, and the case's own: ``bearing_summary``
-    or ``bolted_joint.joint_summary``."""
+    """The cost, the slip distance and the dissipated energy, and the case's own (``CASES``):
+    ``bearing_summary`` or ``bolted_joint.joint_summary``."""
     s = dict(slip_distance=float(traj["slip_distance"][-1]), dissipated_energy=float(traj["dissipated_energy"][-1]),
              wall_s=float(wall_s), steps=int(steps), newton_iterations=int(newton_iterations))
-    case = bolted_joint.joint_summary(traj, p) if p.case == "joint" else bearing_summary(traj, p)
-    return {**s, **case}
+    return {**s, **CASES[p.case].summary(traj, p)}
 
 
 def bearing_summary(traj, p):
@@ -299,12 +297,10 @@ def bearing_summary(traj, p):
 
 
 def loosening_energy(p, traj, **inputs):
-    """Energy ledger of a run (any engine), the case's: ``bearing_energy`` (inputs motion, law, H) or,
-    case joint, ``bolted_joint.joint_energy_terms``' (inputs contacts, shaken, and model full plate,
-    nut_motion and the guided-beam shank's bolt)."""
-    terms = (bolted_joint.joint_energy_terms(p, traj, **inputs) if p.case == "joint"
-             else bearing_energy_terms(p, traj, **inputs))
-    return energy_ledger(terms, traj, "loosening run")
+    """Energy ledger of a run (any engine), the case's terms (``CASES``): ``bearing_energy_terms``
+    (inputs motion, law, H) or ``bolted_joint.joint_energy_terms`` (inputs contacts, shaken, and model
+    full plate, nut_motion and a flexible shank's bolt and shank)."""
+    return energy_ledger(CASES[p.case].energy_terms(p, traj, **inputs), traj, "loosening run")
 
 
 def bearing_energy_terms(p, traj, motion, law, H):
@@ -334,14 +330,16 @@ def bearing_energy_terms(p, traj, motion, law, H):
 # the plot of trajectory.png
 
 def PlotLoosening(traj, params, fig):
-    """trajectory.png: case bearing, the ring's spin rate over time with its closed form; case joint,
-    ``PlotJoint``."""
-    if params.case == "joint":
-        return PlotJoint(traj, params, fig)
+    """trajectory.png: the case's plot (``CASES``), ``PlotBearing`` or ``PlotJoint``."""
+    return CASES[params.case].plot(traj, params, fig)
+
+
+def PlotBearing(traj, params, fig):
+    """Case bearing: the ring's spin rate over time with its closed form."""
     t, w = drawn(np.asarray(traj["t"]), np.asarray(traj["omega"]))
     ax = fig.add_subplot(1, 1, 1)
     ax.plot(t, w, label="spin rate")
-    theory = loosening_closed_forms(params)["spin_rate_theory"]
+    theory = bearing_closed_forms(params)["spin_rate_theory"]
     if theory is not None:
         ax.axhline(theory, color="k", ls="--", lw=0.8, label=f"ring integral: {theory:.5g} rad/s")
     labelled(ax, "t [s]", "omega [rad/s]")
@@ -413,7 +411,30 @@ def simulate_loosening(params=None, **options):
 
 
 # ----------------------------------------------------------------------------------------------
-# the scene, as every engine and the command line see it
+# the cases, and the scene as every engine and the command line see it
+
+class Case(NamedTuple):
+    """What the scene does by its ``case``: each a function of the parameters p (and the run's data)."""
+    closed_forms: Callable      # p -> dict of closed forms with "undefined"
+    summary: Callable           # (traj, p) -> the case's summary
+    energy_terms: Callable      # (p, traj, **ledger inputs) -> energy.ledger's terms
+    plot: Callable              # (traj, p, fig) -> trajectory.png
+    law: Callable               # p -> ContactLaw, or dict name -> ContactLaw
+    points: Callable            # p -> body-local points (K, 3), or dict name -> points
+    title_keys: tuple           # the summary keys in trajectory.png's title
+
+
+CASES = {
+    "bearing": Case(bearing_closed_forms, bearing_summary, bearing_energy_terms, PlotBearing, bearing_law,
+                    bearing_ring, ("spin_rate", "spin_rate_theory")),
+    "joint": Case(bolted_joint.joint_closed_forms, bolted_joint.joint_summary, bolted_joint.joint_energy_terms,
+                  PlotJoint,
+                  lambda p: dict(bearing=bolted_joint.bearing_law(p), thread=bolted_joint.thread_law(p)),
+                  lambda p: dict(bearing=bolted_joint.bearing_points(p), thread=bolted_joint.thread_points(p)),
+                  ("rotation_per_path", "rotation_per_path_theory")),
+}
+"""The scene's cases by name (``case``): the bearing ring dragged across the plate, or the joint
+(``scenes.bolted_joint``)."""
 
 class LooseningScene(Scene):
     """The loosening scene (the module docstring): the bearing case's law and points, or the joint's two
@@ -423,7 +444,7 @@ class LooseningScene(Scene):
     name = "loosening"
     Params = LooseningParams
     columns = COLUMNS
-    title_keys = TITLE_KEYS["bearing"]
+    title_keys = CASES["bearing"].title_keys        # the defaults'; title_keys_for(p) by the case
     figsize = (6.0, 6.0)
     closed_forms = staticmethod(loosening_closed_forms)
     summary = staticmethod(loosening_summary)
@@ -432,17 +453,13 @@ class LooseningScene(Scene):
     reference = staticmethod(simulate_loosening)
 
     def title_keys_for(self, p):
-        return TITLE_KEYS[p.case]
+        return CASES[p.case].title_keys
 
     def law(self, p):
-        if p.case == "joint":
-            return dict(bearing=bolted_joint.bearing_law(p), thread=bolted_joint.thread_law(p))
-        return bearing_law(p)
+        return CASES[p.case].law(p)
 
     def points(self, p):
-        if p.case == "joint":
-            return dict(bearing=bolted_joint.bearing_points(p), thread=bolted_joint.thread_points(p))
-        return bearing_ring(p)
+        return CASES[p.case].points(p)
 
 
 SCENE = LooseningScene()
