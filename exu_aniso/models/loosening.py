@@ -78,16 +78,22 @@ def BuildLoosening(p: LooseningParams, jacobian="analytic", implementation="auto
     sensors (and case joint model full nPlate). Options as BuildBlock, but newtonTolerance None: the
     case's, NEWTON_TOLERANCE, and rhoInf None: p.spectral_radius; show: draw the nets and the points."""
     check_instance("p", p, LooseningParams)
-    newtonTolerance = NEWTON_TOLERANCE[p.case] if newtonTolerance is None else newtonTolerance
-    rhoInf = p.spectral_radius if rhoInf is None else rhoInf
     SC = SceneView(exu.SystemContainer())
     mbs = SC.AddSystem()
     options = dict(jacobian=jacobian, initializeHistory=True, implementation=implementation, show=show,
                    storeHistory=True)
     model = _BUILD[(p.case, p.model if p.case == "joint" else None)](mbs, p, options)
     mbs.Assemble()
-    ss, st = SimulationSettingsFor(p, rhoInf=rhoInf, newtonTolerance=newtonTolerance, newton=newton)
+    ss, st = LooseningSettings(p, newtonTolerance, rhoInf, newton)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st, params=p, **model)
+
+
+def LooseningSettings(p, newtonTolerance=None, rhoInf=None, newton="modified"):
+    """The scene's SimulationSettings and DynamicSolverType for p (``SimulationSettingsFor``):
+    newtonTolerance None, the case's (NEWTON_TOLERANCE); rhoInf None, p.spectral_radius."""
+    tolerance = NEWTON_TOLERANCE[p.case] if newtonTolerance is None else newtonTolerance
+    return SimulationSettingsFor(p, rhoInf=p.spectral_radius if rhoInf is None else rhoInf,
+                                 newtonTolerance=tolerance, newton=newton)
 
 
 def _NodeSensors(mbs, nNut, names):

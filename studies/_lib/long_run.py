@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import gc
 import math
-import time
 
 import exudyn as exu
 import numpy as np
@@ -34,12 +33,12 @@ from exudyn.itemInterface import (LoadCoordinate, MarkerBodyPosition, MarkerNode
                                   ObjectConnectorCoordinateSpringDamper, ObjectGenericODE2, ObjectGround,
                                   ObjectRigidBody2D, SensorNode)
 
-from exu_aniso.engines.exudyn_adapter.runner import SimulationSettingsFor, SolveTimed
-from exu_aniso.models.loosening import NEWTON_TOLERANCE, BuildLoosening
+from exu_aniso.models.loosening import BuildLoosening, LooseningSettings
 from exu_aniso.scenes import bolted_joint as bj
 from exu_aniso.scenes.loosening import LooseningParams
 
 from .baseline import empty_contact, exudyn_defaults
+from .target_timing import timed_solve
 
 CYCLES, CYCLES_QUICK, REPEATS = 1000, 4, 3
 DRIVER_MASS = 1e6          # kg: the yardstick's driver, heavy enough that the shaker's spring barely detunes it
@@ -94,7 +93,7 @@ def BuildShakenNut(p, settings, floor=False):
     if settings == "exudyn":
         ss, st = exudyn_defaults(p.t_end, p.dt), exu.DynamicSolverType.GeneralizedAlpha
     else:
-        ss, st = SimulationSettingsFor(p, rhoInf=p.spectral_radius, newtonTolerance=NEWTON_TOLERANCE["joint"])
+        ss, st = LooseningSettings(p)
     return dict(SC=SC, mbs=mbs, simulationSettings=ss, solverType=st)
 
 
@@ -107,12 +106,6 @@ MODELS = [
 ]
 
 
-def _solve(model):
-    c0, w0 = time.process_time(), time.perf_counter()
-    _, steps, _, _ = SolveTimed(model["mbs"], model["simulationSettings"], model["solverType"])
-    return time.process_time() - c0, time.perf_counter() - w0, steps
-
-
 def measure(quick, repeats=REPEATS):
     """The rows of LONG_COLUMNS: every model of MODELS solved once untimed on a short run (kernels
     compiled or loaded), then ``repeats`` interleaved timed rounds of the long run (module doc)."""
@@ -120,12 +113,12 @@ def measure(quick, repeats=REPEATS):
     p = joint_params(cycles)
     warm = joint_params(1)
     for _, _, build in MODELS:
-        _solve(build(warm))
+        timed_solve(build(warm))
     timings = [[] for _ in MODELS]
     for _ in range(repeats):
         for i, (_, _, build) in enumerate(MODELS):
             model = build(p)
-            timings[i].append(_solve(model))
+            timings[i].append(timed_solve(model)[:3])
             del model
             gc.collect()                  # ours keeps its history (GBs over 1000 cycles): free it before the next
     ours = np.array([c for c, _, _ in timings[0]])
